@@ -1,0 +1,186 @@
+#include "core/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace lasonic {
+
+Config::Config(YAML::Node node, std::string path, std::string file)
+    : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+
+Config Config::loadFile(const std::string& filename) {
+  std::ifstream in(filename);
+  if (!in) throw ConfigError(filename + ": cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return fromString(ss.str(), filename);
+}
+
+Config Config::fromString(const std::string& yaml, const std::string& name) {
+  YAML::Node n;
+  try {
+    n = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
+                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+  if (!n || n.IsNull()) n = YAML::Node(YAML::NodeType::Map);
+  if (!n.IsMap()) throw ConfigError(name + ": the top level must be a map of keys");
+  return Config(n, "", name);
+}
+
+bool Config::has(const std::string& key) const {
+  if (!node_ || !node_.IsMap()) return false;
+  const YAML::Node n = node_[key];
+  return n && !n.IsNull();
+}
+
+std::string Config::keyPath(const std::string& key) const {
+  if (key.empty()) return path_.empty() ? std::string("<root>") : path_;
+  if (path_.empty()) return key;
+  if (!key.empty() && key[0] == '[') return path_ + key;
+  return path_ + "." + key;
+}
+
+void Config::fail(const std::string& key, const std::string& message) const {
+  std::string prefix = file_.empty() ? std::string() : file_ + ": ";
+  throw ConfigError(prefix + keyPath(key) + ": " + message);
+}
+
+void Config::failHere(const std::string& message) const { fail("", message); }
+
+Config Config::section(const std::string& key) const {
+  if (!has(key)) return Config(YAML::Node(YAML::NodeType::Map), keyPath(key), file_);
+  const YAML::Node n = node_[key];
+  if (!n.IsMap()) fail(key, "must be a map of keys");
+  return Config(n, keyPath(key), file_);
+}
+
+Config Config::requireSection(const std::string& key) const {
+  if (!has(key)) fail(key, "is required");
+  return section(key);
+}
+
+std::vector<Config> Config::list(const std::string& key) const {
+  std::vector<Config> out;
+  if (!has(key)) return out;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) fail(key, "must be a list");
+  for (size_t i = 0; i < n.size(); ++i) {
+    const std::string p = keyPath(key) + "[" + std::to_string(i) + "]";
+    if (!n[i].IsMap()) throw ConfigError((file_.empty() ? "" : file_ + ": ") + p + ": must be a map of keys");
+    out.emplace_back(n[i], p, file_);
+  }
+  return out;
+}
+
+std::vector<std::string> Config::keys() const {
+  std::vector<std::string> out;
+  if (!node_ || !node_.IsMap()) return out;
+  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  return out;
+}
+
+static std::string describe(const Range& r) {
+  std::ostringstream os;
+  const bool has_lo = std::isfinite(r.lo), has_hi = std::isfinite(r.hi);
+  if (has_lo && has_hi) os << "must be in [" << r.lo << ", " << r.hi << "]";
+  else if (has_lo) os << "must be " << (r.lo_open ? "> " : ">= ") << r.lo;
+  else if (has_hi) os << "must be <= " << r.hi;
+  else os << "must be a finite number";
+  return os.str();
+}
+
+double Config::get(const std::string& key, double def, const Range& r) const {
+  if (!has(key)) return def;
+  const double v = convert<double>(node_[key], key);
+  if (!std::isfinite(v) || v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
+  return v;
+}
+
+int Config::get(const std::string& key, int def, const Range& r) const {
+  if (!has(key)) return def;
+  const int v = convert<int>(node_[key], key);
+  if (v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
+  return v;
+}
+
+double Config::requireNum(const std::string& key, const Range& r) const {
+  if (!has(key)) fail(key, "is required");
+  return get(key, 0.0, r);
+}
+
+std::optional<std::string> Config::getOptionalString(const std::string& key) const {
+  if (!has(key)) return std::nullopt;
+  return convert<std::string>(node_[key], key);
+}
+
+static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 2) c.fail(key, "must be a pair [x, y]");
+  try {
+    const geom::Vec2 v(n[0].as<double>(), n[1].as<double>());
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) c.fail(key, "must be finite numbers");
+    return v;
+  } catch (const YAML::Exception&) {
+    c.fail(key, "must be a pair of numbers [x, y]");
+  }
+}
+
+geom::Vec2 Config::requireVec2(const std::string& key) const {
+  if (!has(key)) fail(key, "is required");
+  return toVec2(*this, node_[key], key);
+}
+
+geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const {
+  if (!has(key)) return def;
+  return toVec2(*this, node_[key], key);
+}
+
+std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min_points) const {
+  if (!has(key)) fail(key, "is required");
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) fail(key, "must be a list of [x, y] points");
+  std::vector<geom::Vec2> pts;
+  for (size_t i = 0; i < n.size(); ++i)
+    pts.push_back(toVec2(*this, n[i], key + "[" + std::to_string(i) + "]"));
+  if (pts.size() < min_points) fail(key, "needs at least " + std::to_string(min_points) + " points");
+  return pts;
+}
+
+std::vector<double> Config::getDoubles(const std::string& key, const std::vector<double>& def) const {
+  if (!has(key)) return def;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) fail(key, "must be a list of numbers");
+  std::vector<double> out;
+  for (size_t i = 0; i < n.size(); ++i) {
+    try {
+      out.push_back(n[i].as<double>());
+    } catch (const YAML::Exception&) {
+      fail(key + "[" + std::to_string(i) + "]", "must be a number");
+    }
+  }
+  return out;
+}
+
+void Config::allowOnly(const std::vector<std::string>& allowed) const {
+  for (const auto& k : keys()) {
+    bool ok = false;
+    for (const auto& a : allowed) ok = ok || (a == k);
+    if (!ok) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(k, "unknown key (allowed: " + list + ")");
+    }
+  }
+}
+
+Config Config::mergedWith(const Config& over) const {
+  YAML::Node merged(YAML::NodeType::Map);
+  for (const auto& kv : node_) merged[kv.first.as<std::string>()] = kv.second;
+  for (const auto& kv : over.node_) merged[kv.first.as<std::string>()] = kv.second;
+  // Errors in the merged map name the override's path when it has one (that is where users edit).
+  return Config(merged, over.path_.empty() ? path_ : over.path_, over.file_.empty() ? file_ : over.file_);
+}
+
+}  // namespace lasonic

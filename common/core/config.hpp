@@ -1,0 +1,119 @@
+#pragma once
+// YAML configuration with errors that name the key path (e.g. "obstacles[3].radius: must be > 0").
+//
+// A Config is a view on one YAML map plus its path from the file's root. Typical use:
+//   Config c = Config::loadFile(path);            // throws ConfigError
+//   Config laser = c.section("laser");            // missing section -> empty map
+//   cfg.rate_hz = laser.get("rate_hz", cfg.rate_hz, Range::positive());
+//   laser.allowOnly({"rate_hz", ...});            // unknown keys are errors
+// Processes catch ConfigError at start-up, log it and exit with code 2.
+#include <yaml-cpp/yaml.h>
+
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/geometry.hpp"
+
+namespace lasonic {
+
+class ConfigError : public std::runtime_error {
+ public:
+  explicit ConfigError(const std::string& what) : std::runtime_error(what) {}
+};
+
+// Inclusive numeric bounds with a readable description for the error message.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;
+  static Range any() { return {}; }
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true}; }
+  static Range nonNegative() { return {0.0, std::numeric_limits<double>::infinity(), false}; }
+  static Range between(double lo, double hi) { return {lo, hi, false}; }
+  static Range probability() { return {0.0, 1.0, false}; }
+};
+
+class Config {
+ public:
+  Config() : node_(YAML::NodeType::Map) {}
+  Config(YAML::Node node, std::string path, std::string file = {});
+
+  // Reads and parses a YAML file whose root must be a map.
+  static Config loadFile(const std::string& filename);
+  static Config fromString(const std::string& yaml, const std::string& name = "<string>");
+
+  const std::string& path() const { return path_; }
+  const YAML::Node& node() const { return node_; }
+  bool has(const std::string& key) const;
+  bool empty() const { return !node_ || node_.IsNull() || node_.size() == 0; }
+
+  // "path.key" (or "key" at the root), for messages.
+  std::string keyPath(const std::string& key) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  [[noreturn]] void failHere(const std::string& message) const;
+
+  // A sub-map; a missing or null key gives an empty map. A non-map value is an error.
+  Config section(const std::string& key) const;
+  // A required sub-map.
+  Config requireSection(const std::string& key) const;
+  // Elements of a sequence (missing -> empty). Each element gets the path "key[i]".
+  std::vector<Config> list(const std::string& key) const;
+  // Keys of this map, in file order.
+  std::vector<std::string> keys() const;
+
+  template <typename T> T get(const std::string& key, const T& def) const;
+  template <typename T> T require(const std::string& key) const;
+  double get(const std::string& key, double def, const Range& r) const;
+  int get(const std::string& key, int def, const Range& r) const;
+  double requireNum(const std::string& key, const Range& r) const;
+  std::optional<std::string> getOptionalString(const std::string& key) const;
+
+  // [x, y]
+  geom::Vec2 requireVec2(const std::string& key) const;
+  geom::Vec2 getVec2(const std::string& key, const geom::Vec2& def) const;
+  // [[x, y], ...]
+  std::vector<geom::Vec2> requirePoints(const std::string& key, size_t min_points) const;
+  std::vector<double> getDoubles(const std::string& key, const std::vector<double>& def) const;
+
+  // Unknown keys are errors that list the allowed keys.
+  void allowOnly(const std::vector<std::string>& allowed) const;
+
+  // This map with every key of `over` replacing ours (one level deep, like the scenario's
+  // `laser: {...}` overriding the driver config). Paths of overridden keys point to `over`.
+  Config mergedWith(const Config& over) const;
+
+ private:
+  template <typename T> T convert(const YAML::Node& n, const std::string& key) const;
+  YAML::Node node_;
+  std::string path_;
+  std::string file_;
+};
+
+template <typename T>
+T Config::convert(const YAML::Node& n, const std::string& key) const {
+  try {
+    return n.as<T>();
+  } catch (const YAML::Exception&) {
+    if constexpr (std::is_same_v<T, bool>) fail(key, "must be true or false");
+    else if constexpr (std::is_integral_v<T>) fail(key, "must be an integer");
+    else if constexpr (std::is_floating_point_v<T>) fail(key, "must be a number");
+    else fail(key, "has the wrong type");
+  }
+}
+
+template <typename T>
+T Config::get(const std::string& key, const T& def) const {
+  if (!has(key)) return def;
+  return convert<T>(node_[key], key);
+}
+
+template <typename T>
+T Config::require(const std::string& key) const {
+  if (!has(key)) fail(key, "is required");
+  return convert<T>(node_[key], key);
+}
+
+}  // namespace lasonic

@@ -1,0 +1,87 @@
+#pragma once
+// 2-D geometry for the whole pipeline: poses, and the ray / segment / circle / beam-sector
+// queries that the sensor models, the hypothetical scan and the evaluation share.
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace lasonic::geom {
+
+using Vec2 = Eigen::Vector2d;
+
+constexpr double kPi = 3.14159265358979323846;
+inline double deg2rad(double d) { return d * kPi / 180.0; }
+inline double rad2deg(double r) { return r * 180.0 / kPi; }
+
+// Wraps to (-pi, pi].
+double normalizeAngle(double a);
+// Signed smallest difference a - b, in (-pi, pi].
+inline double angleDiff(double a, double b) { return normalizeAngle(a - b); }
+
+// Rigid 2-D transform / pose: a frame at (x, y) rotated by theta.
+struct Pose2 {
+  double x = 0, y = 0, theta = 0;
+
+  Vec2 position() const { return {x, y}; }
+  // Local point -> parent frame.
+  Vec2 transform(const Vec2& local) const;
+  // Parent point -> local frame.
+  Vec2 inverseTransform(const Vec2& parent) const;
+  // this ∘ other: other is expressed in this frame.
+  Pose2 compose(const Pose2& other) const;
+  Pose2 inverse() const;
+};
+
+// Linear in position, shortest-arc in heading; s in [0,1].
+Pose2 interpolate(const Pose2& a, const Pose2& b, double s);
+
+inline Vec2 unitVector(double angle) { return {std::cos(angle), std::sin(angle)}; }
+
+struct Segment {
+  Vec2 a, b;
+  double length() const { return (b - a).norm(); }
+};
+
+struct Circle {
+  Vec2 center;
+  double radius = 0;
+};
+
+// A ray from origin along a unit direction.
+struct Ray {
+  Vec2 origin;
+  Vec2 dir;  // unit length
+};
+
+// Ray casts: distance along the ray to the first intersection (>= 0), if any.
+std::optional<double> intersect(const Ray& ray, const Segment& s);
+std::optional<double> intersect(const Ray& ray, const Circle& c);
+
+Vec2 closestPoint(const Segment& s, const Vec2& p);
+double distance(const Segment& s, const Vec2& p);
+// Unit normal of a segment (left of a->b).
+Vec2 normal(const Segment& s);
+// Incidence angle in [0, pi/2] between a ray direction and a surface with the given normal
+// (0 = perpendicular hit).
+double incidenceAngle(const Vec2& ray_dir, const Vec2& surface_normal);
+
+// A circular sector (an ideal sonar beam): apex, axis heading, full opening angle (< pi) and radius.
+struct Sector {
+  Vec2 apex;
+  double heading = 0;
+  double opening = 0;   // full angle [rad], 0 < opening < pi
+  double radius = 0;
+
+  bool contains(const Vec2& p) const;
+};
+
+// Distance from the apex to the nearest point of the segment that lies inside the sector
+// (the ideal sonar's reading of that segment), if the segment enters the sector.
+std::optional<double> nearestInSector(const Sector& sec, const Segment& s);
+// Same for a circle's boundary (a solid disc: the nearest boundary point inside the sector).
+std::optional<double> nearestInSector(const Sector& sec, const Circle& c);
+
+// Clip a segment to the infinite wedge of the sector (ignoring the radius). Empty if outside.
+std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s);
+
+}  // namespace lasonic::geom

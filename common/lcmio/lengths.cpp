@@ -1,0 +1,46 @@
+#include "lcmio/lengths.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace lasonic {
+namespace {
+template <typename Count, typename V, typename... Vs>
+Count sameSize(const char* type, const V& first, const Vs&... rest) {
+  const size_t n = first.size();
+  if (((rest.size() != n) || ...))
+    throw std::logic_error(std::string(type) + ": parallel arrays differ in length");
+  return static_cast<Count>(n);
+}
+}  // namespace
+
+void setLengths(laser_scan_t& m) {
+  m.nranges = sameSize<int32_t>("laser_scan_t", m.ranges, m.flags, m.offset_us);
+}
+void setLengths(sonar_ring_t& m) {
+  m.nreadings = sameSize<int32_t>("sonar_ring_t", m.sensor_id, m.range, m.no_echo, m.mount, m.beam_width);
+}
+void setLengths(sonar_geometry_t& m) {
+  m.num_sensors = sameSize<int32_t>("sonar_geometry_t", m.mount, m.beam_width, m.group_of);
+}
+void setLengths(line_map_t& m) { m.nsegments = sameSize<int32_t>("line_map_t", m.segments); }
+void setLengths(hypothetical_scan_t& m) {
+  m.nreadings = sameSize<int32_t>("hypothetical_scan_t", m.sensor_id, m.range, m.sensor_pose);
+}
+void setLengths(complement_t& m) { m.nreadings = sameSize<int32_t>("complement_t", m.readings); }
+void setLengths(grid_map_t& m) {
+  m.ncells = sameSize<int32_t>("grid_map_t", m.g, m.h, m.gp);
+  if (static_cast<int64_t>(m.width) * m.height != m.ncells)
+    throw std::logic_error("grid_map_t: width*height != number of cells");
+}
+void setLengths(sector_map_t& m) {
+  m.nsectors = sameSize<int32_t>("sector_map_t", m.distance, m.source, m.laser_distance, m.sonar_distance);
+}
+void setLengths(process_status_t& m) {
+  m.nchannels = sameSize<int32_t>("process_status_t", m.channels);
+  m.ncounters = sameSize<int32_t>("process_status_t", m.counter_names, m.counter_values);
+}
+void setLengths(sim_state_t& m) { m.nmovers = sameSize<int32_t>("sim_state_t", m.movers); }
+void setLengths(sonar_truth_t& m) { m.nreadings = sameSize<int32_t>("sonar_truth_t", m.causes); }
+
+}  // namespace lasonic

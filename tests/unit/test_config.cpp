@@ -1,0 +1,63 @@
+#include <gtest/gtest.h>
+
+#include "core/config.hpp"
+
+using lasonic::Config;
+using lasonic::ConfigError;
+using lasonic::Range;
+
+static std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, ReadsValuesAndDefaults) {
+  const Config c = Config::fromString("a: 1.5\nb: {c: 3}\nname: x\n");
+  EXPECT_DOUBLE_EQ(c.get("a", 0.0, Range::positive()), 1.5);
+  EXPECT_DOUBLE_EQ(c.get("missing", 7.0, Range::positive()), 7.0);
+  EXPECT_EQ(c.section("b").get("c", 0, Range::any()), 3);
+  EXPECT_EQ(c.require<std::string>("name"), "x");
+}
+
+TEST(Config, ErrorsNameTheKeyPath) {
+  const Config c = Config::fromString(
+      "obstacles:\n  - {radius: 1}\n  - {radius: -2}\nsonar: {rate: abc}\n", "s.yaml");
+  const auto obs = c.list("obstacles");
+  ASSERT_EQ(obs.size(), 2u);
+  EXPECT_EQ(errorOf([&] { obs[1].get("radius", 1.0, Range::positive()); }),
+            "s.yaml: obstacles[1].radius: must be > 0");
+  EXPECT_EQ(errorOf([&] { c.section("sonar").get("rate", 1.0, Range::any()); }),
+            "s.yaml: sonar.rate: must be a number");
+  EXPECT_EQ(errorOf([&] { c.require<int>("nope"); }), "s.yaml: nope: is required");
+  EXPECT_NE(errorOf([&] { c.section("sonar").allowOnly({"x"}); }).find("sonar.rate: unknown key"),
+            std::string::npos);
+}
+
+TEST(Config, SyntaxAndFileErrors) {
+  EXPECT_NE(errorOf([] { Config::fromString("a: [1, 2\n", "bad.yaml"); }).find("bad.yaml: YAML syntax error"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { Config::loadFile("/nonexistent/file.yaml"); }).find("cannot open"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { Config::fromString("- 1\n- 2\n", "l.yaml"); }).find("top level must be a map"),
+            std::string::npos);
+}
+
+TEST(Config, PointsAndMerge) {
+  const Config c = Config::fromString("p: [[0, 0], [1, 2]]\nq: [1]\nbase: {a: 1, b: 2}\nover: {b: 3}\n");
+  const auto pts = c.requirePoints("p", 2);
+  EXPECT_DOUBLE_EQ(pts[1].y(), 2.0);
+  EXPECT_NE(errorOf([&] { c.requirePoints("q", 2); }).find("q[0]: must be a pair"), std::string::npos);
+  const Config m = c.section("base").mergedWith(c.section("over"));
+  EXPECT_EQ(m.get("a", 0, Range::any()), 1);
+  EXPECT_EQ(m.get("b", 0, Range::any()), 3);
+}
+
+TEST(Config, RejectsNonFinite) {
+  const Config c = Config::fromString("a: .nan\nb: .inf\n");
+  EXPECT_NE(errorOf([&] { c.get("a", 0.0, Range::any()); }), "");
+  EXPECT_NE(errorOf([&] { c.get("b", 0.0, Range::any()); }), "");
+}
