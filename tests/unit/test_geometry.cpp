@@ -108,3 +108,21 @@ TEST(Geometry, NearestInSectorCircle) {
   ASSERT_TRUE(d);
   EXPECT_GT(*d, 1.4);
 }
+
+#include "core/pose_history.hpp"
+
+TEST(PoseHistory, InterpolatesAndRefusesGoingBackwards) {
+  lasonic::PoseHistory h(10'000'000, 100'000);
+  EXPECT_FALSE(h.at(0));
+  EXPECT_EQ(h.add(1'000'000, {0, 0, 0}), lasonic::PoseHistory::AddResult::Ok);
+  EXPECT_EQ(h.add(2'000'000, {1, 2, 0.2}), lasonic::PoseHistory::AddResult::Ok);
+  EXPECT_EQ(h.add(1'500'000, {9, 9, 0}), lasonic::PoseHistory::AddResult::WentBackwards);
+  const auto p = h.at(1'250'000);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x, 0.25, 1e-12);
+  EXPECT_NEAR(p->y, 0.5, 1e-12);
+  EXPECT_NEAR(p->theta, 0.05, 1e-12);
+  EXPECT_NEAR(h.at(2'050'000)->x, 1.0, 1e-12);  // held within the extrapolation limit
+  EXPECT_FALSE(h.at(2'200'000));
+  EXPECT_FALSE(h.at(800'000));
+}

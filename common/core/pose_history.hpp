@@ -1,0 +1,42 @@
+#pragma once
+// A short history of timestamped poses (e.g. ODOMETRY), interpolated at any time inside it,
+// so each laser reading and each sonar firing is placed with the pose at its own time.
+#include <cstdint>
+#include <deque>
+#include <optional>
+
+#include "core/geometry.hpp"
+
+namespace lasonic {
+
+class PoseHistory {
+ public:
+  // max_age_us: entries older than (newest - max_age_us) are dropped.
+  // max_extrapolation_us: how far beyond the newest (or before the oldest) pose a query may
+  // reach; the pose is then held constant (the robot cannot have moved far).
+  explicit PoseHistory(int64_t max_age_us = 5'000'000, int64_t max_extrapolation_us = 200'000)
+      : max_age_us_(max_age_us), max_extrapolation_us_(max_extrapolation_us) {}
+
+  enum class AddResult { Ok, Duplicate, WentBackwards };
+  // Poses must come in time order; an older one is refused (counted by the caller), an equal
+  // timestamp replaces nothing.
+  AddResult add(int64_t utime, const geom::Pose2& pose);
+
+  // Pose at utime, or nullopt if the history is empty or utime is too far outside it.
+  std::optional<geom::Pose2> at(int64_t utime) const;
+
+  bool empty() const { return poses_.empty(); }
+  int64_t newestTime() const { return poses_.empty() ? 0 : poses_.back().utime; }
+  std::optional<geom::Pose2> newest() const;
+  void clear() { poses_.clear(); }
+
+ private:
+  struct Entry {
+    int64_t utime;
+    geom::Pose2 pose;
+  };
+  std::deque<Entry> poses_;
+  int64_t max_age_us_, max_extrapolation_us_;
+};
+
+}  // namespace lasonic
