@@ -1,0 +1,300 @@
+#include "eval/evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "core/geometry.hpp"
+#include "lcmio/eventlog.hpp"
+#include "lcmio/node.hpp"
+
+namespace lasonic::eval {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <typename T>
+void decodeInto(const LogRecord& r, std::vector<T>& out, int64_t& bad) {
+  if (auto m = decodeAs<T>(r.data)) out.push_back(std::move(*m));
+  else ++bad;
+}
+
+geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
+
+void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
+  if (r.valid()) m.set(key, r.value());
+}
+}  // namespace
+
+RunLog loadRunLog(const std::string& path) {
+  RunLog log;
+  LogReader reader(path);
+  while (auto r = reader.next()) {
+    const std::string& ch = r->channel;
+    if (ch == channels::SIM_STATE) decodeInto(*r, log.sim_states, log.undecodable);
+    else if (ch == channels::ODOMETRY) decodeInto(*r, log.odometry, log.undecodable);
+    else if (ch == channels::LASER_SCAN) decodeInto(*r, log.laser_scans, log.undecodable);
+    else if (ch == channels::SONAR_RING) decodeInto(*r, log.sonar_rings, log.undecodable);
+    else if (ch == channels::SONAR_TRUTH) decodeInto(*r, log.sonar_truths, log.undecodable);
+    else if (ch == channels::SONAR_HYPOTHESIS) decodeInto(*r, log.hypotheses, log.undecodable);
+    else if (ch == channels::SONAR_COMPLEMENT) decodeInto(*r, log.complements, log.undecodable);
+    else if (ch == channels::SECTOR_MAP) decodeInto(*r, log.sector_maps, log.undecodable);
+    else if (ch == channels::AGM_OPERATIONAL) decodeInto(*r, log.agm_operational, log.undecodable);
+  }
+  // Live logs interleave processes: order by message time (stable for equal times).
+  std::stable_sort(log.sim_states.begin(), log.sim_states.end(),
+                   [](const auto& a, const auto& b) { return a.utime < b.utime; });
+  return log;
+}
+
+// ------------------------------------------------------------------------------ truth
+
+TruthTrack::TruthTrack(const std::vector<sim_state_t>& states) : states_(&states) {}
+
+size_t TruthTrack::bracket(int64_t utime, double& s) const {
+  const auto& v = *states_;
+  auto it = std::lower_bound(v.begin(), v.end(), utime,
+                             [](const sim_state_t& st, int64_t t) { return st.utime < t; });
+  if (it == v.begin()) {
+    s = 0;
+    return 0;
+  }
+  if (it == v.end()) {
+    s = 1;
+    return v.size() - 2 < v.size() ? v.size() - 2 : 0;
+  }
+  const size_t i = static_cast<size_t>(it - v.begin()) - 1;
+  s = static_cast<double>(utime - v[i].utime) / static_cast<double>(v[i + 1].utime - v[i].utime);
+  return i;
+}
+
+geom::Pose2 TruthTrack::robotAt(int64_t utime) const {
+  const auto& v = *states_;
+  if (v.size() == 1) return toPose(v[0].robot_pose);
+  double s = 0;
+  const size_t i = bracket(utime, s);
+  return geom::interpolate(toPose(v[i].robot_pose), toPose(v[i + 1].robot_pose), s);
+}
+
+std::vector<sim::MoverPose> TruthTrack::moversAt(int64_t utime) const {
+  const auto& v = *states_;
+  std::vector<sim::MoverPose> out;
+  if (v.empty()) return out;
+  double s = 0;
+  const size_t i = v.size() == 1 ? 0 : bracket(utime, s);
+  const sim_state_t& a = v[i];
+  const sim_state_t& b = v.size() == 1 ? v[0] : v[i + 1];
+  for (size_t k = 0; k < a.movers.size(); ++k) {
+    const mover_state_t& ma = a.movers[k];
+    const mover_state_t& mb = k < b.movers.size() ? b.movers[k] : ma;
+    out.push_back({ma.id, {ma.x + s * (mb.x - ma.x), ma.y + s * (mb.y - ma.y)}, ma.radius});
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------------------ sensors
+
+void evalSensors(const RunLog& log, Metrics& m) {
+  m.set("sensors.laser_scans", static_cast<int64_t>(log.laser_scans.size()));
+  int64_t readings = 0;
+  for (const auto& r : log.sonar_rings) readings += static_cast<int64_t>(r.range.size());
+  m.set("sensors.sonar_readings", readings);
+  if (log.sonar_truths.empty()) return;
+  static const char* kCauses[] = {"direct", "specular_long", "no_echo", "crosstalk", "foreign"};
+  int64_t counts[5] = {0, 0, 0, 0, 0}, total = 0;
+  for (const auto& t : log.sonar_truths)
+    for (const auto& c : t.causes) {
+      if (c.cause >= 0 && c.cause < 5) ++counts[c.cause];
+      ++total;
+    }
+  for (int i = 0; i < 5; ++i)
+    m.set(std::string("sensors.sonar_causes.") + kCauses[i],
+          total > 0 ? static_cast<double>(counts[i]) / static_cast<double>(total) : 0.0);
+}
+
+// ------------------------------------------------------------------------------ complement
+
+void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
+  if (log.complements.empty() || log.sonar_truths.empty()) return;
+  using Key = std::pair<int64_t, int>;
+  std::map<Key, const sonar_cause_t*> truth;
+  for (const auto& t : log.sonar_truths)
+    for (const auto& c : t.causes) truth[{t.utime, c.sensor_id}] = &c;
+  std::map<Key, std::pair<float, bool>> real;  // range, no_echo
+  for (const auto& r : log.sonar_rings)
+    for (size_t i = 0; i < r.range.size(); ++i) real[{r.utime, r.sensor_id[i]}] = {r.range[i], r.no_echo[i] != 0};
+  double limit = o.range_limit;
+  if (!log.hypotheses.empty()) limit = log.hypotheses.front().range_limit;
+
+  Ratio invisible, informative, specular, redundant, precision;
+  for (const auto& cm : log.complements) {
+    for (const auto& rd : cm.readings) {
+      const Key k{cm.utime, rd.sensor_id};
+      auto t = truth.find(k);
+      auto r = real.find(k);
+      if (t == truth.end() || r == real.end()) continue;
+      const sonar_cause_t& c = *t->second;
+      const double range = r->second.first;
+      const bool echo = !r->second.second && std::isfinite(range);
+      const bool comp = rd.cls == complement_reading_t::CLASS_COMPLEMENTARY;
+      const bool direct = c.cause == sonar_cause_t::CAUSE_DIRECT && echo;
+      const double visible = c.nearest_laser_visible < 0 ? limit : c.nearest_laser_visible;
+      const bool informative_echo = direct && range <= limit && range < visible - cm.tolerance;
+      if (direct && !c.laser_visible && range <= limit) invisible.add(comp);
+      if (informative_echo) informative.add(comp);
+      if (c.cause == sonar_cause_t::CAUSE_SPECULAR_LONG) specular.add(!comp);
+      if (direct && c.laser_visible && rd.hypothetical_range < limit) redundant.add(!comp);
+      if (comp) precision.add(direct && (!c.laser_visible || informative_echo));
+    }
+  }
+  setRatio(m, "complement.invisible_recall", invisible);
+  setRatio(m, "complement.informative_recall", informative);
+  setRatio(m, "complement.specular_rejection", specular);
+  setRatio(m, "complement.redundant_drop", redundant);
+  setRatio(m, "complement.precision", precision);
+  m.set("complement.samples.invisible", invisible.den);
+  m.set("complement.samples.specular_long", specular.den);
+  m.set("complement.samples.complementary", precision.den);
+}
+
+// ------------------------------------------------------------------------------ sector map
+
+std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,
+                                        double robot_radius, int nsectors, double max_range) {
+  std::vector<double> out(static_cast<size_t>(nsectors), kInf);
+  const double width = 2.0 * geom::kPi / nsectors;
+  for (int k = 0; k < nsectors; ++k) {
+    const geom::Sector sec{robot.position(), robot.theta - geom::kPi + (k + 0.5) * width, width,
+                           robot_radius + max_range};
+    double best = kInf;
+    for (const auto& p : world.primitives()) {
+      const auto d = p.kind == sim::Primitive::Kind::Segment ? geom::nearestInSector(sec, p.segment)
+                                                             : geom::nearestInSector(sec, p.circle);
+      if (d) best = std::min(best, *d);
+    }
+    if (std::isfinite(best)) out[static_cast<size_t>(k)] = std::max(0.0, best - robot_radius);
+  }
+  return out;
+}
+
+namespace {
+struct SectorScore {
+  Ratio missed, false_alarm;
+  double abs_err = 0;
+  int64_t err_n = 0;
+  void add(double reported, double truth, const EvalOptions& o) {
+    const bool has = reported >= 0;
+    if (truth <= o.sector_range) {
+      missed.add(!has || reported > truth + o.sector_tolerance);
+      if (has) {
+        abs_err += std::abs(reported - truth);
+        ++err_n;
+      }
+    }
+    if (has && reported <= o.sector_range) false_alarm.add(reported < truth - o.sector_tolerance);
+  }
+  void write(Metrics& m, const std::string& prefix) const {
+    setRatio(m, prefix + ".missed_rate", missed);
+    setRatio(m, prefix + ".false_alarm_rate", false_alarm);
+    if (err_n > 0) m.set(prefix + ".mae_m", abs_err / static_cast<double>(err_n));
+  }
+};
+}  // namespace
+
+void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
+  if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
+  TruthTrack truth(log.sim_states);
+  sim::WorldGeometry world(sc);
+  SectorScore fused, laser_only;
+  for (const auto& sm : log.sector_maps) {
+    world.setMovers(truth.moversAt(sm.utime));
+    const auto t = trueSectorDistances(world, truth.robotAt(sm.utime), sm.robot_radius,
+                                       sm.nsectors, o.sector_range + 1.0);
+    for (size_t k = 0; k < t.size(); ++k) {
+      fused.add(sm.distance[k], t[k], o);
+      laser_only.add(sm.laser_distance[k], t[k], o);
+    }
+  }
+  m.set("sector_map.maps", static_cast<int64_t>(log.sector_maps.size()));
+  fused.write(m, "sector_map");
+  laser_only.write(m, "baselines.laser_only.sector_map");
+}
+
+// ------------------------------------------------------------------------------ AGM
+
+void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
+  if (log.agm_operational.empty() || log.sim_states.size() < 2) return;
+  TruthTrack truth(log.sim_states);
+  sim::WorldGeometry world(sc);
+  // Boundary samples of laser-invisible static obstacles: what the complement exists to find.
+  std::vector<geom::Vec2> invisible_pts;
+  for (const auto& p : sc.statics) {
+    if (sc.laserVisible(p.obstacle)) continue;
+    if (p.kind == sim::Primitive::Kind::Segment) {
+      const int n = std::max(1, static_cast<int>(std::ceil(p.segment.length() / 0.05)));
+      for (int i = 0; i <= n; ++i) invisible_pts.push_back(p.segment.a + (p.segment.b - p.segment.a) * (double(i) / n));
+    } else {
+      const int n = std::max(8, static_cast<int>(std::ceil(2 * geom::kPi * p.circle.radius / 0.05)));
+      for (int i = 0; i < n; ++i)
+        invisible_pts.push_back(p.circle.center + p.circle.radius * geom::unitVector(2 * geom::kPi * i / n));
+    }
+  }
+  Ratio precision, recall;
+  for (const auto& g : log.agm_operational) {
+    world.setMovers(truth.moversAt(g.utime));
+    const geom::Pose2 true_robot = truth.robotAt(g.utime);
+    // Odometry (global) frame -> true frame at the map's time.
+    const geom::Pose2 true_from_odom = true_robot.compose(toPose(g.robot_pose).inverse());
+    const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
+    std::vector<geom::Vec2> occupied;
+    for (int iy = 0; iy < g.height; ++iy)
+      for (int ix = 0; ix < g.width; ++ix) {
+        const size_t idx = static_cast<size_t>(iy) * g.width + ix;
+        if (g.gp[idx] <= 0 || g.gp[idx] < g.gp_threshold) continue;
+        const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+        occupied.push_back(true_from_odom.transform(c));
+      }
+    for (const auto& c : occupied) {
+      double best = kInf;
+      for (const auto& p : world.primitives()) {
+        const double d = p.kind == sim::Primitive::Kind::Segment
+                             ? geom::distance(p.segment, c)
+                             : std::abs((c - p.circle.center).norm() - p.circle.radius);
+        best = std::min(best, d);
+      }
+      precision.add(best <= tol);
+    }
+    const double reach = sc.robot.radius + o.range_limit;
+    for (const auto& q : invisible_pts) {
+      const geom::Vec2 d = q - true_robot.position();
+      const double dist = d.norm();
+      if (dist > reach || dist < 1e-6) continue;
+      // Only boundary the sonar can see: nothing else in the line of sight.
+      const auto hit = world.castRay(geom::Ray{true_robot.position(), d / dist}, dist + 0.05);
+      if (hit && hit->range < dist - 0.03) continue;
+      bool found = false;
+      for (const auto& c : occupied) found = found || (c - q).norm() <= tol;
+      recall.add(found);
+    }
+  }
+  m.set("agm_operational.maps", static_cast<int64_t>(log.agm_operational.size()));
+  setRatio(m, "agm_operational.precision", precision);
+  setRatio(m, "agm_operational.recall", recall);
+}
+
+Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o) {
+  Metrics m;
+  m.set("scenario", sc.name);
+  double duration = 0;
+  if (log.sim_states.size() >= 2)
+    duration = static_cast<double>(log.sim_states.back().utime - log.sim_states.front().utime) * 1e-6;
+  m.set("duration_s", duration);
+  evalSensors(log, m);
+  evalComplement(log, o, m);
+  evalSectorMap(log, sc, o, m);
+  evalAgmOperational(log, sc, o, m);
+  return m;
+}
+
+}  // namespace lasonic::eval

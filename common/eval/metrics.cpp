@@ -1,0 +1,121 @@
+#include "eval/metrics.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace lasonic::eval {
+
+void Metrics::set(const std::string& key, Value v) {
+  for (auto& e : entries_)
+    if (e.first == key) {
+      e.second = std::move(v);
+      return;
+    }
+  entries_.emplace_back(key, std::move(v));
+}
+
+const Metrics::Value* Metrics::find(const std::string& key) const {
+  for (const auto& e : entries_)
+    if (e.first == key) return &e.second;
+  return nullptr;
+}
+
+bool Metrics::has(const std::string& key) const { return find(key) != nullptr; }
+
+double Metrics::number(const std::string& key) const {
+  const Value* v = find(key);
+  if (!v) throw std::out_of_range("no metric " + key);
+  if (auto d = std::get_if<double>(v)) return *d;
+  if (auto i = std::get_if<int64_t>(v)) return static_cast<double>(*i);
+  throw std::invalid_argument("metric " + key + " is not a number");
+}
+
+namespace {
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      o += buf;
+      continue;
+    }
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::string format(const Metrics::Value& v, bool json) {
+  if (auto d = std::get_if<double>(&v)) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4f", std::isfinite(*d) ? *d : 0.0);
+    return buf;
+  }
+  if (auto i = std::get_if<int64_t>(&v)) return std::to_string(*i);
+  const auto& s = std::get<std::string>(v);
+  return json ? jsonString(s) : s;
+}
+
+// Ordered tree built from dotted keys.
+struct Tree {
+  std::vector<std::pair<std::string, std::unique_ptr<Tree>>> children;
+  const Metrics::Value* value = nullptr;
+  Tree& child(const std::string& name) {
+    for (auto& c : children)
+      if (c.first == name) return *c.second;
+    children.emplace_back(name, std::make_unique<Tree>());
+    return *children.back().second;
+  }
+};
+
+void writeJson(const Tree& t, std::ostringstream& os, int indent) {
+  if (t.value) {
+    os << format(*t.value, true);
+    return;
+  }
+  os << "{";
+  bool first = true;
+  for (const auto& [name, c] : t.children) {
+    os << (first ? "\n" : ",\n") << std::string(static_cast<size_t>(indent + 2), ' ') << jsonString(name) << ": ";
+    writeJson(*c, os, indent + 2);
+    first = false;
+  }
+  os << "\n" << std::string(static_cast<size_t>(indent), ' ') << "}";
+}
+}  // namespace
+
+std::string Metrics::toJson() const {
+  Tree root;
+  for (const auto& [key, v] : entries_) {
+    Tree* t = &root;
+    std::stringstream ks(key);
+    std::string part;
+    while (std::getline(ks, part, '.')) t = &t->child(part);
+    t->value = &v;
+  }
+  std::ostringstream os;
+  writeJson(root, os, 0);
+  os << "\n";
+  return os.str();
+}
+
+std::string Metrics::toTable() const {
+  size_t w = 0;
+  for (const auto& e : entries_) w = std::max(w, e.first.size());
+  std::ostringstream os;
+  std::string section;
+  for (const auto& [key, v] : entries_) {
+    const std::string sec = key.substr(0, key.find('.'));
+    if (sec != section && !section.empty()) os << "\n";
+    section = sec;
+    os << "  " << key << std::string(w - key.size() + 2, ' ') << format(v, false) << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace lasonic::eval

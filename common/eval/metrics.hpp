@@ -1,0 +1,40 @@
+#pragma once
+// An ordered set of named results with dotted keys ("sector_map.missed_rate"), printed as a
+// readable table or as nested JSON.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace lasonic::eval {
+
+class Metrics {
+ public:
+  using Value = std::variant<double, int64_t, std::string>;
+  void set(const std::string& key, Value v);
+  bool has(const std::string& key) const;
+  const Value* find(const std::string& key) const;
+  double number(const std::string& key) const;  // throws if absent or not numeric
+  const std::vector<std::pair<std::string, Value>>& entries() const { return entries_; }
+
+  std::string toJson() const;
+  std::string toTable() const;
+
+ private:
+  std::vector<std::pair<std::string, Value>> entries_;
+};
+
+// A rate with its denominator: NaN-free JSON needs "no samples" to be visible, so rates with an
+// empty denominator are omitted and the count is reported next to them.
+struct Ratio {
+  int64_t num = 0, den = 0;
+  void add(bool hit) {
+    ++den;
+    if (hit) ++num;
+  }
+  bool valid() const { return den > 0; }
+  double value() const { return den > 0 ? static_cast<double>(num) / static_cast<double>(den) : 0.0; }
+};
+
+}  // namespace lasonic::eval

@@ -1,0 +1,132 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "eval/evaluate.hpp"
+
+using namespace lasonic;
+using namespace lasonic::eval;
+
+namespace {
+sim::Scenario boxRoom() {
+  // 4 x 4 m room, robot in the middle, one laser-invisible circle (mesh) 1 m ahead.
+  return sim::parseScenario(Config::fromString(R"(
+name: t
+duration_s: 10
+seed: 1
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[4,0],[4,4],[0,4]]}
+  - {shape: circle, material: mesh, center: [3.0, 2.0], radius: 0.1}
+robot: {radius: 0.35, path: [[2,2],[2.5,2]], speed: 0.1}
+)"));
+}
+
+sim_state_t state(int64_t utime, double x, double y, double th) {
+  sim_state_t s{};
+  s.utime = utime;
+  s.robot_pose.x = x;
+  s.robot_pose.y = y;
+  s.robot_pose.theta = th;
+  return s;
+}
+}  // namespace
+
+TEST(Metrics, JsonIsNestedAndOrdered) {
+  Metrics m;
+  m.set("scenario", std::string("x"));
+  m.set("a.b", 0.5);
+  m.set("a.c", int64_t{3});
+  m.set("d", 1.0);
+  EXPECT_EQ(m.toJson(), "{\n  \"scenario\": \"x\",\n  \"a\": {\n    \"b\": 0.5000,\n    \"c\": 3\n  },\n  \"d\": 1.0000\n}\n");
+  EXPECT_DOUBLE_EQ(m.number("a.c"), 3.0);
+}
+
+TEST(TruthTrack, Interpolates) {
+  std::vector<sim_state_t> st = {state(0, 0, 0, 0), state(1000, 1, 2, 0.2)};
+  TruthTrack t(st);
+  const auto p = t.robotAt(250);
+  EXPECT_NEAR(p.x, 0.25, 1e-12);
+  EXPECT_NEAR(p.theta, 0.05, 1e-12);
+  EXPECT_NEAR(t.robotAt(5000).x, 1.0, 1e-12);  // held after the end
+}
+
+TEST(SectorTruth, RoomWallsAndCircle) {
+  const auto sc = boxRoom();
+  sim::WorldGeometry world(sc);
+  const auto d = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
+  ASSERT_EQ(d.size(), 48u);
+  // Sector 24 starts at bearing 0 (straight ahead): the circle at 1 m - 0.1 m radius.
+  EXPECT_NEAR(d[24], 0.9 - 0.35, 1e-9);
+  // Straight behind (sector 0 covers [-180, -172.5)): the wall 2 m away, nearest at the sector edge.
+  EXPECT_NEAR(d[0], 2.0 - 0.35, 1e-9);
+  // Turned by 90 deg, the circle is to the right (bearing -90 deg -> sector 12).
+  const auto r = trueSectorDistances(world, {2, 2, geom::kPi / 2}, 0.35, 48, 3.0);
+  EXPECT_NEAR(r[12], 0.9 - 0.35, 1e-9);
+}
+
+TEST(EvalSectorMap, MissedAndFalseAlarm) {
+  const auto sc = boxRoom();
+  RunLog log;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  sector_map_t sm{};
+  sm.utime = 500'000;
+  sm.robot_radius = 0.35f;
+  sm.max_range = 3.0f;
+  sm.nsectors = 48;
+  sim::WorldGeometry world(sc);
+  const auto truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
+  for (int k = 0; k < 48; ++k) {
+    sm.distance.push_back(static_cast<float>(truth[k]));
+    sm.laser_distance.push_back(static_cast<float>(truth[k]));
+    sm.sonar_distance.push_back(-1);
+    sm.source.push_back(int8_t{sector_map_t::SOURCE_LASER});
+  }
+  sm.laser_distance[24] = -1;            // the laser misses the mesh obstacle
+  sm.distance[0] = 0.5f;                 // false alarm behind (truth 1.65)
+  log.sector_maps.push_back(sm);
+  Metrics m;
+  evalSectorMap(log, sc, EvalOptions{}, m);
+  int within = 0;
+  for (double t : truth) within += t <= 2.0;
+  EXPECT_NEAR(m.number("sector_map.missed_rate"), 0.0, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.false_alarm_rate"), 1.0 / within, 1e-12);
+  EXPECT_NEAR(m.number("baselines.laser_only.sector_map.missed_rate"), 1.0 / within, 1e-12);
+}
+
+TEST(EvalComplement, JoinsTruthAndClasses) {
+  RunLog log;
+  sonar_ring_t ring{};
+  ring.utime = 100;
+  ring.sensor_id = {0, 1, 2};
+  ring.range = {1.0f, 2.0f, 1.5f};
+  ring.no_echo = {0, 0, 0};
+  log.sonar_rings.push_back(ring);
+  sonar_truth_t tr{};
+  tr.utime = 100;
+  sonar_cause_t c0{0, sonar_cause_t::CAUSE_DIRECT, 3, 0, 1.0f, 2.0f};       // glass: invisible
+  sonar_cause_t c1{1, sonar_cause_t::CAUSE_SPECULAR_LONG, -1, 0, -1.f, 1.2f};
+  sonar_cause_t c2{2, sonar_cause_t::CAUSE_DIRECT, 0, 1, 1.5f, 1.5f};      // wall: visible
+  tr.causes = {c0, c1, c2};
+  log.sonar_truths.push_back(tr);
+  complement_t cm{};
+  cm.utime = 100;
+  cm.tolerance = 0.1f;
+  auto reading = [](int id, int8_t cls, float h) {
+    complement_reading_t r{};
+    r.sensor_id = static_cast<int16_t>(id);
+    r.cls = cls;
+    r.hypothetical_range = h;
+    return r;
+  };
+  cm.readings = {reading(0, complement_reading_t::CLASS_COMPLEMENTARY, 2.0f),
+                 reading(1, complement_reading_t::CLASS_FALSE, 1.2f),
+                 reading(2, complement_reading_t::CLASS_COMPLEMENTARY, 1.5f)};
+  log.complements.push_back(cm);
+  Metrics m;
+  evalComplement(log, EvalOptions{}, m);
+  EXPECT_DOUBLE_EQ(m.number("complement.invisible_recall"), 1.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.informative_recall"), 1.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.specular_rejection"), 1.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.redundant_drop"), 0.0);  // the wall echo was not dropped
+  EXPECT_DOUBLE_EQ(m.number("complement.precision"), 0.5);
+}
