@@ -7,6 +7,9 @@
 // ODOMETRY; the drivers consume SIM_STATE in time order and emit a measurement once the
 // truth up to its time is known, interpolating the truth between consecutive states.
 #include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -17,6 +20,7 @@
 #include <lasonic/sonar_ring_t.hpp>
 #include <lasonic/sonar_truth_t.hpp>
 
+#include "sim/path_follower.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
 
@@ -36,13 +40,34 @@ OdometryConfig odometryConfig(const Config& c, OdometryConfig base = {});  // th
 
 class WorldCore {
  public:
+  // Sim time 0 is this utime, so that no message ever carries utime 0 ("unset").
+  static constexpr int64_t kStartUtime = 1'000'000;
+
+  // The odometry noise is drawn from deriveSeed(s.seed, "odometry").
   WorldCore(const Scenario& s, const OdometryConfig& c);
-  // True state at utime (robot path following, movers); utime must not go backwards.
+  // True state at utime (robot path following, movers); utime must not go backwards
+  // (std::invalid_argument). Also advances the odometry to utime.
   sim_state_t stateAt(int64_t utime);
-  // Odometry integrated (with drift) up to the last stateAt() call.
+  // Odometry integrated (with drift) up to the last stateAt() call. Its frame starts equal to
+  // the true start pose.
   odometry_t odometry() const;
   int64_t periodUs() const;
+  int64_t startUtime() const { return kStartUtime; }
   bool finished(int64_t utime) const;  // past duration_s
+
+ private:
+  OdometryConfig cfg_;
+  PathFollower robot_;
+  std::vector<PathFollower> movers_;
+  std::vector<double> mover_radius_;
+  int64_t end_utime_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> gauss_{0.0, 1.0};
+  int32_t seq_ = 0;
+  bool started_ = false;
+  int64_t last_utime_ = 0;
+  geom::Pose2 last_true_;
+  odometry_t odom_{};
 };
 
 // ---------------------------------------------------------------- laser
@@ -57,14 +82,39 @@ struct LaserConfig {
 };
 LaserConfig laserConfig(const Config& c, LaserConfig base = {});
 
+// A rotating scanner: a scan takes 1/scan_rate_hz; reading i is taken at angle
+// angle_min + i*increment and at time utime + offset_us[i], evenly spread over the scan, and is
+// cast against the truth interpolated to its own time. Scans follow each other back to back from
+// the first SIM_STATE on.
 class LaserDriverCore {
  public:
+  // seed: the run's seed (normally the scenario's); the noise uses deriveSeed(seed, "laser").
   LaserDriverCore(const Scenario& s, const LaserConfig& c, uint64_t seed);
-  // Scans completed by the time of this state (usually 0 or 1).
+  // Scans completed by the time of this state (usually 0 or 1). A state not after the previous
+  // one, or with a non-finite pose, is refused with std::invalid_argument (nothing changes).
   std::vector<laser_scan_t> onSimState(const sim_state_t& st);
+  const LaserConfig& config() const { return cfg_; }
+
+ private:
+  laser_scan_t makeScan(int64_t start_utime);
+  // Truth at utime, interpolated between the buffered states that bracket it.
+  void truthAt(int64_t utime, geom::Pose2& robot, std::vector<MoverPose>& movers) const;
+
+  std::unique_ptr<const Scenario> scenario_;  // heap: world_ points into it, cores stay movable
+  WorldGeometry world_;
+  LaserConfig cfg_;
+  double angle_min_, angle_increment_;
+  std::vector<int32_t> offset_us_;
+  int64_t period_us_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> gauss_{0.0, 1.0};
+  std::deque<sim_state_t> states_;
+  int64_t next_scan_utime_ = 0;
+  int32_t seq_ = 0;
 };
 
 // ---------------------------------------------------------------- sonar
+// Beam model and config details: sim/sonar_model.hpp.
 struct SonarSensor {
   geom::Pose2 mount;              // robot frame
   double beam_width = 0;          // [rad]
@@ -73,26 +123,53 @@ struct SonarSensor {
 struct SonarConfig {
   std::vector<SonarSensor> sensors;   // default: MOBOT-IV ring of 24, 15 deg apart, 6 groups of 4
   double range_max = 3.0;             // [m]
-  double range_min = 0.10;            // [m]
-  double group_period_s = 0.03;       // between consecutive groups
-  int rays_per_beam = 31;
+  double range_min = 0.10;            // [m] transducer ringing hides nearer echoes
+  // Between consecutive groups: the 2*3.0/343 = 17.5 ms echo time of flight at range_max plus
+  // margin for the echoes to die down (a full ring every 180 ms, each sensor at 5.6 Hz).
+  double group_period_s = 0.03;
+  // 0.5 deg apart across a 30 deg beam: a 4 cm pipe at range_max still meets a ray.
+  int rays_per_beam = 61;
   double noise_std = 0.01;            // [m] + noise_rel * range
   double noise_rel = 0.01;
   double multipath_prob = 0.5;        // specular miss -> a too-long reading (else no echo)
   double crosstalk_prob = 0.02;       // per reading
   double foreign_prob = 0.01;         // per reading
+  // The ideal beam of DESIGN.md step 2 (SONAR_TRUTH.nearest_laser_visible): keep it equal to
+  // the complement's hypothetical-scan sector.
+  double ideal_beam_width = 30 * geom::kPi / 180;  // [rad]
+  double ideal_range = 2.20;                       // [m]
 };
+// Keys of `c` replace those of `base`; `ring` or `sensors` replaces the whole sensor set.
 SonarConfig sonarConfig(const Config& c, SonarConfig base = {});
 
+// Fires the groups one after another, every group_period_s from the first SIM_STATE on, with
+// the truth interpolated to each firing time.
 class SonarDriverCore {
  public:
+  // seed: the scenario's; the sonar's own stream is deriveSeed(seed, "sonar").
   SonarDriverCore(const Scenario& s, const SonarConfig& c, uint64_t seed);
   struct Output {
     sonar_ring_t ring;
     sonar_truth_t truth;
   };
+  // Every group firing at or before st.utime. A state not after the previous one, with a
+  // non-finite value or an unknown mover id is refused with std::invalid_argument (nothing
+  // changes).
   std::vector<Output> onSimState(const sim_state_t& st);
   sonar_geometry_t geometry(int64_t utime) const;
+
+ private:
+  Output fire(int64_t utime, const sim_state_t& truth);
+
+  std::unique_ptr<const Scenario> scenario_;  // heap: world_ points into it, cores stay movable
+  SonarConfig config_;
+  WorldGeometry world_;
+  std::mt19937_64 rng_;
+  std::vector<std::vector<int>> groups_;  // sensor ids of each firing group, ascending
+  int64_t period_us_;
+  std::optional<sim_state_t> last_;       // previous SIM_STATE, to interpolate the truth
+  int64_t next_fire_utime_ = 0;
+  int32_t seq_ = 0;
 };
 
 }  // namespace lasonic::sim

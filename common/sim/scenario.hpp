@@ -30,8 +30,8 @@ enum class PathMode { Once, Loop, PingPong };
 // time; every primitive remembers which scenario entry it came from.
 struct Primitive {
   enum class Kind { Segment, Circle } kind = Kind::Segment;
-  geom::Segment segment;  // Kind::Segment
-  geom::Circle circle;    // Kind::Circle
+  geom::Segment segment{geom::Vec2::Zero(), geom::Vec2::Zero()};  // Kind::Segment
+  geom::Circle circle{geom::Vec2::Zero(), 0.0};                    // Kind::Circle
   int obstacle = -1;      // index in Scenario::obstacles, or -(mover id)-2 for a mover
   const Material* material = nullptr;  // points into Scenario::materials (stable: std::map)
 };
@@ -41,7 +41,7 @@ struct ObstacleSpec {
   std::string material;
   std::vector<geom::Vec2> points;  // polyline points / segment ends / box corners
   bool closed = false;
-  geom::Circle circle;    // circle
+  geom::Circle circle{geom::Vec2::Zero(), 0.0};  // circle
 };
 
 struct MoverSpec {
@@ -63,6 +63,13 @@ struct RobotSpec {
 };
 
 struct Scenario {
+  Scenario() = default;
+  // Copies re-point every Primitive::material into the copy's own materials map.
+  Scenario(const Scenario& other);
+  Scenario& operator=(const Scenario& other);
+  Scenario(Scenario&&) = default;  // std::map keeps its nodes when moved
+  Scenario& operator=(Scenario&&) = default;
+
   std::string name;
   std::string file;
   double duration_s = 60;

@@ -1,0 +1,182 @@
+// The simulated robot's motion (ground truth), the movers, and drifting odometry.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "sim/drivers.hpp"
+#include "sim/path_follower.hpp"
+
+namespace lasonic::sim {
+
+uint64_t deriveSeed(uint64_t seed, const char* stream) {
+  // FNV-1a of the stream name, mixed with the seed by splitmix64: fixed arithmetic, so a seed
+  // gives the same streams on every platform and standard library.
+  uint64_t h = 1469598103934665603ULL;
+  for (const char* p = stream; *p; ++p) h = (h ^ static_cast<unsigned char>(*p)) * 1099511628211ULL;
+  uint64_t z = seed ^ h;
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// ---------------------------------------------------------------- PathFollower
+
+PathFollower::PathFollower(const std::vector<geom::Vec2>& path, PathMode mode, double speed,
+                           double turn_rate, double start_delay_s)
+    : mode_(mode), speed_(speed), turn_rate_(turn_rate), delay_(start_delay_s) {
+  if (path.size() < 2) throw std::invalid_argument("PathFollower: a path needs at least 2 waypoints");
+  std::vector<geom::Vec2> w = path;
+  if (mode == PathMode::Loop && (w.back() - w.front()).norm() > 1e-9) w.push_back(w.front());
+  if (mode == PathMode::PingPong)
+    for (size_t i = path.size() - 1; i-- > 0;) w.push_back(path[i]);
+
+  auto heading = [](const geom::Vec2& a, const geom::Vec2& b) { return std::atan2(b.y() - a.y(), b.x() - a.x()); };
+  const double start_heading = heading(w[0], w[1]);
+  geom::Pose2 at{w[0].x(), w[0].y(), start_heading};
+  double t = 0;
+  auto turnTo = [&](double h) {
+    const double d = std::abs(geom::angleDiff(h, at.theta));
+    const geom::Pose2 to{at.x, at.y, h};
+    if (d > 1e-12 && std::isfinite(turn_rate_)) {
+      phases_.push_back({t, d / turn_rate_, at, to, true});
+      t += d / turn_rate_;
+    }
+    at = to;
+  };
+  for (size_t i = 0; i + 1 < w.size(); ++i) {
+    if ((w[i + 1] - w[i]).norm() < 1e-9) continue;
+    turnTo(heading(w[i], w[i + 1]));
+    const geom::Pose2 to{w[i + 1].x(), w[i + 1].y(), at.theta};
+    const double len = (w[i + 1] - w[i]).norm();
+    phases_.push_back({t, len / speed_, at, to, false});
+    t += len / speed_;
+    at = to;
+  }
+  // A repeating path ends each cycle where it began, facing the same way.
+  if (mode != PathMode::Once) turnTo(start_heading);
+  if (phases_.empty()) throw std::invalid_argument("PathFollower: the path has no length");
+  cycle_ = t;
+}
+
+PathFollower::State PathFollower::at(double t) const {
+  t -= delay_;
+  State s;
+  s.pose = phases_.front().from;
+  if (t <= 0) return s;
+  if (mode_ == PathMode::Once) {
+    if (t >= cycle_) {
+      s.pose = phases_.back().to;
+      return s;
+    }
+  } else {
+    t = std::fmod(t, cycle_);
+  }
+  // Last phase starting at or before t.
+  size_t lo = 0, hi = phases_.size();
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    (phases_[mid].t0 <= t ? lo : hi) = mid;
+  }
+  const Phase& p = phases_[lo];
+  const double f = std::clamp((t - p.t0) / p.duration, 0.0, 1.0);
+  s.pose = geom::interpolate(p.from, p.to, f);
+  if (p.turn) {
+    s.omega = std::copysign(turn_rate_, geom::angleDiff(p.to.theta, p.from.theta));
+  } else {
+    s.v = speed_;
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------- odometry config
+
+OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
+  c.allowOnly({"rate_hz", "trans_noise", "rot_noise", "drift_noise"});
+  base.rate_hz = c.get("rate_hz", base.rate_hz, Range::between(1, 1000));
+  base.trans_noise = c.get("trans_noise", base.trans_noise, Range::nonNegative());
+  base.rot_noise = c.get("rot_noise", base.rot_noise, Range::nonNegative());
+  base.drift_noise = c.get("drift_noise", base.drift_noise, Range::nonNegative());
+  return base;
+}
+
+// ---------------------------------------------------------------- WorldCore
+
+WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
+    : cfg_(c),
+      robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
+      end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
+      rng_(deriveSeed(s.seed, "odometry")) {
+  for (const MoverSpec& m : s.movers) {
+    movers_.emplace_back(m.path, m.mode, m.speed, std::numeric_limits<double>::infinity(), m.start_delay_s);
+    mover_radius_.push_back(m.radius);
+  }
+}
+
+int64_t WorldCore::periodUs() const { return std::llround(1e6 / cfg_.rate_hz); }
+
+bool WorldCore::finished(int64_t utime) const { return utime > end_utime_; }
+
+static pose2d_t toMsg(const geom::Pose2& p) {
+  pose2d_t m;
+  m.x = p.x;
+  m.y = p.y;
+  m.theta = p.theta;
+  return m;
+}
+
+sim_state_t WorldCore::stateAt(int64_t utime) {
+  if (started_ && utime < last_utime_)
+    throw std::invalid_argument("WorldCore::stateAt: time went backwards");
+  const double t = static_cast<double>(utime - kStartUtime) * 1e-6;
+  const PathFollower::State r = robot_.at(t);
+
+  sim_state_t st;
+  st.utime = utime;
+  st.seq = seq_++;
+  st.robot_pose = toMsg(r.pose);
+  st.v = r.v;
+  st.omega = r.omega;
+  for (size_t i = 0; i < movers_.size(); ++i) {
+    const geom::Pose2 p = movers_[i].at(t).pose;
+    mover_state_t m;
+    m.id = static_cast<int32_t>(i);
+    m.x = p.x;
+    m.y = p.y;
+    m.radius = mover_radius_[i];
+    st.movers.push_back(m);
+  }
+  st.nmovers = static_cast<int32_t>(st.movers.size());
+
+  // Odometry: the true motion increment in the robot frame, corrupted like wheel encoders do —
+  // distance error and heading error growing with the square root of what was driven and
+  // turned. Three draws every step, so the stream never depends on the path taken.
+  const double n_trans = gauss_(rng_), n_rot = gauss_(rng_), n_drift = gauss_(rng_);
+  if (!started_) {
+    odom_.pose = toMsg(r.pose);
+  } else {
+    const geom::Pose2 delta = last_true_.inverse().compose(r.pose);
+    const double d = std::hypot(delta.x, delta.y);
+    const double measured_d = d + cfg_.trans_noise * std::sqrt(d) * n_trans;
+    const double scale = d > 1e-12 ? measured_d / d : 0.0;
+    const double measured_dtheta = delta.theta + cfg_.rot_noise * std::sqrt(std::abs(delta.theta)) * n_rot +
+                                   cfg_.drift_noise * std::sqrt(d) * n_drift;
+    const geom::Pose2 odom{odom_.pose.x, odom_.pose.y, odom_.pose.theta};
+    odom_.pose = toMsg(odom.compose({delta.x * scale, delta.y * scale, measured_dtheta}));
+    const double dt = static_cast<double>(utime - last_utime_) * 1e-6;
+    if (dt > 0) {
+      odom_.v = measured_d / dt;
+      odom_.omega = measured_dtheta / dt;
+    }
+  }
+  odom_.utime = utime;
+  started_ = true;
+  last_utime_ = utime;
+  last_true_ = r.pose;
+  return st;
+}
+
+odometry_t WorldCore::odometry() const { return odom_; }
+
+}  // namespace lasonic::sim

@@ -1,0 +1,52 @@
+#include "sim/world_geometry.hpp"
+
+namespace lasonic::sim {
+
+WorldGeometry::WorldGeometry(const Scenario& scenario)
+    : scenario_(&scenario), n_static_(scenario.statics.size()), prims_(scenario.statics) {}
+
+void WorldGeometry::setMovers(const std::vector<MoverPose>& movers) {
+  prims_.resize(n_static_);
+  for (const MoverPose& m : movers) {
+    Primitive p;
+    p.kind = Primitive::Kind::Circle;
+    p.circle = {m.position, m.radius};
+    p.obstacle = -m.id - 2;
+    p.material = &scenario_->material(scenario_->movers.at(static_cast<size_t>(m.id)).material);
+    prims_.push_back(p);
+  }
+}
+
+std::optional<Hit> WorldGeometry::castRay(const geom::Ray& ray, double max_range,
+                                          const std::function<bool(const Material&)>& passes) const {
+  // Brute force: scenario worlds hold a few hundred primitives at most.
+  const Primitive* best = nullptr;
+  double best_t = max_range;
+  for (const Primitive& p : prims_) {
+    if (passes && passes(*p.material)) continue;
+    const std::optional<double> t =
+        p.kind == Primitive::Kind::Segment ? geom::intersect(ray, p.segment) : geom::intersect(ray, p.circle);
+    if (t && *t <= best_t) {
+      best_t = *t;
+      best = &p;
+    }
+  }
+  if (!best) return std::nullopt;
+
+  Hit h;
+  h.range = best_t;
+  h.point = ray.origin + best_t * ray.dir;
+  h.primitive = best;
+  h.obstacle = best->obstacle;
+  if (best->kind == Primitive::Kind::Segment) {
+    h.normal = geom::normal(best->segment);
+  } else {
+    const geom::Vec2 radial = h.point - best->circle.center;
+    // A ray starting inside a disc hits at range 0; its surface then faces the ray head-on.
+    h.normal = radial.norm() > 1e-12 ? geom::Vec2(radial.normalized()) : geom::Vec2(-ray.dir);
+  }
+  if (h.normal.dot(ray.dir) > 0) h.normal = -h.normal;
+  return h;
+}
+
+}  // namespace lasonic::sim

@@ -1,0 +1,223 @@
+// Scenario files: the format of DESIGN.md, and errors that name the offending key path.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "sim/drivers.hpp"
+#include "sim/scenario.hpp"
+
+using namespace lasonic;
+using namespace lasonic::sim;
+
+namespace {
+
+const char* kGood = R"(
+name: fig7_lab
+duration_s: 60
+seed: 7
+materials:
+  frosted_glass: {laser: transparent, sonar_echo_angle_deg: 10, sonar_echo_prob: 0.9}
+  metal: {sonar_echo_angle_deg: 15}
+obstacles:
+  - {shape: polyline, material: metal, closed: true, points: [[0,0],[6,0],[6,4],[0,4]]}
+  - {shape: segment,  material: frosted_glass, from: [2,4], to: [3,4]}
+  - {shape: circle,   material: plastic, center: [3,2], radius: 0.02}
+  - {shape: box,      material: black_cardboard, center: [4,1], size: [0.5,0.3], yaw_deg: 20}
+movers:
+  - {shape: circle, radius: 0.25, material: person, speed: 0.8, path: [[1,1],[5,1]], mode: pingpong}
+robot:
+  radius: 0.35
+  path: [[1,2],[5,2],[5,3]]
+  speed: 0.3
+  mode: once
+laser: {noise_std: 0.02}
+sonar: {}
+odometry: {trans_noise: 0.0}
+)";
+
+Scenario parse(const std::string& yaml) { return parseScenario(Config::fromString(yaml, "test.yaml")); }
+
+// The minimal valid scenario plus `extra` top-level text.
+std::string minimal(const std::string& extra = "", const std::string& robot = "{path: [[0,0],[1,0]]}") {
+  return "name: t\nrobot: " + robot + "\n" + extra;
+}
+
+// Parsing must fail with a message containing `expected` (file name and key path).
+void expectError(const std::string& yaml, const std::string& expected) {
+  try {
+    parse(yaml);
+    ADD_FAILURE() << "no error, expected: " << expected;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+        << "message: " << e.what() << "\nexpected to contain: " << expected;
+  }
+}
+
+}  // namespace
+
+TEST(Scenario, LoadsTheDesignExample) {
+  const Scenario s = parse(kGood);
+  EXPECT_EQ(s.name, "fig7_lab");
+  EXPECT_DOUBLE_EQ(s.duration_s, 60);
+  EXPECT_EQ(s.seed, 7u);
+  ASSERT_EQ(s.obstacles.size(), 4u);
+  // Closed polyline: 4 edges; segment: 1; circle: 1; box: 4 edges.
+  ASSERT_EQ(s.statics.size(), 10u);
+  EXPECT_EQ(s.statics[3].segment.b, geom::Vec2(0, 0));  // closing edge back to the start
+  EXPECT_EQ(s.statics[5].kind, Primitive::Kind::Circle);
+  EXPECT_EQ(s.statics[9].obstacle, 3);
+  // The box is rotated by yaw_deg about its centre.
+  const geom::Vec2 corner = s.statics[6].segment.a;
+  EXPECT_NEAR((corner - geom::Vec2(4, 1)).norm(), std::hypot(0.25, 0.15), 1e-12);
+  EXPECT_NEAR(std::atan2(s.statics[6].segment.b.y() - corner.y(), s.statics[6].segment.b.x() - corner.x()),
+              geom::deg2rad(20), 1e-12);
+
+  EXPECT_EQ(s.material("frosted_glass").laser, LaserBehaviour::Transparent);
+  EXPECT_NEAR(s.material("frosted_glass").sonar_echo_prob, 0.9, 1e-12);
+  // An override changes only the keys it gives.
+  EXPECT_NEAR(s.material("metal").sonar_echo_angle, geom::deg2rad(15), 1e-12);
+  EXPECT_EQ(s.material("metal").laser, LaserBehaviour::Reflect);
+  EXPECT_EQ(s.statics[0].material, &s.material("metal"));
+
+  EXPECT_FALSE(s.laserVisible(1));  // frosted glass
+  EXPECT_TRUE(s.laserVisible(2));   // plastic pipe
+  EXPECT_FALSE(s.laserVisible(3));  // black cardboard
+  EXPECT_TRUE(s.laserVisible(-2));  // mover 0: a person
+
+  ASSERT_EQ(s.movers.size(), 1u);
+  EXPECT_EQ(s.movers[0].mode, PathMode::PingPong);
+  EXPECT_DOUBLE_EQ(s.movers[0].speed, 0.8);
+  EXPECT_EQ(s.robot.path.size(), 3u);
+  EXPECT_EQ(s.robot.mode, PathMode::Once);
+  EXPECT_DOUBLE_EQ(laserConfig(s.laser).noise_std, 0.02);
+  EXPECT_DOUBLE_EQ(odometryConfig(s.odometry).trans_noise, 0.0);
+}
+
+TEST(Scenario, BuiltinMaterials) {
+  const auto m = builtinMaterials();
+  for (const char* n : {"wall", "metal", "glass", "mesh", "black_cardboard", "plastic", "person"})
+    EXPECT_TRUE(m.count(n)) << n;
+  EXPECT_EQ(m.at("glass").laser, LaserBehaviour::Transparent);
+  EXPECT_EQ(m.at("mesh").laser, LaserBehaviour::Transparent);
+  EXPECT_EQ(m.at("black_cardboard").laser, LaserBehaviour::Absorb);
+  EXPECT_NEAR(m.at("metal").sonar_echo_angle, geom::deg2rad(12), 1e-12);
+  EXPECT_NEAR(m.at("person").sonar_echo_prob, 0.8, 1e-12);
+}
+
+TEST(Scenario, CopiesOwnTheirMaterials) {
+  Scenario copy;
+  {
+    const Scenario original = parse(kGood);
+    copy = original;
+  }
+  // The original is gone: the copy's primitives must point into the copy.
+  EXPECT_EQ(copy.statics[0].material, &copy.material("metal"));
+  EXPECT_EQ(copy.statics[0].material->name, "metal");
+}
+
+TEST(Scenario, ErrorsNameTheKeyPath) {
+  expectError(minimal("obstacles:\n  - {shape: circle, material: wall, center: [1,1], radius: 1}\n"
+                      "  - {shape: circle, material: wall, center: [1,1], radius: 0}\n"),
+              "test.yaml: obstacles[1].radius: must be > 0");
+  expectError(minimal("colour: red\n"), "test.yaml: colour: unknown key");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: wall, from: [0,0], to: [1,0], colour: red}\n"),
+              "obstacles[0].colour: unknown key");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: unobtainium, from: [0,0], to: [1,0]}\n"),
+              "obstacles[0].material: unknown material \"unobtainium\"");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: wall, from: [1,1], to: [1,1]}\n"),
+              "obstacles[0].to: equals from (zero-length segment)");
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[0,0]]}\n"),
+              "obstacles[0].points: needs at least 2 points");
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[0,0],[1,0],[1,0]]}\n"),
+              "obstacles[0].points[2]: repeats the previous point");
+  expectError(minimal("obstacles:\n  - {shape: box, material: wall, center: [0,0], size: [1,0]}\n"),
+              "obstacles[0].size: both sides must be > 0");
+  expectError(minimal("obstacles:\n  - {shape: blob, material: wall}\n"),
+              "obstacles[0].shape: must be segment, polyline, circle or box");
+  expectError(minimal("", "{path: [[0,0]]}"), "robot.path: needs at least 2 points");
+  expectError(minimal("", "{path: [[0,0],[1,0]], speed: 0}"), "robot.speed: must be > 0");
+  expectError(minimal("", "{path: [[0,0],[1,0]], mode: sometimes}"), "robot.mode: must be once, loop or pingpong");
+  expectError(minimal("duration_s: 0\n"), "duration_s: must be > 0");
+  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: 1, mode: twice}\n"),
+              "movers[0].mode: must be once, loop or pingpong");
+  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: -1}\n"), "movers[0].speed: must be > 0");
+  expectError(minimal("materials:\n  foam: {laser: soak, sonar_echo_angle_deg: 10}\n"),
+              "materials.foam.laser: must be reflect, transparent or absorb");
+  expectError(minimal("materials:\n  foam: {laser: absorb}\n"), "materials.foam.sonar_echo_angle_deg: is required");
+  expectError("name: t\n", "robot: is required");
+}
+
+TEST(Scenario, SensorOverridesAreCheckedByTheirReaders) {
+  const Scenario s = parse(minimal("laser: {colour: red}\nodometry: {trans_noise: -1}\n"));
+  EXPECT_THROW(
+      {
+        try {
+          laserConfig(s.laser);
+        } catch (const ConfigError& e) {
+          EXPECT_NE(std::string(e.what()).find("test.yaml: laser.colour: unknown key"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      ConfigError);
+  EXPECT_THROW(odometryConfig(s.odometry), ConfigError);
+}
+
+TEST(Scenario, FileErrorsNameTheFile) {
+  const std::string path = (std::filesystem::temp_directory_path() / "lasonic_test_bad_scenario.yaml").string();
+  {
+    std::ofstream f(path);
+    f << minimal("obstacles:\n  - {shape: circle, material: wall, center: [1,1], radius: -2}\n");
+  }
+  try {
+    loadScenario(path);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": obstacles[0].radius: must be > 0");
+  }
+  std::remove(path.c_str());
+  EXPECT_THROW(loadScenario("/nonexistent/scenario.yaml"), ConfigError);
+}
+
+// Every shipped scenario loads, its sensor overrides are valid, and it is physically
+// consistent: the robot keeps robot.radius + 0.15 m from static obstacles, and nobody walks
+// through a wall, the robot or another person.
+class ShippedScenario : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ShippedScenario, LoadsAndKeepsClear) {
+  const std::string path = std::string(LASONIC_SOURCE_DIR) + "/deploy/scenarios/" + GetParam() + ".yaml";
+  const Scenario s = loadScenario(path);
+  EXPECT_EQ(s.name, GetParam());
+  EXPECT_NO_THROW(laserConfig(s.laser));
+  EXPECT_NO_THROW(odometryConfig(s.odometry));
+  EXPECT_NO_THROW(sonarConfig(s.sonar));
+
+  WorldCore world(s, OdometryConfig{});
+  auto clearance = [&](const geom::Vec2& p) {
+    double d = 1e9;
+    for (const Primitive& prim : s.statics)
+      d = std::min(d, prim.kind == Primitive::Kind::Segment ? geom::distance(prim.segment, p)
+                                                              : (p - prim.circle.center).norm() - prim.circle.radius);
+    return d;
+  };
+  for (int64_t u = world.startUtime(); !world.finished(u); u += 50'000) {
+    const sim_state_t st = world.stateAt(u);
+    const double t = static_cast<double>(u - world.startUtime()) * 1e-6;
+    const geom::Vec2 robot(st.robot_pose.x, st.robot_pose.y);
+    ASSERT_GE(clearance(robot), s.robot.radius + 0.15 - 1e-9) << "robot at t=" << t;
+    for (const mover_state_t& m : st.movers) {
+      const geom::Vec2 mp(m.x, m.y);
+      ASSERT_GE(clearance(mp), m.radius) << "mover " << m.id << " in a wall at t=" << t;
+      ASSERT_GE((mp - robot).norm(), m.radius + s.robot.radius) << "mover " << m.id << " hits the robot at t=" << t;
+      for (const mover_state_t& o : st.movers) {
+        if (o.id > m.id) {
+          ASSERT_GE((mp - geom::Vec2(o.x, o.y)).norm(), m.radius + o.radius) << m.id << " meets " << o.id << " at t=" << t;
+        }
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Deploy, ShippedScenario,
+                         ::testing::Values("fig4_room", "fig7_lab", "corridor_people", "office_glass"));

@@ -1,0 +1,236 @@
+// The simulated world: path following, movers, odometry drift, ray casting.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/drivers.hpp"
+#include "sim/path_follower.hpp"
+#include "sim/world_geometry.hpp"
+
+using namespace lasonic;
+using namespace lasonic::sim;
+using geom::kPi;
+using geom::Vec2;
+
+namespace {
+
+Scenario parse(const std::string& yaml) { return parseScenario(Config::fromString(yaml, "test.yaml")); }
+
+void expectPose(const PathFollower::State& s, double x, double y, double theta) {
+  EXPECT_NEAR(s.pose.x, x, 1e-9);
+  EXPECT_NEAR(s.pose.y, y, 1e-9);
+  EXPECT_NEAR(geom::angleDiff(s.pose.theta, theta), 0.0, 1e-9);
+}
+
+}  // namespace
+
+TEST(PathFollower, DrivesLegsAndTurnsOnTheSpot) {
+  // 2 m east, then 2 m north, at 0.5 m/s, turning at 1 rad/s.
+  const PathFollower f({{0, 0}, {2, 0}, {2, 2}}, PathMode::Once, 0.5, 1.0);
+  expectPose(f.at(0), 0, 0, 0);  // starts at the first waypoint facing the second
+  expectPose(f.at(2), 1, 0, 0);
+  EXPECT_DOUBLE_EQ(f.at(2).v, 0.5);
+  EXPECT_DOUBLE_EQ(f.at(2).omega, 0.0);
+  // Turn of pi/2 from t = 4 to 4 + pi/2, on the spot.
+  const PathFollower::State turning = f.at(4 + kPi / 4);
+  expectPose(turning, 2, 0, kPi / 4);
+  EXPECT_DOUBLE_EQ(turning.v, 0.0);
+  EXPECT_DOUBLE_EQ(turning.omega, 1.0);
+  expectPose(f.at(4 + kPi / 2 + 2), 2, 1, kPi / 2);
+  EXPECT_NEAR(f.cycleDuration(), 8 + kPi / 2, 1e-12);
+  // After a `once` path the robot stands still at its end.
+  const PathFollower::State end = f.at(100);
+  expectPose(end, 2, 2, kPi / 2);
+  EXPECT_EQ(end.v, 0.0);
+  EXPECT_EQ(end.omega, 0.0);
+}
+
+TEST(PathFollower, TurnsTheShortWay) {
+  // East, then south-east: a right turn of pi/4.
+  const PathFollower f({{0, 0}, {1, 0}, {2, -1}}, PathMode::Once, 1.0, 0.5);
+  const PathFollower::State s = f.at(1 + 0.5 * (kPi / 4) / 0.5);
+  EXPECT_NEAR(s.pose.theta, -kPi / 8, 1e-9);
+  EXPECT_DOUBLE_EQ(s.omega, -0.5);
+}
+
+TEST(PathFollower, PingPongComesBack) {
+  // A mover: instant turns.
+  const PathFollower f({{0, 0}, {1, 0}}, PathMode::PingPong, 1.0);
+  EXPECT_NEAR(f.at(0.5).pose.x, 0.5, 1e-12);
+  EXPECT_NEAR(f.at(1.5).pose.x, 0.5, 1e-12);
+  EXPECT_NEAR(f.at(1.5).pose.theta, kPi, 1e-12);
+  EXPECT_NEAR(f.at(1.9).pose.x, 0.1, 1e-12);
+  EXPECT_NEAR(f.at(2.5).pose.x, 0.5, 1e-12);
+  EXPECT_NEAR(f.at(2.5).pose.theta, 0, 1e-12);
+  EXPECT_NEAR(f.cycleDuration(), 2.0, 1e-12);
+}
+
+TEST(PathFollower, PingPongRobotTurnsAroundAtTheEnds) {
+  const PathFollower f({{0, 0}, {1, 0}}, PathMode::PingPong, 1.0, 1.0);
+  // Arrives at t = 1, turns pi in pi seconds, drives back, turns pi again.
+  expectPose(f.at(1 + kPi / 2), 1, 0, kPi / 2);
+  expectPose(f.at(1 + kPi + 0.5), 0.5, 0, kPi);
+  EXPECT_NEAR(f.cycleDuration(), 2 + 2 * kPi, 1e-12);
+  expectPose(f.at(f.cycleDuration() + 0.5), 0.5, 0, 0);
+}
+
+TEST(PathFollower, LoopClosesThePath) {
+  const PathFollower f({{0, 0}, {1, 0}, {1, 1}}, PathMode::Loop, 1.0);
+  EXPECT_NEAR(f.cycleDuration(), 2 + std::sqrt(2.0), 1e-12);
+  expectPose(f.at(2 + std::sqrt(0.5)), 0.5, 0.5, -3 * kPi / 4);  // on the closing leg
+  expectPose(f.at(f.cycleDuration() + 0.25), 0.25, 0, 0);
+  // A path that already ends at its start gets no extra leg.
+  const PathFollower closed({{0, 0}, {1, 0}, {1, 1}, {0, 0}}, PathMode::Loop, 1.0);
+  EXPECT_NEAR(closed.cycleDuration(), f.cycleDuration(), 1e-12);
+}
+
+TEST(PathFollower, StartDelay) {
+  const PathFollower f({{0, 0}, {2, 0}}, PathMode::Once, 1.0, 1.0, 3.0);
+  expectPose(f.at(2.9), 0, 0, 0);
+  EXPECT_EQ(f.at(2.9).v, 0.0);
+  expectPose(f.at(4), 1, 0, 0);
+}
+
+namespace {
+
+const char* kWorld = R"(
+name: w
+duration_s: 10
+seed: 3
+obstacles:
+  - {shape: segment, material: wall, from: [5, -5], to: [5, 5]}
+movers:
+  - {radius: 0.25, speed: 1.0, path: [[2, -1], [2, 1]], mode: pingpong}
+robot: {path: [[0, 0], [4, 0], [4, 3]], speed: 0.5, turn_rate: 1.0, mode: once}
+)";
+
+}  // namespace
+
+TEST(WorldCore, StatesFollowTheScenario) {
+  WorldCore w(parse(kWorld), OdometryConfig{});
+  EXPECT_EQ(w.periodUs(), 20'000);
+  const int64_t t0 = w.startUtime();
+  EXPECT_GT(t0, 0);
+  const sim_state_t s0 = w.stateAt(t0);
+  EXPECT_EQ(s0.utime, t0);
+  EXPECT_EQ(s0.robot_pose.x, 0.0);
+  ASSERT_EQ(s0.nmovers, 1);
+  EXPECT_NEAR(s0.movers[0].y, -1.0, 1e-12);
+  const sim_state_t s1 = w.stateAt(t0 + 2'000'000);
+  EXPECT_NEAR(s1.robot_pose.x, 1.0, 1e-9);
+  EXPECT_DOUBLE_EQ(s1.v, 0.5);
+  EXPECT_NEAR(s1.movers[0].y, 1.0, 1e-9);
+  EXPECT_EQ(s1.seq, 1);
+  EXPECT_NEAR(w.stateAt(t0 + 3'000'000).movers[0].y, 0.0, 1e-9);  // on its way back
+  EXPECT_THROW(w.stateAt(t0), std::invalid_argument);
+  EXPECT_FALSE(w.finished(t0 + 10'000'000));
+  EXPECT_TRUE(w.finished(t0 + 10'000'001));
+}
+
+namespace {
+
+// Odometry at the end of a drive along the scenario's path, sampled at 50 Hz.
+odometry_t drive(const Scenario& s, const OdometryConfig& c, sim_state_t* truth = nullptr) {
+  WorldCore w(s, c);
+  sim_state_t st = w.stateAt(w.startUtime());
+  for (int64_t u = w.startUtime() + w.periodUs(); !w.finished(u); u += w.periodUs()) st = w.stateAt(u);
+  if (truth) *truth = st;
+  return w.odometry();
+}
+
+}  // namespace
+
+TEST(WorldCore, OdometryStartsAtTheTruthAndDrifts) {
+  const Scenario s = parse(kWorld);
+  {
+    WorldCore w(s, OdometryConfig{});
+    w.stateAt(w.startUtime());
+    EXPECT_EQ(w.odometry().pose.x, 0.0);
+    EXPECT_EQ(w.odometry().pose.y, 0.0);
+    EXPECT_EQ(w.odometry().pose.theta, 0.0);
+    EXPECT_EQ(w.odometry().utime, w.startUtime());
+  }
+  sim_state_t truth;
+  const odometry_t a = drive(s, OdometryConfig{}, &truth);
+  const odometry_t b = drive(s, OdometryConfig{});
+  // Same seed, same numbers.
+  EXPECT_EQ(a.pose.x, b.pose.x);
+  EXPECT_EQ(a.pose.y, b.pose.y);
+  EXPECT_EQ(a.pose.theta, b.pose.theta);
+  // It drifts, by about what the noise model says (4 m driven, 1 cm/sqrt(m): a few cm).
+  const double err = std::hypot(a.pose.x - truth.robot_pose.x, a.pose.y - truth.robot_pose.y);
+  EXPECT_GT(err, 1e-4);
+  EXPECT_LT(err, 0.3);
+  // Another seed, other numbers.
+  Scenario other = s;
+  other.seed = 4;
+  EXPECT_NE(drive(other, OdometryConfig{}).pose.x, a.pose.x);
+  // Without noise, odometry is the truth.
+  const odometry_t exact = drive(s, OdometryConfig{50, 0, 0, 0});
+  EXPECT_NEAR(exact.pose.x, truth.robot_pose.x, 1e-9);
+  EXPECT_NEAR(exact.pose.y, truth.robot_pose.y, 1e-9);
+  EXPECT_NEAR(exact.pose.theta, truth.robot_pose.theta, 1e-9);
+}
+
+TEST(WorldCore, OdometryConfigFromYaml) {
+  const OdometryConfig c = odometryConfig(Config::fromString("rate_hz: 20\ndrift_noise: 0.01\n"));
+  EXPECT_EQ(c.rate_hz, 20);
+  EXPECT_EQ(c.drift_noise, 0.01);
+  EXPECT_EQ(c.trans_noise, OdometryConfig{}.trans_noise);
+  EXPECT_THROW(odometryConfig(Config::fromString("rate: 20\n")), ConfigError);
+}
+
+TEST(DeriveSeed, StreamsDiffer) {
+  EXPECT_EQ(deriveSeed(7, "laser"), deriveSeed(7, "laser"));
+  EXPECT_NE(deriveSeed(7, "laser"), deriveSeed(7, "sonar"));
+  EXPECT_NE(deriveSeed(7, "laser"), deriveSeed(8, "laser"));
+}
+
+TEST(WorldGeometry, CastRayFindsTheNearestSurface) {
+  const Scenario s = parse(R"(
+name: g
+obstacles:
+  - {shape: segment, material: wall, from: [3, -1], to: [3, 1]}
+  - {shape: segment, material: glass, from: [2, -1], to: [2, 1]}
+  - {shape: circle, material: plastic, center: [0, 3], radius: 0.5}
+movers:
+  - {path: [[-2, 0], [-3, 0]]}
+robot: {path: [[0, 0], [1, 0]]}
+)");
+  WorldGeometry world(s);
+  const geom::Ray east{{0, 0}, {1, 0}};
+  auto h = world.castRay(east, 10);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->range, 2.0, 1e-12);  // the glass
+  EXPECT_EQ(h->obstacle, 1);
+  EXPECT_NEAR(h->normal.x(), -1.0, 1e-12);  // facing the ray's origin
+  h = world.castRay(east, 10, [](const Material& m) { return m.laser == LaserBehaviour::Transparent; });
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->range, 3.0, 1e-12);
+  EXPECT_EQ(h->primitive->material->name, "wall");
+  EXPECT_FALSE(world.castRay(east, 1.5));  // beyond max_range
+
+  // The same segment seen from the other side: the normal flips towards the origin.
+  h = world.castRay({{4, 0}, {-1, 0}}, 10);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->normal.x(), 1.0, 1e-12);
+
+  h = world.castRay({{0, 0}, {0, 1}}, 10);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->range, 2.5, 1e-12);
+  EXPECT_NEAR(h->normal.y(), -1.0, 1e-12);
+  EXPECT_NEAR(h->point.y(), 2.5, 1e-12);
+
+  // Movers appear where setMovers puts them.
+  const geom::Ray west{{0, 0}, {-1, 0}};
+  EXPECT_FALSE(world.castRay(west, 10));
+  world.setMovers({{0, Vec2(-2, 0), 0.25}});
+  h = world.castRay(west, 10);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->range, 1.75, 1e-12);
+  EXPECT_EQ(h->obstacle, -2);
+  EXPECT_EQ(h->primitive->material->name, "person");
+  world.setMovers({{0, Vec2(-4, 0), 0.25}});
+  EXPECT_NEAR(world.castRay(west, 10)->range, 3.75, 1e-12);
+  EXPECT_EQ(world.primitives().size(), s.statics.size() + 1);
+}
