@@ -172,25 +172,25 @@ SonarReading fireSensor(const WorldGeometry& world, const geom::Pose2& sensor, d
     out.truth.cause = sonar_cause_t::CAUSE_DIRECT;
     out.truth.true_range = static_cast<float>(reading);
   } else if (!mirrors.empty() && uniform01(rng) < c.multipath_prob) {
-    Candidate longest_way;  // nearest total path, by the mirror that made it
-    for (size_t i = 0; i < mirrors.size(); ++i) {
-      const Hit& m = *mirrors[i];
-      const geom::Vec2 r = mirror((m.point - sensor.position()).normalized(), m.normal);
+    Candidate multipath;  // shortest path d1 + d2, with the mirror that made it
+    for (const Hit* m : mirrors) {
+      const geom::Vec2 r = mirror((m->point - sensor.position()).normalized(), m->normal);
       // Start just off the mirror so the ray does not meet it again.
-      const auto h2 = world.castRay({m.point + 1e-6 * r, r}, c.range_max - m.range);
-      if (h2 && echoes(*h2, r)) longest_way.offer(m.range + h2->range, m);
+      const auto h2 = world.castRay({m->point + 1e-6 * r, r}, c.range_max - m->range);
+      if (h2 && echoes(*h2, r)) multipath.offer(m->range + h2->range, *m);
     }
-    if (longest_way.hit) {
-      reading = longest_way.range;
-      cause_hit = longest_way.hit;
+    if (multipath.hit) {
+      reading = multipath.range;
+      cause_hit = multipath.hit;
       out.truth.cause = sonar_cause_t::CAUSE_SPECULAR_LONG;
     }
   }
   if (cause_hit) {
     out.truth.obstacle = cause_hit->obstacle;
     out.truth.laser_visible = cause_hit->primitive->material->laser == LaserBehaviour::Reflect;
-    std::normal_distribution<double> noise(0.0, c.noise_std + c.noise_rel * reading);
-    out.range = static_cast<float>(std::clamp(reading + noise(rng), c.range_min, c.range_max));
+    // Scaled standard normal: a zero spread (noise-free config) is allowed.
+    const double noise = (c.noise_std + c.noise_rel * reading) * std::normal_distribution<double>()(rng);
+    out.range = static_cast<float>(std::clamp(reading + noise, c.range_min, c.range_max));
     out.no_echo = false;
   } else {
     out.range = static_cast<float>(c.range_max);

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# sonar_driver.sh: integration test of lasonic-sonar-driver over real LCM. Run it inside a private
+# network namespace (tests/netns/in-netns.sh; ctest does). Env: LASONIC_BIN (build/bin),
+# LASONIC_SOURCE (repository root).
+#  1. bad config -> exit 2 naming the key;
+#  2. the driver, fed garbage on SIM_STATE and then 3 s of fig7_lab by lasonic-sim-world,
+#     publishes SONAR_RING / SONAR_TRUTH / SONAR_GEOMETRY at their rates, consistent with each
+#     other (lasonic-sonar-check), counts the decode errors in PROCESS_STATUS and keeps running;
+#  3. a second world run (sim time starting over, i.e. going backwards) is rejected and counted,
+#     and the driver still keeps running and exits cleanly on SIGTERM.
+set -euo pipefail
+
+bin=${LASONIC_BIN:?set LASONIC_BIN}
+src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
+url='udpm://239.255.76.67:7667?ttl=0'
+scenario=$src/deploy/scenarios/fig7_lab.yaml
+config=$src/deploy/config/lasonic.yaml
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+die() {
+  echo "sonar_driver.sh: FAIL: $*" >&2
+  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
+  exit 1
+}
+stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+
+# 1. Config errors name the key and exit 2.
+printf 'sonar:\n  ring: {count: 24, beams: 3}\n' >"$tmp/bad.yaml"
+rc=0
+"$bin/lasonic-sonar-driver" --config "$tmp/bad.yaml" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/bad.err" >&2 || rc=$?
+[[ $rc -eq 2 ]] || die "bad config: exit status $rc, expected 2"
+grep -q 'sonar.ring.beams: unknown key' "$tmp/bad.err" || die "bad config: error does not name sonar.ring.beams"
+
+# 2. A live run.
+lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
+pids+=($!)
+"$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/driver.err" >&2 &
+driver=$!
+pids+=("$driver")
+sleep 1  # subscriptions up
+
+"$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5
+"$bin/lasonic-sim-world" --scenario "$scenario" --duration 3 --lcm-url "$url" 2>"$tmp/world.err" >&2 ||
+  die "lasonic-sim-world failed"
+sleep 1.5  # at least one heartbeat after the run
+kill -0 "$driver" 2>/dev/null || die "the driver died during the run"
+
+# 3. Sim time starting over: every state goes back in time.
+"$bin/lasonic-sim-world" --scenario "$scenario" --duration 0.5 --lcm-url "$url" 2>"$tmp/world2.err" >&2 ||
+  die "second lasonic-sim-world failed"
+sleep 1.5
+kill -0 "$driver" 2>/dev/null || die "the driver died on states going back in time"
+kill -TERM "$driver"
+rc=0
+wait "$driver" || rc=$?
+[[ $rc -eq 0 ]] || die "driver exit status $rc after SIGTERM, expected 0"
+sleep 0.3
+kill -INT "${pids[0]}"
+wait "${pids[0]}" || true
+
+"$bin/lasonic-sonar-check" log "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/check.err" || die "log check: $(cat "$tmp/check.err")"
+cat "$tmp/stats"
+
+# 3 s of sim time, a group every 30 ms: ~100 firings of 4 readings; geometry at 1 Hz.
+rings=$(stat SONAR_RING)
+((rings >= 80 && rings <= 105)) || die "SONAR_RING count $rings, expected about 100"
+[[ $(stat SONAR_TRUTH) -eq $rings ]] || die "SONAR_TRUTH count $(stat SONAR_TRUTH) != SONAR_RING count $rings"
+[[ $(stat readings) -eq $((4 * rings)) ]] || die "$(stat readings) readings in $rings firings, expected 4 each"
+geometry=$(stat SONAR_GEOMETRY)
+((geometry >= 3 && geometry <= 4)) || die "SONAR_GEOMETRY count $geometry, expected 3..4 (1 Hz)"
+(($(stat driver.decode_errors.SIM_STATE) >= 1)) || die "garbage on SIM_STATE not counted as decode errors"
+(($(stat driver.rejected.sim_state) >= 1)) || die "states going back in time not counted as rejected"
+echo "sonar_driver.sh: PASS"
