@@ -1,0 +1,212 @@
+#include "operational/agm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace lasonic {
+
+AgmParams agmParams(const Config& c, AgmParams p) {
+  c.allowOnly({"size", "cell_size", "g_max", "h_max", "t", "g_threshold", "recenter_max_cells",
+               "recenter_min_cells", "recenter_lookahead_s"});
+  p.size = c.get("size", p.size, Range::between(3, 10000));
+  p.cell_size = c.get("cell_size", p.cell_size, Range::positive());
+  p.g_max = c.get("g_max", p.g_max, Range::between(1, std::numeric_limits<int16_t>::max()));
+  p.h_max = c.get("h_max", p.h_max, Range::nonNegative());
+  p.t = c.get("t", p.t, Range::between(0, (p.size - 1) / 2));
+  p.g_threshold = c.get("g_threshold", p.g_threshold, Range::between(1, 1e9));
+  p.recenter_max_cells = c.get("recenter_max_cells", p.recenter_max_cells, Range::between(0, p.size / 2 - 1));
+  p.recenter_min_cells = c.get("recenter_min_cells", p.recenter_min_cells, Range::between(0, p.recenter_max_cells));
+  p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::nonNegative());
+  return p;
+}
+
+AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p) : p_(p), n_(p.size) {
+  if (n_ < 3 || !(p.cell_size > 0) || p.t < 0 || 2 * p.t + 1 > n_ || p.g_max < 1 || p.h_max < 0 ||
+      p.recenter_min_cells < 0 || p.recenter_min_cells > p.recenter_max_cells)
+    throw std::invalid_argument("AccumulativeGridMap: inconsistent parameters");
+  const size_t cells = static_cast<size_t>(n_) * static_cast<size_t>(n_);
+  g_.assign(cells, 0);
+  gu_.assign(cells, 0);
+  gp_.assign(cells, 0);
+  last_hit_.assign(cells, 0);
+  ox_ = oy_ = -(n_ / 2);  // centred on the global origin until the robot is known
+}
+
+geom::Vec2 AccumulativeGridMap::originMetres() const {
+  return {static_cast<double>(ox_) * p_.cell_size, static_cast<double>(oy_) * p_.cell_size};
+}
+
+int64_t AccumulativeGridMap::globalCell(double v) const {
+  return static_cast<int64_t>(std::floor(v / p_.cell_size));
+}
+
+int AccumulativeGridMap::recenterLimit(double speed) const {
+  const double driven = std::abs(speed) * p_.recenter_lookahead_s / p_.cell_size;
+  const double k = p_.recenter_max_cells - std::floor(std::min(driven, 1e9));
+  return static_cast<int>(std::clamp(k, double(p_.recenter_min_cells), double(p_.recenter_max_cells)));
+}
+
+bool AccumulativeGridMap::follow(const geom::Vec2& robot, double speed) {
+  if (!std::isfinite(robot.x()) || !std::isfinite(robot.y())) return false;
+  const int64_t rx = globalCell(robot.x()), ry = globalCell(robot.y());
+  const int64_t off = std::max(std::abs(rx - (ox_ + n_ / 2)), std::abs(ry - (oy_ + n_ / 2)));
+  if (off <= recenterLimit(std::isfinite(speed) ? speed : 0.0)) return false;
+  moveTo(rx - n_ / 2, ry - n_ / 2);
+  return true;
+}
+
+void AccumulativeGridMap::centreOn(const geom::Vec2& p) {
+  moveTo(globalCell(p.x()) - n_ / 2, globalCell(p.y()) - n_ / 2);
+}
+
+void AccumulativeGridMap::addWeight(int64_t gx, int64_t gy, int delta) {
+  g_[slotGlobal(gx, gy)] += delta;
+  const int64_t x0 = std::max(gx - p_.t, ox_), x1 = std::min(gx + p_.t, ox_ + n_ - 1);
+  const int64_t y0 = std::max(gy - p_.t, oy_), y1 = std::min(gy + p_.t, oy_ + n_ - 1);
+  const int64_t sx0 = floorMod(x0, n_);
+  int64_t sy = floorMod(y0, n_);
+  for (int64_t y = y0; y <= y1; ++y) {
+    int64_t sx = sx0;
+    for (int64_t x = x0; x <= x1; ++x) {
+      const size_t s = static_cast<size_t>(sx + sy * n_);
+      gu_[s] += delta;
+      gp_[s] = (g_[s] > 0 && gu_[s] >= p_.g_threshold) ? gu_[s] : 0;
+      if (++sx == n_) sx = 0;
+    }
+    if (++sy == n_) sy = 0;
+  }
+}
+
+namespace {
+// The part of [a, a+n) outside [b, b+n) (both of length n, overlapping): one interval [lo, hi).
+std::pair<int64_t, int64_t> outside(int64_t a, int64_t b, int64_t n) {
+  if (b >= a) return {a, std::min(b, a + n)};
+  return {std::max(b + n, a), a + n};
+}
+// Calls f(gx, gy) for every cell of window A (origin ax, ay) that is not in window B.
+template <typename F>
+void forEachOutside(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t n, F&& f) {
+  const auto [xl, xh] = outside(ax, bx, n);
+  const auto [yl, yh] = outside(ay, by, n);
+  for (int64_t x = xl; x < xh; ++x)
+    for (int64_t y = ay; y < ay + n; ++y) f(x, y);
+  for (int64_t y = yl; y < yh; ++y)
+    for (int64_t x = ax; x < ax + n; ++x)
+      if (x < xl || x >= xh) f(x, y);
+}
+}  // namespace
+
+void AccumulativeGridMap::moveTo(int64_t nox, int64_t noy) {
+  if (nox == ox_ && noy == oy_) return;
+  if (std::abs(nox - ox_) >= n_ || std::abs(noy - oy_) >= n_) {  // nothing survives
+    clearAll();
+    ox_ = nox;
+    oy_ = noy;
+    return;
+  }
+  // Leaving cells: withdraw their weight from the surviving neighbours' Gu, then forget them.
+  forEachOutside(ox_, oy_, nox, noy, n_, [&](int64_t x, int64_t y) {
+    const int gv = g_[slotGlobal(x, y)];
+    if (gv > 0) addWeight(x, y, -gv);
+  });
+  forEachOutside(ox_, oy_, nox, noy, n_, [&](int64_t x, int64_t y) {
+    const size_t s = slotGlobal(x, y);
+    gu_[s] = gp_[s] = 0;
+    last_hit_[s] = 0;
+  });
+  const int64_t old_x = ox_, old_y = oy_;
+  ox_ = nox;
+  oy_ = noy;
+  // Entering cells reuse the freed slots with G = 0 (so Gp = 0); their Gu must still count the
+  // surviving neighbours, for when they are hit later.
+  forEachOutside(nox, noy, old_x, old_y, n_, [&](int64_t x, int64_t y) {
+    int sum = 0;
+    for (int64_t qy = std::max(y - p_.t, oy_); qy <= std::min(y + p_.t, oy_ + n_ - 1); ++qy)
+      for (int64_t qx = std::max(x - p_.t, ox_); qx <= std::min(x + p_.t, ox_ + n_ - 1); ++qx)
+        sum += g_[slotGlobal(qx, qy)];
+    gu_[slotGlobal(x, y)] = sum;
+  });
+}
+
+void AccumulativeGridMap::clearAll() {
+  std::fill(g_.begin(), g_.end(), 0);
+  std::fill(gu_.begin(), gu_.end(), 0);
+  std::fill(gp_.begin(), gp_.end(), 0);
+  std::fill(last_hit_.begin(), last_hit_.end(), 0);
+  hits_.clear();
+}
+
+int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
+  ++cycle_;
+  // Accumulation: the trivial sensor model, one cell per reading.
+  int inside = 0;
+  for (const auto& p : hits) {
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+    const int64_t gx = globalCell(p.x()), gy = globalCell(p.y());
+    if (!inWindow(gx, gy)) continue;
+    ++inside;
+    const size_t s = slotGlobal(gx, gy);
+    if (g_[s] < p_.g_max) addWeight(gx, gy, +1);
+    last_hit_[s] = cycle_;
+    hits_.push_back({gx, gy, cycle_});
+  }
+  // Revision: H = cycle_ - last_hit > h_max -> G = 0. Only cells hit h_max+1 cycles ago can
+  // qualify; entries of cells hit again since, or forgotten by re-centring, are skipped.
+  while (!hits_.empty() && cycle_ - hits_.front().cycle > p_.h_max) {
+    const Hit hit = hits_.front();
+    hits_.pop_front();
+    if (!inWindow(hit.gx, hit.gy)) continue;
+    const size_t s = slotGlobal(hit.gx, hit.gy);
+    if (g_[s] > 0 && last_hit_[s] == hit.cycle) addWeight(hit.gx, hit.gy, -g_[s]);
+  }
+  return inside;
+}
+
+bool AccumulativeGridMap::cellAt(const geom::Vec2& p, int& ix, int& iy) const {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
+  const int64_t gx = globalCell(p.x()), gy = globalCell(p.y());
+  if (!inWindow(gx, gy)) return false;
+  ix = static_cast<int>(gx - ox_);
+  iy = static_cast<int>(gy - oy_);
+  return true;
+}
+
+geom::Vec2 AccumulativeGridMap::cellCorner(int ix, int iy) const {
+  return {static_cast<double>(ox_ + ix) * p_.cell_size, static_cast<double>(oy_ + iy) * p_.cell_size};
+}
+
+int AccumulativeGridMap::h(int ix, int iy) const {
+  const size_t s = slot(ix, iy);
+  if (g_[s] <= 0) return 0;
+  return static_cast<int>(std::min<int64_t>(cycle_ - last_hit_[s], std::numeric_limits<int16_t>::max()));
+}
+
+void AccumulativeGridMap::exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h,
+                                      std::vector<int32_t>& gp) const {
+  const size_t cells = static_cast<size_t>(n_) * static_cast<size_t>(n_);
+  g.assign(cells, 0);
+  h.assign(cells, 0);
+  gp.assign(cells, 0);
+  const int64_t sx0 = floorMod(ox_, n_);
+  int64_t sy = floorMod(oy_, n_);
+  size_t out = 0;
+  for (int iy = 0; iy < n_; ++iy) {
+    int64_t sx = sx0;
+    for (int ix = 0; ix < n_; ++ix, ++out) {
+      const size_t s = static_cast<size_t>(sx + sy * n_);
+      if (g_[s] > 0) {
+        g[out] = static_cast<int16_t>(g_[s]);
+        h[out] = static_cast<int16_t>(
+            std::min<int64_t>(cycle_ - last_hit_[s], std::numeric_limits<int16_t>::max()));
+        gp[out] = gp_[s];
+      }
+      if (++sx == n_) sx = 0;
+    }
+    if (++sy == n_) sy = 0;
+  }
+}
+
+}  // namespace lasonic

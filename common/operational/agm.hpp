@@ -1,0 +1,146 @@
+#pragma once
+// Accumulative Grid Map (AGM; Jörg 1995, sections 3.2-3.3; DESIGN.md step 4).
+//
+// A window of N x N square cells on an imaginary global grid anchored at the global (odometry)
+// origin: global cell (gx, gy) covers [gx*c, (gx+1)*c) x [gy*c, (gy+1)*c). The window holds the
+// cells gx in [ox, ox+N), gy in [oy, oy+N); window cell (ix, iy) is global cell (ox+ix, oy+iy).
+// It follows the robot's translations in whole cells, never its rotations, so a cell keeps its
+// global coordinates for as long as it stays in the window.
+//
+// Storage is a circular buffer: global cell (gx, gy) always lives in slot (gx mod N, gy mod N),
+// so re-centring touches only the cells that leave the window (they are forgotten).
+//
+// Per cell: weight G (belief in occupancy) and frequency H (update cycles since G was last
+// incremented). One update cycle = one call of update(): accumulation (trivial sensor model:
+// each hit increments G of the one cell containing it, H := 0; G saturates at g_max), revision
+// (a cell with G > 0 whose H exceeds h_max gets G := 0) and propagation
+//   Gu(i,j) = sum_{p,q=-t..t} G(i+p, j+q),   Gp(i,j) = Gu if G(i,j) > 0 and Gu >= G_T, else 0.
+// Cells outside the window count as G = 0.
+//
+// Cost: H is kept as the cycle of the last increment (H = cycle - last_hit) and revisions come
+// from a queue of hits in time order, and Gu/Gp are updated over the (2t+1)^2 neighbourhood of
+// every cell whose G changes. A cycle therefore costs O((hits + revisions) * (2t+1)^2),
+// independent of N and of the number of occupied cells; after every cycle G, H, Gu and Gp equal
+// what the batch definitions above give.
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/geometry.hpp"
+
+namespace lasonic {
+
+struct AgmParams {
+  int size = 100;                     // N (paper: 100 x 100)
+  double cell_size = 0.10;            // [m]
+  int g_max = 100;                    // G saturates here (fits the int16 of grid_map_t)
+  int h_max = 12;                     // revision once H > h_max [update cycles]
+  int t = 1;                          // propagation neighbourhood (2t+1) x (2t+1)
+  int g_threshold = 2;                // G_T
+  int recenter_max_cells = 5;         // k at standstill
+  int recenter_min_cells = 1;         // k is never below this
+  double recenter_lookahead_s = 1.0;  // k shrinks by the whole cells driven in this time
+};
+// Reads the keys of an AGM config section over `base` (defaults of the level using it).
+// Throws ConfigError naming the key path.
+AgmParams agmParams(const Config& c, AgmParams base = {});
+
+class AccumulativeGridMap {
+ public:
+  explicit AccumulativeGridMap(const AgmParams& p);
+
+  const AgmParams& params() const { return p_; }
+  int size() const { return n_; }
+  double cellSize() const { return p_.cell_size; }
+  // Global cell index of window cell (0, 0).
+  int64_t originX() const { return ox_; }
+  int64_t originY() const { return oy_; }
+  // Global position of the window's lower-left corner.
+  geom::Vec2 originMetres() const;
+  // Update cycles run so far.
+  int64_t cycle() const { return cycle_; }
+
+  // Re-centring rule: the robot may be up to k(v) cells (Chebyshev distance) from the centre
+  // cell, k(v) = clamp(recenter_max_cells - floor(|v| * recenter_lookahead_s / cell_size),
+  // recenter_min_cells, recenter_max_cells): the faster the robot, the sooner the window moves,
+  // so the view ahead stays at least N/2 - k(v) cells.
+  int recenterLimit(double speed) const;
+  // Moves the window (whole cells) so that the robot's cell becomes the centre cell
+  // (ix = iy = N/2) when the robot is farther than recenterLimit(speed) from it.
+  // Returns true if the window moved.
+  bool follow(const geom::Vec2& robot, double speed);
+  // Centres the window on p unconditionally.
+  void centreOn(const geom::Vec2& p);
+
+  // One update cycle with the global hit points of its readings. Returns how many hits fell
+  // inside the window (the others are ignored).
+  int update(const std::vector<geom::Vec2>& hits);
+
+  // Window cell of a global point; false if outside the window.
+  bool cellAt(const geom::Vec2& p, int& ix, int& iy) const;
+  // Global position of window cell (ix, iy)'s lower-left corner.
+  geom::Vec2 cellCorner(int ix, int iy) const;
+
+  // Window-coordinate accessors (0 <= ix, iy < N).
+  int g(int ix, int iy) const { return g_[slot(ix, iy)]; }
+  int h(int ix, int iy) const;  // 0 where G == 0
+  int gu(int ix, int iy) const { return gu_[slot(ix, iy)]; }
+  int gp(int ix, int iy) const { return gp_[slot(ix, iy)]; }
+
+  // Calls f(ix, iy, G, Gp) for every window cell of [ix0, ix1] x [iy0, iy1] (clipped to the
+  // window), without a division per cell.
+  template <typename F>
+  void forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
+
+  // Row-major copies (index iy*N + ix) for grid_map_t.
+  void exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h, std::vector<int32_t>& gp) const;
+
+ private:
+  static int64_t floorMod(int64_t a, int64_t n) { return ((a % n) + n) % n; }
+  size_t slotGlobal(int64_t gx, int64_t gy) const {
+    return static_cast<size_t>(floorMod(gx, n_) + floorMod(gy, n_) * n_);
+  }
+  size_t slot(int ix, int iy) const { return slotGlobal(ox_ + ix, oy_ + iy); }
+  bool inWindow(int64_t gx, int64_t gy) const {
+    return gx >= ox_ && gx < ox_ + n_ && gy >= oy_ && gy < oy_ + n_;
+  }
+  int64_t globalCell(double v) const;
+  // G(gx, gy) += delta; Gu and Gp of its neighbourhood (inside the window) follow.
+  void addWeight(int64_t gx, int64_t gy, int delta);
+  void moveTo(int64_t nox, int64_t noy);
+  void clearAll();
+
+  AgmParams p_;
+  int n_;
+  int64_t ox_ = 0, oy_ = 0;
+  int64_t cycle_ = 0;
+  std::vector<int32_t> g_, gu_, gp_;
+  std::vector<int64_t> last_hit_;  // cycle of the last increment of G (H = cycle_ - last_hit_)
+  struct Hit {
+    int64_t gx, gy, cycle;
+  };
+  std::deque<Hit> hits_;  // increments in cycle order: the revision candidates
+};
+
+template <typename F>
+void AccumulativeGridMap::forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+  if (ix0 < 0) ix0 = 0;
+  if (iy0 < 0) iy0 = 0;
+  if (ix1 > n_ - 1) ix1 = n_ - 1;
+  if (iy1 > n_ - 1) iy1 = n_ - 1;
+  if (ix0 > ix1 || iy0 > iy1) return;
+  const int sx0 = static_cast<int>(floorMod(ox_ + ix0, n_));
+  int sy = static_cast<int>(floorMod(oy_ + iy0, n_));
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    const size_t row = static_cast<size_t>(sy) * static_cast<size_t>(n_);
+    int sx = sx0;
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      f(ix, iy, g_[row + static_cast<size_t>(sx)], gp_[row + static_cast<size_t>(sx)]);
+      if (++sx == n_) sx = 0;
+    }
+    if (++sy == n_) sy = 0;
+  }
+}
+
+}  // namespace lasonic

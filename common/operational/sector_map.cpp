@@ -1,0 +1,129 @@
+#include "operational/sector_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lasonic {
+
+namespace {
+bool known(float d) { return d >= 0; }
+}  // namespace
+
+SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
+  if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1)
+    throw std::invalid_argument("SectorMap: inconsistent parameters");
+  const auto n = static_cast<size_t>(p.sectors);
+  laser_now_.resize(n);
+  sonar_own_.resize(n);
+  sonar_now_.resize(n);
+  held_laser_.resize(n);
+  held_sonar_.resize(n);
+  s_.distance.assign(n, -1);
+  s_.laser.assign(n, -1);
+  s_.sonar.assign(n, -1);
+  s_.source.assign(n, SectorSource::None);
+}
+
+int SectorMap::sectorOf(double bearing) const { return sectorOfNormalized(geom::normalizeAngle(bearing)); }
+
+int SectorMap::sectorOfNormalized(double bearing) const {
+  const int k = static_cast<int>(std::floor((bearing + geom::kPi) * (p_.sectors / (2.0 * geom::kPi))));
+  return k >= p_.sectors ? k - p_.sectors : std::max(k, 0);  // bearing pi is -pi: sector 0
+}
+
+void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
+  laser_points_ = std::move(points);
+  laser_utime_ = utime;
+  have_laser_ = true;
+}
+
+void SectorMap::setSonarTime(int64_t utime) {
+  sonar_utime_ = utime;
+  have_sonar_ = true;
+}
+
+void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) const {
+  std::fill(out.begin(), out.end(), Value{});
+  // "Moved into the current pose": global -> robot frame (Pose2::inverseTransform, with the
+  // rotation computed once per map instead of once per point).
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  const double reach = p_.robot_radius + p_.max_range;
+  for (const auto& p : laser_points_) {
+    const double dx = p.x() - pose.x, dy = p.y() - pose.y;
+    const double r2 = dx * dx + dy * dy;
+    if (r2 > reach * reach) continue;
+    const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
+    const double d = std::max(0.0, std::sqrt(r2) - p_.robot_radius);
+    Value& v = out[static_cast<size_t>(sectorOfNormalized(std::atan2(ly, lx)))];
+    if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Laser};
+  }
+}
+
+void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm,
+                            std::vector<Value>& out) const {
+  std::fill(out.begin(), out.end(), Value{});
+  const double c = agm.cellSize();
+  const double reach = p_.robot_radius + p_.max_range;
+  const geom::Vec2 o = agm.originMetres();
+  const geom::Vec2 robot = pose.position();
+  const auto cell = [&](double v, double origin) { return static_cast<int>(std::floor((v - origin) / c)); };
+  agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
+                  cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
+                    if (gp < p_.gp_threshold) return;
+                    const geom::Vec2 lo = o + geom::Vec2(ix * c, iy * c);
+                    const geom::Vec2 nearest(std::clamp(robot.x(), lo.x(), lo.x() + c),
+                                             std::clamp(robot.y(), lo.y(), lo.y() + c));
+                    const double d = std::max(0.0, (nearest - robot).norm() - p_.robot_radius);
+                    if (d > p_.max_range) return;
+                    const geom::Vec2 centre = lo + geom::Vec2(0.5 * c, 0.5 * c) - robot;
+                    Value& v = out[static_cast<size_t>(sectorOf(std::atan2(centre.y(), centre.x()) - pose.theta))];
+                    if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
+                  });
+}
+
+void SectorMap::hold(bool stale, std::vector<Value>& now, std::vector<Value>& held) {
+  if (stale) {
+    for (size_t k = 0; k < now.size(); ++k)
+      if (known(held[k].d) && (!known(now[k].d) || held[k].d < now[k].d)) now[k] = held[k];
+  }
+  held = now;
+}
+
+const SectorMapState& SectorMap::update(int64_t utime, const geom::Pose2& pose, const AccumulativeGridMap& agm) {
+  const size_t n = static_cast<size_t>(p_.sectors);
+  s_.utime = utime;
+  s_.pose = pose;
+  s_.laser_age_s = have_laser_ ? static_cast<double>(utime - laser_utime_) * 1e-6 : -1.0;
+  s_.sonar_age_s = have_sonar_ ? static_cast<double>(utime - sonar_utime_) * 1e-6 : -1.0;
+  s_.laser_stale = !have_laser_ || s_.laser_age_s > p_.laser_stale_s;
+  s_.sonar_stale = !have_sonar_ || s_.sonar_age_s > p_.sonar_stale_s;
+
+  laserValues(pose, laser_now_);
+  sonarValues(pose, agm, sonar_own_);
+  // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own.
+  for (size_t k = 0; k < n; ++k) {
+    sonar_now_[k] = sonar_own_[k];
+    if (known(sonar_own_[k].d)) continue;
+    for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {
+      const float d = sonar_own_[j].d;
+      if (known(d) && (!known(sonar_now_[k].d) || d < sonar_now_[k].d))
+        sonar_now_[k] = {d, SectorSource::SonarCopied};
+    }
+  }
+  hold(s_.laser_stale, laser_now_, held_laser_);
+  hold(s_.sonar_stale, sonar_now_, held_sonar_);
+
+  for (size_t k = 0; k < n; ++k) {
+    const Value& l = laser_now_[k];
+    const Value& s = sonar_now_[k];
+    const Value& best = (known(l.d) && (!known(s.d) || l.d <= s.d)) ? l : s;
+    s_.distance[k] = best.d;
+    s_.source[k] = best.src;
+    s_.laser[k] = l.d;
+    s_.sonar[k] = s.d;
+  }
+  return s_;
+}
+
+}  // namespace lasonic

@@ -1,0 +1,88 @@
+#pragma once
+// Sector Map (SCM; Jörg 1995, section 3.4; DESIGN.md step 5): the pilot's polar world model.
+//
+// n sectors (paper: 48 of 7.5 deg) in the robot frame; sector k covers bearings
+// [-pi + k*2pi/n, -pi + (k+1)*2pi/n) (0 = straight ahead, counter-clockwise). Each holds the
+// free distance from the robot's boundary (a circle of robot_radius) to the nearest obstacle in
+// it, if that is at most max_range:
+// - laser value: the newest scan's points, kept in the global frame (each placed with the pose
+//   at its own time), moved into the current robot pose;
+// - sonar value: operational-AGM cells with Gp >= gp_threshold, each at the point of its square
+//   nearest to the robot centre (never farther than any part of the cell: the safe choice; the
+//   cell centre could be up to c/sqrt(2) too far), in the sector of the cell centre's bearing;
+// - copy rule: a sector's own sonar value is copied into both adjacent sectors (the trivial
+//   sensor model's bearing error is half the beam width), except into a sector that holds sonar
+//   data of its own; a copy takes the min with other copies and never makes a sector freer;
+// - the sector value is the smaller of laser and sonar (a tie goes to the laser, the more
+//   accurate sensor), with its source recorded.
+// Staleness: a sensor whose newest data is more than its limit older than the map's time is
+// stale; its values are then held: each sector takes the min of the newly computed value and
+// the held one, and the held values only ever get shorter, so stale data never makes a sector
+// look freer than the last fresh data did. A sensor never heard from is stale with age -1.
+#include <cstdint>
+#include <vector>
+
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+
+namespace lasonic {
+
+// Values equal sector_map_t::SOURCE_*.
+enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied = 3 };
+
+struct SectorMapParams {
+  int sectors = 48;             // paper: 48 sectors of 7.5 deg
+  double robot_radius = 0.35;   // [m] the robot's boundary circle
+  double max_range = 3.0;       // [m] from the boundary; farther obstacles are not reported
+  int gp_threshold = 2;         // AGM cells with Gp >= this count as obstacles
+  double laser_stale_s = 0.5;   // [s] laser data older than this is stale
+  double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
+};
+
+struct SectorMapState {
+  int64_t utime = 0;
+  geom::Pose2 pose;
+  // Per sector, [m]; -1 = nothing known (within max_range).
+  std::vector<float> distance, laser, sonar;
+  std::vector<SectorSource> source;
+  bool laser_stale = true, sonar_stale = true;
+  double laser_age_s = -1, sonar_age_s = -1;  // -1: never received
+};
+
+class SectorMap {
+ public:
+  explicit SectorMap(const SectorMapParams& p);
+  const SectorMapParams& params() const { return p_; }
+
+  // Sector of a robot-frame bearing.
+  int sectorOf(double bearing) const;
+
+  // The newest laser scan: its returns in the global frame; utime: time of its newest reading.
+  void setLaserPoints(int64_t utime, std::vector<geom::Vec2> points);
+  // Time of the newest sonar data the AGM holds (the newest complement message).
+  void setSonarTime(int64_t utime);
+
+  // Computes the map at utime with the robot at `pose` (odometry frame).
+  const SectorMapState& update(int64_t utime, const geom::Pose2& pose, const AccumulativeGridMap& agm);
+  const SectorMapState& state() const { return s_; }
+
+ private:
+  struct Value {
+    float d = -1;  // -1: none
+    SectorSource src = SectorSource::None;
+  };
+  int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
+  void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
+  void sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, std::vector<Value>& out) const;
+  // Staleness: fresh -> remember; stale -> min with what is held (which only shrinks).
+  static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
+
+  SectorMapParams p_;
+  std::vector<geom::Vec2> laser_points_;
+  int64_t laser_utime_ = 0, sonar_utime_ = 0;
+  bool have_laser_ = false, have_sonar_ = false;
+  std::vector<Value> laser_now_, sonar_own_, sonar_now_, held_laser_, held_sonar_;
+  SectorMapState s_;
+};
+
+}  // namespace lasonic

@@ -1,0 +1,206 @@
+#include "stages/pilot_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <lasonic/grid_map_t.hpp>
+#include <lasonic/sector_map_t.hpp>
+
+#include "complement/messages.hpp"
+#include "complement/radar_map.hpp"
+
+namespace lasonic {
+
+static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NONE &&
+              static_cast<int8_t>(SectorSource::Laser) == sector_map_t::SOURCE_LASER &&
+              static_cast<int8_t>(SectorSource::Sonar) == sector_map_t::SOURCE_SONAR &&
+              static_cast<int8_t>(SectorSource::SonarCopied) == sector_map_t::SOURCE_SONAR_COPIED);
+
+PilotConfig pilotConfig(const Config& c) {
+  c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
+               "agm_publish_hz"});
+  PilotConfig p;
+  p.agm = agmParams(c.section("agm"), p.agm);
+  SectorMapParams& s = p.sector_map;
+  s.sectors = c.get("sectors", s.sectors, Range::between(3, 3600));
+  s.robot_radius = c.get("robot_radius", s.robot_radius, Range::nonNegative());
+  s.max_range = c.get("max_range", s.max_range, Range::positive());
+  s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, 1e9));
+  s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
+  s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
+  p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
+  // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
+  const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
+  if (view < s.robot_radius + s.max_range) {
+    std::ostringstream msg;
+    msg << "robot_radius + max_range = " << s.robot_radius + s.max_range << " m exceeds the AGM's guaranteed view of "
+        << view << " m ((agm.size/2 - agm.recenter_max_cells - 1) * agm.cell_size)";
+    c.fail("max_range", msg.str());
+  }
+  return p;
+}
+
+namespace {
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+std::string reading(size_t i, const char* field) {
+  return "SONAR_COMPLEMENT.readings[" + std::to_string(i) + "]." + field;
+}
+}  // namespace
+
+PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
+    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map) {
+  node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
+  node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
+  node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
+}
+
+void PilotStage::onOdometry(const odometry_t& m) {
+  node_.noteMessageTime(m.utime);
+  const std::pair<const char*, double> fields[] = {
+      {"pose.x", m.pose.x}, {"pose.y", m.pose.y}, {"pose.theta", m.pose.theta}, {"v", m.v}};
+  for (const auto& [name, value] : fields) {
+    if (!std::isfinite(value)) {
+      node_.reportError("rejected.odometry_nan", std::string("ODOMETRY.") + name + " = " + num(value) + " (utime " +
+                                                     std::to_string(m.utime) + "): dropped");
+      return;
+    }
+  }
+  switch (poses_.add(m.utime, {m.pose.x, m.pose.y, m.pose.theta})) {
+    case PoseHistory::AddResult::Ok: speed_ = m.v; break;
+    case PoseHistory::AddResult::Duplicate: node_.count("odometry_duplicates"); break;
+    case PoseHistory::AddResult::WentBackwards:
+      node_.reportError("rejected.odometry_backwards", "ODOMETRY.utime = " + std::to_string(m.utime) +
+                                                           " is older than the newest (" +
+                                                           std::to_string(poses_.newestTime()) + "): dropped");
+      break;
+  }
+}
+
+void PilotStage::onLaserScan(const laser_scan_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (last_scan_utime_ && m.utime <= *last_scan_utime_) {
+    node_.reportError("rejected.laser_backwards", "LASER_SCAN.utime = " + std::to_string(m.utime) +
+                                                      " is not newer than the previous scan (" +
+                                                      std::to_string(*last_scan_utime_) + "): dropped");
+    return;
+  }
+  std::vector<complement::InputProblem> problems;
+  const auto scan = complement::laserScanFromMessage(m, problems);
+  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  if (!scan) return;
+  last_scan_utime_ = m.utime;
+
+  int no_pose = 0;
+  const auto placed = complement::placeReadings(
+      *scan, [this](int64_t t) { return poses_.at(t); }, &no_pose);
+  std::vector<geom::Vec2> points;
+  int64_t newest = m.utime;
+  for (size_t i = 0; i < placed.size(); ++i) {
+    newest = std::max(newest, scan->readings[i].utime);
+    if (placed[i].valid) points.push_back(placed[i].p);
+  }
+  if (no_pose > 0) {
+    node_.reportError("rejected.laser_no_odometry", "LASER_SCAN utime " + std::to_string(m.utime) +
+                                                        ": no odometry for " + std::to_string(no_pose) +
+                                                        " readings");
+    // A scan none of whose returns could be placed says nothing: keep the previous one (it ages).
+    if (points.empty()) return;
+  }
+  sector_map_.setLaserPoints(newest, std::move(points));
+  now_ = std::max(now_, newest);
+  publishSectorMap();
+}
+
+void PilotStage::onComplement(const complement_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (last_complement_utime_ && m.utime <= *last_complement_utime_) {
+    node_.reportError("rejected.complement_backwards", "SONAR_COMPLEMENT.utime = " + std::to_string(m.utime) +
+                                                           " is not newer than the previous group (" +
+                                                           std::to_string(*last_complement_utime_) + "): dropped");
+    return;
+  }
+  last_complement_utime_ = m.utime;
+
+  std::vector<geom::Vec2> hits;
+  for (size_t i = 0; i < m.readings.size(); ++i) {
+    const complement_reading_t& r = m.readings[i];
+    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
+      node_.reportError("rejected.complement_class",
+                        reading(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped");
+      continue;
+    }
+    if (r.cls != complement_reading_t::CLASS_COMPLEMENTARY) continue;
+    const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
+    bool ok = true;
+    for (const auto& [name, value] : fields) {
+      if (ok && !std::isfinite(value)) {
+        node_.reportError("rejected.complement_nan", reading(i, name) + " = " + num(value) + ": skipped");
+        ok = false;
+      }
+    }
+    if (ok) hits.emplace_back(r.end_x, r.end_y);
+  }
+
+  if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
+    node_.count("agm.recentred");
+  const int inside = agm_.update(hits);
+  node_.count("agm.cycles");
+  node_.count("agm.hits", inside);
+  if (inside < static_cast<int>(hits.size()))
+    node_.count("agm.hits_outside_window", static_cast<int64_t>(hits.size()) - inside);
+
+  sector_map_.setSonarTime(m.utime);
+  now_ = std::max(now_, m.utime);
+  publishSectorMap();
+  const auto period_us = static_cast<int64_t>(1e6 / cfg_.agm_publish_hz);
+  if (!last_agm_publish_ || m.utime - *last_agm_publish_ >= period_us) publishAgm(m.utime);
+}
+
+void PilotStage::publishSectorMap() {
+  const auto pose = poses_.at(now_);
+  if (!pose) {
+    node_.count("sector_map.no_odometry");
+    return;
+  }
+  const SectorMapState& s = sector_map_.update(now_, *pose, agm_);
+  sector_map_t msg{};
+  msg.utime = s.utime;
+  msg.robot_pose = {s.pose.x, s.pose.y, s.pose.theta};
+  msg.robot_radius = static_cast<float>(cfg_.sector_map.robot_radius);
+  msg.max_range = static_cast<float>(cfg_.sector_map.max_range);
+  msg.distance = s.distance;
+  msg.laser_distance = s.laser;
+  msg.sonar_distance = s.sonar;
+  msg.source.reserve(s.source.size());
+  for (const SectorSource src : s.source) msg.source.push_back(static_cast<int8_t>(src));
+  msg.laser_stale = s.laser_stale ? 1 : 0;
+  msg.sonar_stale = s.sonar_stale ? 1 : 0;
+  msg.laser_age_s = static_cast<float>(s.laser_age_s);
+  msg.sonar_age_s = static_cast<float>(s.sonar_age_s);
+  node_.publish(channels::SECTOR_MAP, msg);
+}
+
+void PilotStage::publishAgm(int64_t utime) {
+  grid_map_t msg{};
+  msg.utime = utime;
+  const geom::Pose2 pose = poses_.at(utime).value_or(geom::Pose2{});
+  msg.robot_pose = {pose.x, pose.y, pose.theta};
+  const geom::Vec2 origin = agm_.originMetres();
+  msg.origin_x = origin.x();
+  msg.origin_y = origin.y();
+  msg.cell_size = static_cast<float>(agm_.cellSize());
+  msg.width = msg.height = agm_.size();
+  msg.gp_threshold = cfg_.sector_map.gp_threshold;
+  agm_.exportGrids(msg.g, msg.h, msg.gp);
+  node_.publish(channels::AGM_OPERATIONAL, msg);
+  last_agm_publish_ = utime;
+}
+
+}  // namespace lasonic

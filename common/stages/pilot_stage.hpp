@@ -1,0 +1,73 @@
+#pragma once
+// PilotStage: the operational level (DESIGN.md steps 4-5) on a lasonic::Node.
+//
+// In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group).
+// Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan;
+//      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
+//      passed since the last one (the first cycle always publishes).
+// Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
+// sector_map.no_odometry, rejected.* for every kind of bad input.
+//
+// Definitions:
+// - One AGM update cycle = one SONAR_COMPLEMENT message (one firing group, every 0.03 s with the
+//   default ring): its complementary readings are the hits, and H counts firing groups. The
+//   group is the sonar's natural time step (its readings are simultaneous), a message with no
+//   complementary reading still ages the grid, and the result does not depend on when messages
+//   arrive, only on their order.
+// - Before a cycle the window follows the robot (pose at the firing time, speed from the newest
+//   ODOMETRY); see AccumulativeGridMap::recenterLimit.
+// - The sector map's time is the newest sensor time seen (laser: the scan's last reading;
+//   sonar: the firing time), with the robot pose interpolated from ODOMETRY at that time, so the
+//   map never goes back in time and both sensors' ages are measured from it. No pose -> no map.
+//
+// Time comes only from the messages, never from the wall clock, so a replay is deterministic.
+// Bad input is reported (node.reportError, naming the field) and never stops the stage:
+// ODOMETRY with a non-finite field or older than the newest is dropped; a LASER_SCAN or
+// SONAR_COMPLEMENT not newer than the previous one is dropped; bad laser readings are skipped
+// (the complement stage's validation); a complement reading with an unknown class, or a
+// complementary one with a non-finite range or end point, is skipped.
+#include <cstdint>
+#include <optional>
+
+#include <lasonic/complement_t.hpp>
+#include <lasonic/laser_scan_t.hpp>
+#include <lasonic/odometry_t.hpp>
+
+#include "core/config.hpp"
+#include "core/pose_history.hpp"
+#include "lcmio/node.hpp"
+#include "operational/agm.hpp"
+#include "operational/sector_map.hpp"
+
+namespace lasonic {
+
+struct PilotConfig {
+  AgmParams agm;             // library defaults are the operational ones
+  SectorMapParams sector_map;
+  double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
+};
+// Reads the `pilot:` section. Throws ConfigError naming the key path.
+PilotConfig pilotConfig(const Config& pilot_section);
+
+class PilotStage {
+ public:
+  PilotStage(Node& node, const PilotConfig& cfg);
+
+ private:
+  void onOdometry(const odometry_t& m);
+  void onLaserScan(const laser_scan_t& m);
+  void onComplement(const complement_t& m);
+  void publishSectorMap();
+  void publishAgm(int64_t utime);
+
+  Node& node_;
+  PilotConfig cfg_;
+  PoseHistory poses_;
+  double speed_ = 0;  // [m/s] newest ODOMETRY.v
+  AccumulativeGridMap agm_;
+  SectorMap sector_map_;
+  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
+  int64_t now_ = 0;  // newest sensor time: the sector map's time
+};
+
+}  // namespace lasonic

@@ -1,0 +1,116 @@
+// Operational level: one AGM update cycle (accumulate + revise + propagate), one re-centring
+// step, one Sector Map update. Run: build/bench/bench_operational.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "operational/agm.hpp"
+#include "operational/sector_map.hpp"
+
+using namespace lasonic;
+using geom::Vec2;
+
+namespace {
+
+// Points on the walls of rooms tiling the window (3 m x 3 m rooms), as sonar echoes would land
+// on them, with 2 cm of noise; every 8th hit is a stray (crosstalk-like) anywhere in the window.
+std::vector<std::vector<Vec2>> firingGroups(double half_width, int groups, int hits_per_group, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-half_width, half_width);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  std::vector<std::vector<Vec2>> out(static_cast<size_t>(groups));
+  int n = 0;
+  for (auto& g : out) {
+    for (int i = 0; i < hits_per_group; ++i, ++n) {
+      Vec2 p(u(rng), u(rng));
+      if (n % 8 != 0) {  // snap to the nearest room wall
+        if (rng() % 2) p.x() = 3.0 * std::round(p.x() / 3.0);
+        else p.y() = 3.0 * std::round(p.y() / 3.0);
+      }
+      g.push_back(p + Vec2(noise(rng), noise(rng)));
+    }
+  }
+  return out;
+}
+
+int occupied(const AccumulativeGridMap& m) {
+  std::vector<int16_t> g, h;
+  std::vector<int32_t> gp;
+  m.exportGrids(g, h, gp);
+  int n = 0;
+  for (auto v : g) n += v > 0;
+  return n;
+}
+
+// Args: N, h_max, hits per cycle. Operational: 4 hits (one firing group), h_max 12.
+// Tactical-like: h_max 1000 keeps thousands of cells occupied.
+void BM_AgmCycle(benchmark::State& state) {
+  AgmParams p;
+  p.size = static_cast<int>(state.range(0));
+  p.h_max = static_cast<int>(state.range(1));
+  const int hits = static_cast<int>(state.range(2));
+  AccumulativeGridMap m(p);
+  m.centreOn({0.0, 0.0});
+  const double half = 0.5 * p.size * p.cell_size;
+  const auto groups = firingGroups(half, 4096, hits, 7);
+  for (int i = 0; i < 3 * p.h_max + 100; ++i) m.update(groups[static_cast<size_t>(i) % groups.size()]);  // steady state
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.update(groups[i]));
+    if (++i == groups.size()) i = 0;
+  }
+  state.counters["occupied_cells"] = occupied(m);
+}
+BENCHMARK(BM_AgmCycle)
+    ->ArgNames({"N", "h_max", "hits"})
+    ->Args({100, 12, 4})
+    ->Args({100, 1000, 4})
+    ->Args({1000, 12, 4})
+    ->Args({1000, 1000, 24})
+    ->Unit(benchmark::kNanosecond);
+
+// Re-centring by one cell (the robot crossing a cell boundary): only one column leaves.
+void BM_AgmRecentreOneCell(benchmark::State& state) {
+  AgmParams p;
+  p.size = static_cast<int>(state.range(0));
+  p.h_max = 1000;
+  p.recenter_max_cells = 0;
+  p.recenter_min_cells = 0;
+  AccumulativeGridMap m(p);
+  m.centreOn({0.0, 0.0});
+  const auto groups = firingGroups(0.5 * p.size * p.cell_size, 2000, 24, 3);
+  for (const auto& g : groups) m.update(g);
+  double x = 0.05;
+  for (auto _ : state) {
+    x += p.cell_size;
+    benchmark::DoNotOptimize(m.follow({x, 0.05}, 0.0));
+  }
+}
+BENCHMARK(BM_AgmRecentreOneCell)->ArgName("N")->Arg(100)->Arg(1000)->Unit(benchmark::kNanosecond);
+
+// One Sector Map: 720 laser points and the operational AGM in a 6 m x 4 m room.
+void BM_SectorMapUpdate(benchmark::State& state) {
+  AccumulativeGridMap agm{AgmParams{}};
+  agm.centreOn({0.0, 0.0});
+  for (const auto& g : firingGroups(5.0, 200, 4, 11)) agm.update(g);
+  std::vector<Vec2> points;
+  for (int i = 0; i < 720; ++i) {
+    const double a = i * 2 * geom::kPi / 720;
+    const Vec2 d = geom::unitVector(a);
+    const double r = std::min(3.0 / std::max(std::abs(d.x()), 1e-9), 2.0 / std::max(std::abs(d.y()), 1e-9));
+    points.push_back(d * r);
+  }
+  SectorMap s{SectorMapParams{}};
+  s.setLaserPoints(0, points);
+  s.setSonarTime(0);
+  int64_t t = 0;
+  for (auto _ : state) {
+    t += 1000;
+    benchmark::DoNotOptimize(s.update(t, {0.2, -0.1, 0.3}, agm).distance.data());
+  }
+}
+BENCHMARK(BM_SectorMapUpdate)->Unit(benchmark::kNanosecond);
+
+}  // namespace

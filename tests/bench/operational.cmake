@@ -1,0 +1,1 @@
+set(bench_operational_LIBS lasonic_operational)

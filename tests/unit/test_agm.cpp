@@ -1,0 +1,360 @@
+// AccumulativeGridMap against hand-computed grids and against a naive dense reference.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+#include "operational/agm.hpp"
+
+using namespace lasonic;
+using geom::Vec2;
+
+namespace {
+
+// 10 x 10 cells of 1 m; window cell (ix, iy) = global cell (ix - 5, iy - 5) after centreOn(0.5, 0.5).
+AgmParams small(int t = 1, int g_threshold = 2, int h_max = 3) {
+  AgmParams p;
+  p.size = 10;
+  p.cell_size = 1.0;
+  p.t = t;
+  p.g_threshold = g_threshold;
+  p.h_max = h_max;
+  p.g_max = 5;
+  p.recenter_max_cells = 2;
+  p.recenter_min_cells = 0;
+  p.recenter_lookahead_s = 1.0;
+  return p;
+}
+// Centre of window cell (ix, iy) for a window centred on global cell (0, 0).
+Vec2 at(int ix, int iy) { return {ix - 5 + 0.5, iy - 5 + 0.5}; }
+
+}  // namespace
+
+TEST(Agm, AccumulationIncrementsOneCellAndResetsH) {
+  AccumulativeGridMap m(small());
+  m.centreOn({0.5, 0.5});
+  EXPECT_EQ(m.originX(), -5);
+  EXPECT_EQ(m.update({at(5, 5)}), 1);
+  EXPECT_EQ(m.g(5, 5), 1);
+  EXPECT_EQ(m.h(5, 5), 0);
+  EXPECT_EQ(m.update({}), 0);
+  EXPECT_EQ(m.h(5, 5), 1);
+  m.update({at(5, 5)});
+  EXPECT_EQ(m.g(5, 5), 2);
+  EXPECT_EQ(m.h(5, 5), 0);
+  // Every other cell is untouched.
+  for (int iy = 0; iy < 10; ++iy)
+    for (int ix = 0; ix < 10; ++ix)
+      if (ix != 5 || iy != 5) {
+        EXPECT_EQ(m.g(ix, iy), 0) << ix << "," << iy;
+      }
+  // Hits outside the window are ignored.
+  EXPECT_EQ(m.update({{100.0, 0.0}, {0.5, -5.5}}), 0);
+}
+
+TEST(Agm, WeightSaturatesAtCapButHitStillResetsH) {
+  AccumulativeGridMap m(small());
+  m.centreOn({0.5, 0.5});
+  for (int i = 0; i < 8; ++i) m.update({at(5, 5)});
+  EXPECT_EQ(m.g(5, 5), 5);  // g_max
+  EXPECT_EQ(m.gu(5, 5), 5);
+  m.update({});
+  m.update({at(5, 5)});
+  EXPECT_EQ(m.g(5, 5), 5);
+  EXPECT_EQ(m.h(5, 5), 0);
+}
+
+TEST(Agm, RevisionAfterHmax) {
+  AccumulativeGridMap m(small(1, 1, /*h_max=*/3));
+  m.centreOn({0.5, 0.5});
+  m.update({at(5, 5), at(5, 5), at(6, 5)});  // cycle 1: G(5,5) = 2, G(6,5) = 1
+  m.update({at(6, 5)});                       // cycle 2: (6,5) hit again
+  for (int h = 2; h <= 3; ++h) {              // cycles 3, 4: H(5,5) = 2, 3 <= Hmax: kept
+    m.update({});
+    EXPECT_EQ(m.h(5, 5), h);
+    EXPECT_EQ(m.g(5, 5), 2);
+  }
+  m.update({});  // cycle 5: H(5,5) = 4 > 3 -> forgotten; H(6,5) = 3 kept
+  EXPECT_EQ(m.g(5, 5), 0);
+  EXPECT_EQ(m.h(5, 5), 0);
+  EXPECT_EQ(m.gp(5, 5), 0);
+  EXPECT_EQ(m.g(6, 5), 2);
+  EXPECT_EQ(m.h(6, 5), 3);
+  EXPECT_EQ(m.gu(6, 5), 2);  // the revised neighbour no longer counts
+  EXPECT_EQ(m.gp(6, 5), 2);
+  m.update({});
+  EXPECT_EQ(m.g(6, 5), 0);
+  EXPECT_EQ(m.gu(5, 5), 0);
+}
+
+TEST(Agm, RehitBeforeHmaxKeepsTheCell) {
+  AccumulativeGridMap m(small(1, 1, 2));
+  m.centreOn({0.5, 0.5});
+  for (int i = 0; i < 20; ++i) m.update(i % 3 == 0 ? std::vector<Vec2>{at(2, 2)} : std::vector<Vec2>{});
+  EXPECT_GT(m.g(2, 2), 0);  // hit every third cycle: H never exceeds 2
+}
+
+TEST(Agm, PropagationHandComputed) {
+  // G:   (2,3)=1
+  //      (2,2)=2 (3,2)=1          (5,5)=1 isolated
+  AccumulativeGridMap m(small(/*t=*/1, /*G_T=*/3, /*h_max=*/50));
+  m.centreOn({0.5, 0.5});
+  m.update({at(2, 2), at(2, 2), at(3, 2), at(2, 3), at(5, 5)});
+  EXPECT_EQ(m.gu(2, 2), 4);
+  EXPECT_EQ(m.gp(2, 2), 4);
+  EXPECT_EQ(m.gp(3, 2), 4);
+  EXPECT_EQ(m.gp(2, 3), 4);
+  EXPECT_EQ(m.gu(3, 3), 4);  // empty cell: Gu counts, Gp does not
+  EXPECT_EQ(m.gp(3, 3), 0);
+  EXPECT_EQ(m.gu(4, 3), 1);
+  EXPECT_EQ(m.gu(5, 5), 1);
+  EXPECT_EQ(m.gp(5, 5), 0);  // weak neighbourhood: suppressed
+  // A hit next to the isolated cell lifts both over G_T.
+  m.update({at(6, 6), at(6, 6)});
+  EXPECT_EQ(m.gp(5, 5), 3);
+  EXPECT_EQ(m.gp(6, 6), 3);
+  EXPECT_EQ(m.gp(4, 4), 0);
+}
+
+TEST(Agm, PropagationWiderNeighbourhood) {
+  AccumulativeGridMap m(small(/*t=*/2, /*G_T=*/2, 50));
+  m.centreOn({0.5, 0.5});
+  m.update({at(2, 2), at(4, 4), at(5, 5)});
+  EXPECT_EQ(m.gp(2, 2), 2);  // (4,4) is within 2 cells
+  EXPECT_EQ(m.gp(4, 4), 3);
+  EXPECT_EQ(m.gp(5, 5), 2);  // (2,2) is 3 cells away
+}
+
+TEST(Agm, NeighbourhoodDoesNotWrapAroundTheBuffer) {
+  // Window columns 0 and 9 share neighbouring storage slots; they are 9 cells apart in the world.
+  AccumulativeGridMap m(small(1, 2, 50));
+  m.centreOn({0.5, 0.5});
+  m.update({at(0, 5), at(9, 5), at(4, 0), at(4, 9)});
+  EXPECT_EQ(m.gu(0, 5), 1);
+  EXPECT_EQ(m.gu(9, 5), 1);
+  EXPECT_EQ(m.gu(4, 0), 1);
+  EXPECT_EQ(m.gu(4, 9), 1);
+}
+
+TEST(Agm, RecenterLimitShrinksWithSpeed) {
+  AgmParams p;  // cell 0.1 m, k 5..1, lookahead 1 s
+  AccumulativeGridMap m(p);
+  EXPECT_EQ(m.recenterLimit(0.0), 5);
+  EXPECT_EQ(m.recenterLimit(0.25), 3);
+  EXPECT_EQ(m.recenterLimit(-0.25), 3);
+  EXPECT_EQ(m.recenterLimit(0.5), 1);
+  EXPECT_EQ(m.recenterLimit(3.0), 1);
+}
+
+TEST(Agm, FollowMovesInWholeCellsAndKeepsGlobalCoordinates) {
+  AccumulativeGridMap m(small(1, 1, 1000));
+  m.centreOn({0.5, 0.5});
+  m.update({{2.5, 1.5}});  // global cell (2, 1) = window (7, 6)
+  ASSERT_EQ(m.g(7, 6), 1);
+  EXPECT_FALSE(m.follow({2.9, 2.9}, 0.0));  // 2 cells off centre: k = 2, stays
+  EXPECT_TRUE(m.follow({3.2, 0.5}, 0.0));   // 3 cells: re-centred on global cell (3, 0)
+  EXPECT_EQ(m.originX(), -2);
+  EXPECT_EQ(m.originY(), -5);
+  int ix, iy;
+  ASSERT_TRUE(m.cellAt({2.5, 1.5}, ix, iy));
+  EXPECT_EQ(ix, 4);
+  EXPECT_EQ(iy, 6);
+  EXPECT_EQ(m.g(ix, iy), 1);
+  EXPECT_EQ(m.cellCorner(ix, iy), Vec2(2.0, 1.0));
+  // At speed the robot may not drift as far: k(2 m/s) = 0.
+  EXPECT_TRUE(m.follow({4.2, 0.5}, 2.0));
+  EXPECT_EQ(m.originX(), -1);
+}
+
+TEST(Agm, CellsLeavingTheWindowAreForgotten) {
+  AccumulativeGridMap m(small(1, 1, 1000));
+  m.centreOn({0.5, 0.5});
+  m.update({{-4.5, 0.5}, {-3.5, 0.5}});  // window columns 0 and 1
+  m.centreOn({1.5, 0.5});                  // column 0 (global -5) leaves
+  int ix, iy;
+  EXPECT_FALSE(m.cellAt({-4.5, 0.5}, ix, iy));
+  ASSERT_TRUE(m.cellAt({-3.5, 0.5}, ix, iy));
+  EXPECT_EQ(ix, 0);
+  EXPECT_EQ(m.g(0, iy), 1);
+  EXPECT_EQ(m.gu(0, iy), 1);  // the forgotten neighbour's weight was withdrawn
+  // The slot now holds global column 5 (entering, empty); its Gu sees no wrapped weight.
+  EXPECT_EQ(m.g(9, iy), 0);
+  EXPECT_EQ(m.gu(9, iy), 0);
+  m.centreOn({0.5, 0.5});  // back: the forgotten cell stays forgotten
+  ASSERT_TRUE(m.cellAt({-4.5, 0.5}, ix, iy));
+  EXPECT_EQ(m.g(ix, iy), 0);
+  EXPECT_EQ(m.gu(ix, iy), 1);  // entering cell counts its surviving neighbour
+  m.centreOn({100.5, 0.5});    // jump beyond the window: nothing survives
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) EXPECT_EQ(m.gu(x, y), 0);
+}
+
+namespace {
+
+// Naive dense reference: a map of global cells, batch revision and propagation every cycle.
+class ReferenceAgm {
+ public:
+  explicit ReferenceAgm(const AgmParams& p) : ox_(-(p.size / 2)), oy_(-(p.size / 2)), p_(p) {}
+  int64_t cell(double v) const { return static_cast<int64_t>(std::floor(v / p_.cell_size)); }
+  void follow(const Vec2& r, double speed) {
+    const int64_t rx = cell(r.x()), ry = cell(r.y());
+    const double driven = std::abs(speed) * p_.recenter_lookahead_s / p_.cell_size;
+    const int k = std::clamp(p_.recenter_max_cells - static_cast<int>(std::floor(driven)), p_.recenter_min_cells,
+                             p_.recenter_max_cells);
+    if (std::max(std::abs(rx - ox_ - p_.size / 2), std::abs(ry - oy_ - p_.size / 2)) <= k) return;
+    ox_ = rx - p_.size / 2;
+    oy_ = ry - p_.size / 2;
+    for (auto it = cells_.begin(); it != cells_.end();)
+      it = inWindow(it->first.first, it->first.second) ? std::next(it) : cells_.erase(it);
+  }
+  void update(const std::vector<Vec2>& hits) {
+    ++cycle_;
+    for (const auto& h : hits) {
+      const int64_t x = cell(h.x()), y = cell(h.y());
+      if (!inWindow(x, y)) continue;
+      Cell& c = cells_[{x, y}];
+      c.g = std::min(c.g + 1, p_.g_max);
+      c.last = cycle_;
+    }
+    for (auto it = cells_.begin(); it != cells_.end();)
+      it = (cycle_ - it->second.last > p_.h_max) ? cells_.erase(it) : std::next(it);
+  }
+  int g(int64_t x, int64_t y) const {
+    auto it = cells_.find({x, y});
+    return it == cells_.end() ? 0 : it->second.g;
+  }
+  int h(int64_t x, int64_t y) const {
+    auto it = cells_.find({x, y});
+    return it == cells_.end() ? 0 : static_cast<int>(cycle_ - it->second.last);
+  }
+  int gp(int64_t x, int64_t y) const {
+    if (g(x, y) == 0) return 0;
+    int gu = 0;
+    for (int64_t q = y - p_.t; q <= y + p_.t; ++q)
+      for (int64_t pp = x - p_.t; pp <= x + p_.t; ++pp)
+        if (inWindow(pp, q)) gu += g(pp, q);
+    return gu >= p_.g_threshold ? gu : 0;
+  }
+  bool inWindow(int64_t x, int64_t y) const {
+    return x >= ox_ && x < ox_ + p_.size && y >= oy_ && y < oy_ + p_.size;
+  }
+  int64_t ox_, oy_;
+
+ private:
+  struct Cell {
+    int g = 0;
+    int64_t last = 0;
+  };
+  AgmParams p_;
+  int64_t cycle_ = 0;
+  std::map<std::pair<int64_t, int64_t>, Cell> cells_;
+};
+
+void compareOverRandomMotion(const AgmParams& p, uint32_t seed, int steps) {
+  AccumulativeGridMap m(p);
+  ReferenceAgm ref(p);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Fixed "obstacles" so weights accumulate, plus scattered noise hits.
+  std::vector<Vec2> obstacles;
+  for (int i = 0; i < 30; ++i) obstacles.emplace_back(8 * u(rng), 8 * u(rng));
+  Vec2 robot(0, 0);
+  int shifts = 0;
+  for (int step = 0; step < steps; ++step) {
+    const double speed = std::abs(u(rng));
+    robot += Vec2(u(rng), u(rng)) * (3 * p.cell_size);
+    if (step % 500 == 499) robot += Vec2(u(rng), u(rng)) * (2 * p.size * p.cell_size);  // teleport
+    if (step % 50 == 0) robot *= 0.2;  // keep coming back over the obstacles
+    const int64_t before = m.originX() * 1000003 + m.originY();
+    m.follow(robot, speed);
+    ref.follow(robot, speed);
+    shifts += (m.originX() * 1000003 + m.originY()) != before;
+    std::vector<Vec2> hits;
+    const int nhits = static_cast<int>(rng() % 6);
+    for (int i = 0; i < nhits; ++i) {
+      const Vec2 o = obstacles[rng() % obstacles.size()];
+      hits.push_back(rng() % 4 == 0 ? robot + Vec2(u(rng), u(rng)) * (0.7 * p.size * p.cell_size)
+                                    : o + Vec2(u(rng), u(rng)) * p.cell_size);
+    }
+    m.update(hits);
+    ref.update(hits);
+    ASSERT_EQ(m.originX(), ref.ox_);
+    ASSERT_EQ(m.originY(), ref.oy_);
+    for (int iy = 0; iy < p.size; ++iy)
+      for (int ix = 0; ix < p.size; ++ix) {
+        const int64_t gx = ref.ox_ + ix, gy = ref.oy_ + iy;
+        ASSERT_EQ(m.cellCorner(ix, iy), Vec2(static_cast<double>(gx) * p.cell_size, static_cast<double>(gy) * p.cell_size));
+        ASSERT_EQ(m.g(ix, iy), ref.g(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
+        ASSERT_EQ(m.h(ix, iy), ref.h(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
+        ASSERT_EQ(m.gp(ix, iy), ref.gp(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
+      }
+  }
+  EXPECT_GT(shifts, steps / 10);  // the test really exercised re-centring and wrap-around
+}
+
+}  // namespace
+
+TEST(Agm, MatchesDenseReferenceOverRandomMotion) {
+  AgmParams p;
+  p.size = 20;
+  p.cell_size = 0.5;
+  p.h_max = 6;
+  p.g_max = 4;
+  p.recenter_max_cells = 3;
+  p.recenter_min_cells = 0;
+  p.recenter_lookahead_s = 2.0;
+  for (int t : {0, 1, 2}) {
+    p.t = t;
+    p.g_threshold = 1 + t;
+    compareOverRandomMotion(p, 17u + static_cast<uint32_t>(t), 3000);
+  }
+}
+
+TEST(Agm, MatchesDenseReferenceOddSize) {
+  AgmParams p;
+  p.size = 15;
+  p.cell_size = 0.3;
+  p.h_max = 3;
+  p.t = 1;
+  p.g_threshold = 2;
+  p.recenter_max_cells = 1;
+  p.recenter_min_cells = 0;
+  compareOverRandomMotion(p, 99u, 2000);
+}
+
+TEST(Agm, ExportIsRowMajorInWindowCoordinates) {
+  AccumulativeGridMap m(small(1, 1, 50));
+  m.centreOn({3.5, -2.5});  // a window whose origin is not a multiple of N
+  m.update({{3.5, -2.5}, {3.5, -2.5}, {4.5, -2.5}});
+  m.update({});
+  std::vector<int16_t> g, h;
+  std::vector<int32_t> gp;
+  m.exportGrids(g, h, gp);
+  ASSERT_EQ(g.size(), 100u);
+  for (int iy = 0; iy < 10; ++iy)
+    for (int ix = 0; ix < 10; ++ix) {
+      const size_t i = static_cast<size_t>(iy * 10 + ix);
+      EXPECT_EQ(g[i], m.g(ix, iy));
+      EXPECT_EQ(h[i], m.h(ix, iy));
+      EXPECT_EQ(gp[i], m.gp(ix, iy));
+    }
+  EXPECT_EQ(g[5 * 10 + 5], 2);
+  EXPECT_EQ(h[5 * 10 + 5], 1);
+  EXPECT_EQ(gp[5 * 10 + 6], 3);
+}
+
+TEST(Agm, ConfigErrorsNameTheKey) {
+  const Config c = Config::fromString("agm: {size: 100, t: 60}");
+  try {
+    agmParams(c.section("agm"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("agm.t"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(agmParams(Config::fromString("agm: {colour: 3}").section("agm")), ConfigError);
+  const AgmParams p = agmParams(Config::fromString("agm: {h_max: 40, g_threshold: 6}").section("agm"));
+  EXPECT_EQ(p.h_max, 40);
+  EXPECT_EQ(p.g_threshold, 6);
+  EXPECT_EQ(p.size, 100);
+}

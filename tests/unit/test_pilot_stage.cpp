@@ -1,0 +1,213 @@
+// PilotStage on memq://: message flow, published values, output rates and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <lasonic/grid_map_t.hpp>
+#include <lasonic/sector_map_t.hpp>
+
+#include "stages/pilot_stage.hpp"
+
+using namespace lasonic;
+
+namespace {
+
+constexpr double kPi = geom::kPi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Copies: gtest takes its arguments by reference, which the generated static consts cannot bind.
+constexpr int8_t kNone = sector_map_t::SOURCE_NONE, kLaser = sector_map_t::SOURCE_LASER,
+                 kSonar = sector_map_t::SOURCE_SONAR, kCopied = sector_map_t::SOURCE_SONAR_COPIED;
+constexpr int8_t kNoReturn = laser_scan_t::FLAG_NO_RETURN;
+
+struct PilotFixture : ::testing::Test {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage{node, PilotConfig{}};
+  std::vector<sector_map_t> maps;
+  std::vector<grid_map_t> grids;
+
+  PilotFixture() {
+    node.subscribe<sector_map_t>(channels::SECTOR_MAP, [this](const sector_map_t& m) { maps.push_back(m); });
+    node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [this](const grid_map_t& m) { grids.push_back(m); });
+  }
+  void drain() {
+    while (node.spinOnce(0) > 0) {
+    }
+  }
+  // The robot stands at (1, 2) facing +x, from 0 to 2 s.
+  void odometry(double theta = 0.0) {
+    for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+      odometry_t o{};
+      o.utime = t;
+      o.pose = {1.0, 2.0, theta};
+      node.publish(channels::ODOMETRY, o);
+    }
+    drain();
+  }
+  // 360 deg scan of 720 readings over 0.2 s with one return: 1.0 m to the robot's left.
+  void laserScan(int64_t utime) {
+    laser_scan_t s{};
+    s.utime = utime;
+    s.angle_min = -kPi;
+    s.angle_increment = 2 * kPi / 720;
+    s.range_min = 0.05f;
+    s.range_max = 15.0f;
+    for (int i = 0; i < 720; ++i) {
+      s.ranges.push_back(0.0f);
+      s.flags.push_back(kNoReturn);
+      s.offset_us.push_back(i * 200'000 / 720);
+    }
+    s.ranges[540] = 1.0f;  // angle -pi + 540 * 0.5 deg = +90 deg
+    s.flags[540] = laser_scan_t::FLAG_OK;
+    node.publish(channels::LASER_SCAN, s);
+    drain();
+  }
+  static complement_reading_t reading(int8_t cls, double x, double y) {
+    complement_reading_t r{};
+    r.cls = cls;
+    r.range = 1.0f;
+    r.hypothetical_range = 2.2f;
+    r.end_x = x;
+    r.end_y = y;
+    return r;
+  }
+  // One firing group with one complementary echo 1 m ahead (global (2.05, 2.05)).
+  void complement(int64_t utime, std::vector<complement_reading_t> extra = {}) {
+    complement_t c{};
+    c.utime = utime;
+    c.readings.push_back(reading(complement_reading_t::CLASS_COMPLEMENTARY, 2.05, 2.05));
+    c.readings.push_back(reading(complement_reading_t::CLASS_FALSE, 0.0, 5.0));  // never accumulated
+    for (auto& r : extra) c.readings.push_back(r);
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drain();
+  }
+};
+
+}  // namespace
+
+TEST_F(PilotFixture, LaserThenSonarMapsAndAgmRate) {
+  odometry();
+  laserScan(100'000);
+  ASSERT_EQ(maps.size(), 1u);
+  const int left = 36, ahead = 24;
+  {
+    const sector_map_t& m = maps.back();
+    EXPECT_EQ(m.nsectors, 48);
+    EXPECT_GE(m.utime, 299'000);  // the scan's last reading
+    EXPECT_NEAR(m.laser_distance[left], 0.65, 1e-5);
+    EXPECT_EQ(m.source[left], kLaser);
+    EXPECT_EQ(m.laser_stale, 0);
+    EXPECT_EQ(m.sonar_stale, 1);
+    EXPECT_FLOAT_EQ(m.sonar_age_s, -1.0f);
+    EXPECT_FLOAT_EQ(m.robot_radius, 0.35f);
+    EXPECT_DOUBLE_EQ(m.robot_pose.y, 2.0);
+  }
+  // Firing groups every 30 ms from 0.3 s to 1.29 s.
+  for (int64_t t = 300'000; t < 1'300'000; t += 30'000) complement(t);
+  ASSERT_EQ(maps.size(), 35u);  // one per group, after the laser's
+  {
+    // After two groups the echo's cell reaches G_T = 2: sonar 1 m ahead, nearest cell point
+    // (2.0, 2.0): 1.0 m from the centre, 0.65 m from the boundary; copied into 23 and 25.
+    const sector_map_t& m = maps[2];
+    EXPECT_NEAR(m.distance[ahead], 0.65, 1e-5);
+    EXPECT_EQ(m.source[ahead], kSonar);
+    EXPECT_EQ(m.source[ahead - 1], kCopied);
+    EXPECT_EQ(m.source[ahead + 1], kCopied);
+    EXPECT_EQ(m.sonar_stale, 0);
+    EXPECT_EQ(maps[1].source[ahead], kNone);  // one hit: below G_T
+  }
+  {
+    // The laser has not been heard for ~1 s: stale, its value held.
+    const sector_map_t& m = maps.back();
+    EXPECT_EQ(m.laser_stale, 1);
+    EXPECT_GT(m.laser_age_s, 0.5f);
+    EXPECT_NEAR(m.distance[left], 0.65, 1e-5);
+  }
+  // AGM_OPERATIONAL at 2 Hz of message time: at 0.30 s and 0.81 s.
+  ASSERT_EQ(grids.size(), 2u);
+  EXPECT_EQ(grids[0].utime, 300'000);
+  EXPECT_EQ(grids[1].utime, 810'000);
+  const grid_map_t& g = grids[1];
+  EXPECT_EQ(g.width, 100);
+  EXPECT_EQ(g.ncells, 10000);
+  EXPECT_FLOAT_EQ(g.cell_size, 0.1f);
+  EXPECT_EQ(g.gp_threshold, 2);
+  // Window re-centred on the robot's cell (10, 20): origin cell (-40, -30).
+  EXPECT_NEAR(g.origin_x, -4.0, 1e-9);
+  EXPECT_NEAR(g.origin_y, -3.0, 1e-9);
+  const size_t echo = 50 * 100 + 60;  // global cell (20, 20)
+  EXPECT_EQ(g.g[echo], 18);           // hit by the 18 groups 0.30 .. 0.81 s
+  EXPECT_EQ(g.h[echo], 0);
+  EXPECT_EQ(g.gp[echo], 18);
+  int occupied = 0;
+  for (auto v : g.g) occupied += v > 0;
+  EXPECT_EQ(occupied, 1);
+  EXPECT_EQ(node.counter("agm.cycles"), 34);
+  EXPECT_EQ(node.counter("agm.recentred"), 1);
+  EXPECT_EQ(node.errors(), 0);
+}
+
+TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
+  odometry_t bad{};
+  bad.utime = 1;
+  bad.pose = {kNaN, 2.0, 0.0};
+  node.publish(channels::ODOMETRY, bad);
+  drain();
+  EXPECT_EQ(node.counter("rejected.odometry_nan"), 1);
+
+  odometry();
+  complement(300'000, {reading(complement_reading_t::CLASS_COMPLEMENTARY, kNaN, 1.0),
+                       reading(9, 1.0, 1.0)});
+  EXPECT_EQ(node.counter("rejected.complement_nan"), 1);
+  EXPECT_EQ(node.counter("rejected.complement_class"), 1);
+  EXPECT_EQ(node.counter("agm.hits"), 1);
+  complement(200'000);  // time went backwards: dropped
+  EXPECT_EQ(node.counter("rejected.complement_backwards"), 1);
+  complement(330'000);
+  EXPECT_EQ(node.counter("agm.cycles"), 2);
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps.back().source[24], kSonar);
+  EXPECT_EQ(node.errors(), 4);
+
+  odometry_t back{};
+  back.utime = 500'000;  // older than the newest (2 s)
+  back.pose = {1.0, 2.0, 0.0};
+  node.publish(channels::ODOMETRY, back);
+  drain();
+  EXPECT_EQ(node.counter("rejected.odometry_backwards"), 1);
+}
+
+TEST_F(PilotFixture, NoOdometryNoSectorMap) {
+  complement(300'000);
+  EXPECT_TRUE(maps.empty());
+  EXPECT_EQ(node.counter("sector_map.no_odometry"), 1);
+  EXPECT_EQ(grids.size(), 1u);  // the AGM itself still runs (hits are global)
+}
+
+TEST_F(PilotFixture, RotationDoesNotRotateTheGrid) {
+  odometry(kPi / 2);  // facing +y: the echo at (2.05, 2.05) is now to the right
+  complement(300'000);
+  complement(330'000);
+  const sector_map_t& m = maps.back();
+  EXPECT_EQ(m.source[12], kSonar);  // bearing ~ -87 deg
+  EXPECT_NEAR(m.distance[12], 0.65, 1e-5);
+}
+
+TEST(PilotConfig, ErrorsNameTheKeyPath) {
+  const auto expectError = [](const std::string& yaml, const std::string& path) {
+    try {
+      pilotConfig(Config::fromString(yaml).section("pilot"));
+      ADD_FAILURE() << "no error for " << yaml;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  expectError("pilot: {colour: red}", "pilot.colour");
+  expectError("pilot: {agm: {t: -1}}", "pilot.agm.t");
+  expectError("pilot: {max_range: 6.0}", "pilot.max_range");  // beyond the AGM window
+  expectError("pilot: {agm_publish_hz: 0}", "pilot.agm_publish_hz");
+  const PilotConfig c =
+      pilotConfig(Config::fromString("pilot: {agm: {g_threshold: 3}, max_range: 2.5}").section("pilot"));
+  EXPECT_EQ(c.sector_map.gp_threshold, 3);  // defaults to G_T
+  EXPECT_DOUBLE_EQ(c.sector_map.max_range, 2.5);
+}

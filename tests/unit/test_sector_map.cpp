@@ -1,0 +1,229 @@
+// SectorMap: sector geometry, laser moved into the current pose, sonar from the AGM, min and
+// copy rules, staleness.
+#include <gtest/gtest.h>
+
+#include "operational/sector_map.hpp"
+
+using namespace lasonic;
+using geom::kPi;
+using geom::Pose2;
+using geom::Vec2;
+
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+constexpr int64_t kSec = 1'000'000;
+
+AgmParams agmParams01() {
+  AgmParams p;  // 100 x 100 cells of 0.1 m
+  p.g_threshold = 2;
+  p.h_max = 1000;
+  return p;
+}
+
+// Makes a cell with Gp >= 2 around global point p (two hits in its cell).
+void obstacle(AccumulativeGridMap& agm, const Vec2& p) { agm.update({p, p}); }
+
+// Global point at `bearing` (robot frame) and distance `d` from the boundary of a robot at `pose`.
+Vec2 pointAt(const Pose2& pose, double bearing, double d, double radius = 0.35) {
+  return pose.transform(geom::unitVector(bearing) * (d + radius));
+}
+
+}  // namespace
+
+TEST(SectorMap, SectorGeometry) {
+  SectorMap s({});
+  EXPECT_EQ(s.sectorOf(-kPi), 0);
+  EXPECT_EQ(s.sectorOf(kPi), 0);  // pi and -pi are the same bearing
+  EXPECT_EQ(s.sectorOf(0.0), 24);
+  EXPECT_EQ(s.sectorOf(-0.1 * kDeg), 23);
+  EXPECT_EQ(s.sectorOf(7.4 * kDeg), 24);
+  EXPECT_EQ(s.sectorOf(7.5 * kDeg + 1e-9), 25);
+  EXPECT_EQ(s.sectorOf(179.9 * kDeg), 47);
+  EXPECT_EQ(s.sectorOf(2 * kPi + 1 * kDeg), 24);
+}
+
+TEST(SectorMap, LaserDistanceFromTheBoundaryAndMaxRange) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{1.0, 1.0, kPi / 2};  // facing global +y
+  s.setLaserPoints(0, {{1.0, 3.0}, {1.0, 2.5}, {-3.0, 1.0}, {1.1, 1.0}});
+  const auto& m = s.update(0, pose, agm);
+  // (1, 2.5) is straight ahead, 1.5 m from the centre: 1.15 m from the boundary (the nearer
+  // of the two points ahead).
+  EXPECT_FLOAT_EQ(m.laser[24], 1.15f);
+  EXPECT_FLOAT_EQ(m.distance[24], 1.15f);
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  // (-3, 1) is 4 m to the left: beyond max_range (3 m from the boundary), not reported.
+  EXPECT_FLOAT_EQ(m.laser[static_cast<size_t>(s.sectorOf(kPi / 2))], -1.0f);
+  // (1.1, 1) is to the right, inside the robot's circle: distance 0.
+  EXPECT_FLOAT_EQ(m.laser[static_cast<size_t>(s.sectorOf(-kPi / 2))], 0.0f);
+  int known = 0;
+  for (float d : m.laser) known += d >= 0;
+  EXPECT_EQ(known, 2);
+}
+
+TEST(SectorMap, LaserPointsAreMovedIntoTheCurrentPose) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  // Scan taken at pose A: a point 2 m ahead.
+  const Pose2 a{0.0, 0.0, 0.0};
+  s.setLaserPoints(0, {pointAt(a, 0.0, 1.65)});  // global (2, 0)
+  // The robot has since driven 0.5 m forward and turned left by 90 deg: the point is now
+  // 1.5 m to its right (bearing -90 deg).
+  const Pose2 b{0.5, 0.0, kPi / 2};
+  const auto& m = s.update(100'000, b, agm);
+  const int right = s.sectorOf(-kPi / 2);
+  EXPECT_NEAR(m.laser[right], 1.5 - 0.35, 1e-6);
+  EXPECT_EQ(m.source[right], SectorSource::Laser);
+  EXPECT_FLOAT_EQ(m.laser[24], -1.0f);
+}
+
+TEST(SectorMap, SonarCellAtItsNearestPointAndCopiedIntoNeighbours) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  agm.centreOn({0.05, 0.05});
+  obstacle(agm, {1.05, 0.05});  // cell [1.0, 1.1) x [0, 0.1)
+  s.setSonarTime(0);
+  const auto& m = s.update(0, {0.05, 0.05, 0.0}, agm);
+  // Nearest point of the cell: (1.0, 0.05), 0.95 m from the centre.
+  EXPECT_NEAR(m.sonar[24], 0.60, 1e-6);
+  EXPECT_EQ(m.source[24], SectorSource::Sonar);
+  EXPECT_NEAR(m.distance[23], 0.60, 1e-6);
+  EXPECT_EQ(m.source[23], SectorSource::SonarCopied);
+  EXPECT_EQ(m.source[25], SectorSource::SonarCopied);
+  for (int k : {22, 26, 0, 47}) {
+    EXPECT_EQ(m.source[static_cast<size_t>(k)], SectorSource::None) << k;
+    EXPECT_FLOAT_EQ(m.distance[static_cast<size_t>(k)], -1.0f);
+  }
+}
+
+TEST(SectorMap, CellsBelowTheThresholdAreIgnored) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  agm.centreOn({0.05, 0.05});
+  agm.update({{1.05, 0.05}});  // G = 1 < G_T: Gp = 0
+  const auto& m = s.update(0, {0.05, 0.05, 0.0}, agm);
+  EXPECT_EQ(m.source[24], SectorSource::None);
+}
+
+TEST(SectorMap, MinRuleAndSource) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});  // sonar 0.60 in sector 24, copies in 23 and 25
+  s.setSonarTime(0);
+  s.setLaserPoints(0, {pointAt(pose, 3.75 * kDeg, 0.50),     // sector 24: laser nearer
+                       pointAt(pose, 3.75 * kDeg + 7.5 * kDeg, 0.90),   // 25: copy nearer
+                       pointAt(pose, 3.75 * kDeg - 7.5 * kDeg, 0.60)}); // 23: tie -> laser
+  const auto& m = s.update(0, pose, agm);
+  EXPECT_NEAR(m.distance[24], 0.50, 1e-5);
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  EXPECT_NEAR(m.sonar[24], 0.60, 1e-5);
+  EXPECT_NEAR(m.distance[25], 0.60, 1e-5);
+  EXPECT_EQ(m.source[25], SectorSource::SonarCopied);
+  EXPECT_NEAR(m.laser[25], 0.90, 1e-5);
+  EXPECT_NEAR(m.distance[23], 0.60, 1e-5);
+  EXPECT_EQ(m.source[23], SectorSource::Laser);
+}
+
+TEST(SectorMap, CopyRuleSparesSectorsWithOwnSonarData) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});                        // sector 24: own 0.60
+  obstacle(agm, pointAt(pose, 11.25 * kDeg, 1.50));   // sector 25: own, farther
+  obstacle(agm, pointAt(pose, -26.25 * kDeg, 1.00));  // sector 20: own
+  obstacle(agm, pointAt(pose, -11.25 * kDeg, 2.00));  // sector 22: own
+  const auto& m = s.update(0, pose, agm);
+  // 25 keeps its own (farther) value: the neighbour's copy does not overwrite it.
+  EXPECT_EQ(m.source[25], SectorSource::Sonar);
+  EXPECT_NEAR(m.sonar[25], 1.50, 0.1);
+  // 26 gets 25's copy; 23 gets the nearer of 22's and 24's copies; 21 the nearer of 20's and 22's.
+  EXPECT_EQ(m.source[26], SectorSource::SonarCopied);
+  EXPECT_FLOAT_EQ(m.sonar[26], m.sonar[25]);
+  EXPECT_EQ(m.source[23], SectorSource::SonarCopied);
+  EXPECT_FLOAT_EQ(m.sonar[23], m.sonar[24]);
+  EXPECT_EQ(m.source[21], SectorSource::SonarCopied);
+  EXPECT_FLOAT_EQ(m.sonar[21], m.sonar[20]);
+  EXPECT_EQ(m.source[19], SectorSource::SonarCopied);
+  EXPECT_EQ(m.source[22], SectorSource::Sonar);
+  EXPECT_EQ(m.source[27], SectorSource::None);
+}
+
+TEST(SectorMap, CopyWrapsAroundTheRing) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, pointAt(pose, -kPi + 3.75 * kDeg, 1.0));  // sector 0
+  const auto& m = s.update(0, pose, agm);
+  EXPECT_EQ(m.source[0], SectorSource::Sonar);
+  EXPECT_EQ(m.source[47], SectorSource::SonarCopied);
+  EXPECT_EQ(m.source[1], SectorSource::SonarCopied);
+}
+
+TEST(SectorMap, StaleLaserIsHeldNeverFreer) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 a{0.0, 0.0, 0.0};
+  s.setLaserPoints(0, {pointAt(a, 0.0, 1.0)});  // 1.0 ahead
+  auto m = s.update(0, a, agm);
+  EXPECT_FALSE(m.laser_stale);
+  EXPECT_NEAR(m.laser[24], 1.0, 1e-6);
+  // Fresh (0.4 s <= 0.5 s): the robot backs off, the value grows.
+  m = s.update(400'000, {-0.2, 0.0, 0.0}, agm);
+  EXPECT_FALSE(m.laser_stale);
+  EXPECT_NEAR(m.laser[24], 1.2, 1e-6);
+  // Stale (0.6 s): backing off further does not make the sector freer than the last fresh map.
+  m = s.update(600'000, {-0.5, 0.0, 0.0}, agm);
+  EXPECT_TRUE(m.laser_stale);
+  EXPECT_NEAR(m.laser_age_s, 0.6, 1e-9);
+  EXPECT_NEAR(m.laser[24], 1.2, 1e-6);
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  // Driving towards it, the value shrinks...
+  m = s.update(700'000, {0.3, 0.0, 0.0}, agm);
+  EXPECT_NEAR(m.laser[24], 0.7, 1e-6);
+  // ... and stays shrunk while stale.
+  m = s.update(800'000, {-0.5, 0.0, 0.0}, agm);
+  EXPECT_NEAR(m.laser[24], 0.7, 1e-6);
+  // A fresh scan ends the hold.
+  s.setLaserPoints(900'000, {pointAt({-0.5, 0.0, 0.0}, 0.0, 2.0)});
+  m = s.update(900'000, {-0.5, 0.0, 0.0}, agm);
+  EXPECT_FALSE(m.laser_stale);
+  EXPECT_NEAR(m.laser[24], 2.0, 1e-6);
+}
+
+TEST(SectorMap, StaleSonarIsHeldNeverFreer) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});
+  s.setSonarTime(0);
+  auto m = s.update(0, pose, agm);
+  EXPECT_FALSE(m.sonar_stale);
+  EXPECT_NEAR(m.sonar[24], 0.60, 1e-6);
+  // Sonar silent for 1 s and the grid (say) emptied: the last fresh values are held, with
+  // their sources, and the map says sonar is stale.
+  AccumulativeGridMap empty(agmParams01());
+  m = s.update(kSec, pose, empty);
+  EXPECT_TRUE(m.sonar_stale);
+  EXPECT_NEAR(m.sonar_age_s, 1.0, 1e-9);
+  EXPECT_NEAR(m.distance[24], 0.60, 1e-6);
+  EXPECT_EQ(m.source[24], SectorSource::Sonar);
+  EXPECT_EQ(m.source[25], SectorSource::SonarCopied);
+}
+
+TEST(SectorMap, NeverHeardIsStaleWithAgeMinusOne) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const auto& m = s.update(5 * kSec, {}, agm);
+  EXPECT_TRUE(m.laser_stale);
+  EXPECT_TRUE(m.sonar_stale);
+  EXPECT_EQ(m.laser_age_s, -1);
+  EXPECT_EQ(m.sonar_age_s, -1);
+  for (auto src : m.source) EXPECT_EQ(src, SectorSource::None);
+}
