@@ -1,0 +1,63 @@
+#include "complement/complement.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace lasonic::complement {
+
+const char* className(SonarClass c) {
+  switch (c) {
+    case SonarClass::Complementary: return "complementary";
+    case SonarClass::Redundant: return "redundant";
+    case SonarClass::False: return "false";
+    case SonarClass::Unverifiable: return "unverifiable";
+    case SonarClass::Invalid: return "invalid";
+  }
+  return "invalid";
+}
+
+SonarClass classify(double real, bool no_echo, double hyp, double tol, double limit) {
+  if (no_echo || real > limit) return SonarClass::Unverifiable;
+  if (real < hyp - tol) return SonarClass::Complementary;
+  if (real > hyp + tol) return SonarClass::False;
+  return SonarClass::Redundant;
+}
+
+bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {
+  // Either direction: a map built long before or after the firing shows another scene.
+  return rm == nullptr || std::llabs(utime - rm->utime) > max_rm_age_us;
+}
+
+GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
+                                  const RadarMap* rm, const ComplementParams& p) {
+  GroupComplement out;
+  out.utime = g.utime;
+  out.group = g.group;
+  out.radar_map_utime = rm ? rm->utime : 0;
+  out.radar_map_stale = radarMapStale(rm, g.utime, p.max_rm_age_us);
+  static const std::vector<RmSegment> kEmpty;
+  const std::vector<RmSegment>& segments = rm ? rm->segments : kEmpty;
+  for (const SonarReading& r : g.readings) {
+    ClassifiedReading c;
+    c.sensor_id = r.sensor_id;
+    c.range = r.range;
+    c.hypothetical_range = std::numeric_limits<double>::quiet_NaN();
+    if (robot_pose) {
+      const geom::Pose2 sensor = robot_pose->compose(r.mount);
+      c.sensor_pose = sensor;
+      c.hypothetical_range = hypotheticalRange(sensor, segments, p.model);
+      if (r.valid && !r.no_echo) c.end = segmentMapPoint(sensor, r.range);
+    }
+    if (!r.valid || !robot_pose)
+      c.cls = SonarClass::Invalid;
+    else if (out.radar_map_stale)
+      c.cls = SonarClass::Unverifiable;
+    else
+      c.cls = classify(r.range, r.no_echo, c.hypothetical_range, p.tolerance, p.model.range_limit);
+    out.readings.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace lasonic::complement

@@ -1,0 +1,84 @@
+#pragma once
+// Complement extraction (Jörg 1995, sec. 3.1; DESIGN.md step 3): each real sonar reading, placed
+// in global coordinates (the Segment Map), is superposed on the hypothetical scan of the Radar
+// Map; only readings shorter than the hypothesis carry information the laser lacks.
+//
+// Stale Radar Map policy: a reading can only be verified against a Radar Map that describes the
+// scene at its firing time. With no Radar Map yet (before the first laser scan) or one older than
+// max_rm_age_us, every reading is classified Unverifiable and the result is flagged stale: a
+// missing laser must never make all sonar readings look complementary. The hypothesis is still
+// computed on the newest Radar Map (none: the limit) so that a viewer shows what was compared.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "complement/hypothetical_scan.hpp"
+#include "complement/radar_map.hpp"
+#include "core/geometry.hpp"
+
+namespace lasonic::complement {
+
+// Values equal to complement_reading_t::CLASS_* (the message layer relies on it).
+enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4 };
+const char* className(SonarClass c);  // "complementary", ... (counter names)
+
+// DESIGN.md step 3, with real range r, hypothesis h and tolerance tol:
+//   no echo, or r > limit  -> Unverifiable
+//   r < h - tol            -> Complementary
+//   |r - h| <= tol         -> Redundant
+//   r > h + tol            -> False (specular reflection)
+SonarClass classify(double real, bool no_echo, double hyp, double tol, double limit);
+
+// Segment Map: the reading's global point on the acoustic axis at the real range.
+inline geom::Vec2 segmentMapPoint(const geom::Pose2& sensor, double range) {
+  return sensor.transform({range, 0.0});
+}
+
+struct SonarReading {
+  int sensor_id = 0;
+  double range = 0;        // [m] meaningless when no_echo
+  bool no_echo = false;
+  geom::Pose2 mount;       // robot frame
+  bool valid = true;       // false: rejected by the message layer -> Invalid
+};
+
+struct SonarGroup {
+  int64_t utime = 0;  // [us] firing time
+  int group = 0;
+  std::vector<SonarReading> readings;
+};
+
+struct ComplementParams {
+  IdealSonarModel model;
+  // [m] measured on fig4_room/fig7_lab: above ~0.10 invisible recall falls, below it sonar and
+  // Radar Map noise turn wall echoes complementary.
+  double tolerance = 0.10;
+  int64_t max_rm_age_us = 500'000;      // older Radar Map -> stale
+};
+
+struct ClassifiedReading {
+  int sensor_id = 0;
+  SonarClass cls = SonarClass::Invalid;
+  double range = 0;
+  double hypothetical_range = 0;  // NaN when the sensor pose is unknown
+  std::optional<geom::Pose2> sensor_pose;  // global, at firing time
+  std::optional<geom::Vec2> end;           // Segment Map point (echo readings only)
+};
+
+struct GroupComplement {
+  int64_t utime = 0;
+  int group = 0;
+  int64_t radar_map_utime = 0;  // 0: none
+  bool radar_map_stale = true;
+  std::vector<ClassifiedReading> readings;
+};
+
+// True if the Radar Map cannot verify readings fired at `utime` (missing or too old).
+bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us);
+
+// Classifies one firing group. robot_pose: the robot's global pose at the firing time (nullopt:
+// unknown, every reading Invalid). rm: the newest Radar Map, or nullptr.
+GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
+                                  const RadarMap* rm, const ComplementParams& p);
+
+}  // namespace lasonic::complement

@@ -1,0 +1,29 @@
+#include "complement/complement_config.hpp"
+
+#include <cmath>
+
+namespace lasonic::complement {
+
+ComplementConfig complementConfig(const Config& c) {
+  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map"});
+  ComplementConfig cfg;
+  ComplementParams& p = cfg.params;
+  p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
+  p.model.beam_width = geom::deg2rad(
+      c.get("beam_width_deg", geom::rad2deg(p.model.beam_width), Range{0.0, 179.0, true}));
+  p.model.range_limit = c.get("range_limit", p.model.range_limit, Range::positive());
+  p.max_rm_age_us = std::llround(
+      1e6 * c.get("rm_max_age_s", static_cast<double>(p.max_rm_age_us) * 1e-6, Range::positive()));
+
+  const Config rm = c.section("radar_map");
+  rm.allowOnly({"jump_abs", "jump_rel", "split_threshold", "min_points", "min_length"});
+  RadarMapConfig& r = cfg.radar_map;
+  r.jump_abs = rm.get("jump_abs", r.jump_abs, Range::positive());
+  r.jump_rel = rm.get("jump_rel", r.jump_rel, Range::nonNegative());
+  r.split_threshold = rm.get("split_threshold", r.split_threshold, Range::positive());
+  r.min_points = rm.get("min_points", r.min_points, Range{2, 1e6, false});
+  r.min_length = rm.get("min_length", r.min_length, Range::nonNegative());
+  return cfg;
+}
+
+}  // namespace lasonic::complement

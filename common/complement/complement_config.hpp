@@ -1,0 +1,26 @@
+#pragma once
+// The `complement:` section of the configuration (deploy/config/lasonic.yaml):
+//
+//   complement:
+//     tolerance: 0.10        # [m] |r - h| <= tolerance: redundant
+//     beam_width_deg: 30     # ideal beam opening (paper: 30)
+//     range_limit: 2.20      # [m] hypothetical range limit (paper: 2.20)
+//     rm_max_age_s: 0.5      # [s] an older Radar Map is stale: readings unverifiable
+//     radar_map: {jump_abs: 0.10, jump_rel: 0.05, split_threshold: 0.05, min_points: 6, min_length: 0.15}
+//
+// Every key is optional (the defaults above); unknown keys and out-of-range values are
+// ConfigErrors that name the key path.
+#include "complement/complement.hpp"
+#include "complement/radar_map.hpp"
+#include "core/config.hpp"
+
+namespace lasonic::complement {
+
+struct ComplementConfig {
+  RadarMapConfig radar_map;
+  ComplementParams params;
+};
+
+ComplementConfig complementConfig(const Config& section);  // throws ConfigError
+
+}  // namespace lasonic::complement

@@ -1,0 +1,28 @@
+#include "complement/hypothetical_scan.hpp"
+
+#include <algorithm>
+
+namespace lasonic::complement {
+
+double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
+                         const IdealSonarModel& model) {
+  const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
+  double best = model.range_limit;
+  for (const RmSegment& s : rm) {
+    // Cheap reject before the exact wedge clip: a segment wholly beyond the best range so far
+    // cannot hold a nearer point.
+    if (geom::distance(s.seg, beam.apex) >= best) continue;
+    if (const auto d = geom::nearestInSector(beam, s.seg)) best = std::min(best, *d);
+  }
+  return best;
+}
+
+std::vector<double> hypotheticalScan(const std::vector<geom::Pose2>& sensors,
+                                     const std::vector<RmSegment>& rm, const IdealSonarModel& model) {
+  std::vector<double> out;
+  out.reserve(sensors.size());
+  for (const geom::Pose2& s : sensors) out.push_back(hypotheticalRange(s, rm, model));
+  return out;
+}
+
+}  // namespace lasonic::complement

@@ -1,0 +1,26 @@
+#pragma once
+// Hypothetical sonar scan (Jörg 1995, sec. 3.1; DESIGN.md step 2): what an ideal sonar would read
+// on the Radar Map. The ideal beam is a circular sector (opening 30 deg, radius 2.20 m): all of it
+// is empty except for the nearest obstacle, so the hypothetical range is the exact distance from
+// the sensor to the nearest point of any RM segment inside the sector; no segment -> the limit.
+#include <vector>
+
+#include "complement/radar_map.hpp"
+#include "core/geometry.hpp"
+
+namespace lasonic::complement {
+
+struct IdealSonarModel {
+  double beam_width = geom::deg2rad(30.0);  // [rad] full opening
+  double range_limit = 2.20;                // [m]
+};
+
+// One sensor: its global pose at firing time (acoustic axis along theta).
+double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
+                         const IdealSonarModel& model);
+
+// A firing group (or the whole ring): one range per sensor pose.
+std::vector<double> hypotheticalScan(const std::vector<geom::Pose2>& sensors,
+                                     const std::vector<RmSegment>& rm, const IdealSonarModel& model);
+
+}  // namespace lasonic::complement

@@ -1,0 +1,197 @@
+#include "complement/messages.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace lasonic::complement {
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+std::string field(const char* channel, const char* name, size_t i) {
+  return std::string(channel) + "." + name + "[" + std::to_string(i) + "]";
+}
+
+bool finitePose(const pose2d_t& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta);
+}
+
+pose2d_t toMsg(const geom::Pose2& p) {
+  pose2d_t m;
+  m.x = p.x;
+  m.y = p.y;
+  m.theta = p.theta;
+  return m;
+}
+
+// Sonar echoes beyond this are implausible whatever the ring claims as range_max.
+constexpr double kMaxSonarRange = 50.0;
+
+}  // namespace
+
+std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems) {
+  const auto n = static_cast<size_t>(std::max(0, m.nranges));
+  if (m.ranges.size() != n || m.flags.size() != n || m.offset_us.size() != n) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN: nranges = " + std::to_string(m.nranges) +
+                                                   " but ranges/flags/offset_us hold " +
+                                                   std::to_string(m.ranges.size()) + "/" +
+                                                   std::to_string(m.flags.size()) + "/" +
+                                                   std::to_string(m.offset_us.size())});
+    return std::nullopt;
+  }
+  if (!(std::isfinite(m.angle_increment) && m.angle_increment > 0) || !std::isfinite(m.angle_min)) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_increment = " + num(m.angle_increment) +
+                                                   ", angle_min = " + num(m.angle_min) +
+                                                   ": need a finite angle_min and angle_increment > 0"});
+    return std::nullopt;
+  }
+  if (!finitePose(m.mount)) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.mount is not finite"});
+    return std::nullopt;
+  }
+  LaserScan s;
+  s.utime = m.utime;
+  s.mount = {m.mount.x, m.mount.y, m.mount.theta};
+  s.full_circle = static_cast<double>(n) * m.angle_increment >= 2.0 * geom::kPi - 1.5 * m.angle_increment;
+  s.readings.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    LaserReading& r = s.readings[i];
+    r.utime = m.utime + m.offset_us[i];
+    r.angle = m.angle_min + static_cast<double>(i) * m.angle_increment;
+    r.range = m.ranges[i];
+    if (m.offset_us[i] < 0) {
+      problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", i) + " = " +
+                                                       std::to_string(m.offset_us[i]) + " (must be >= 0)"});
+      continue;
+    }
+    if (m.flags[i] == laser_scan_t::FLAG_NO_RETURN) continue;
+    if (m.flags[i] != laser_scan_t::FLAG_OK) {
+      problems.push_back({"rejected.laser_flag", field("LASER_SCAN", "flags", i) + " = " +
+                                                     std::to_string(m.flags[i]) + " (unknown flag)"});
+      continue;
+    }
+    const double rr = m.ranges[i];
+    if (!std::isfinite(rr) || rr < 0 || rr > m.range_max) {
+      problems.push_back({"rejected.laser_range", field("LASER_SCAN", "ranges", i) + " = " + num(rr) +
+                                                      " (range_max " + num(m.range_max) + ")"});
+      continue;
+    }
+    r.valid = rr >= m.range_min;  // below range_min: not a valid return (the sensor's own blind zone)
+  }
+  return s;
+}
+
+SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems) {
+  SonarGroup g;
+  g.utime = m.utime;
+  g.group = m.group;
+  const size_t n = m.sensor_id.size();
+  if (m.range.size() != n || m.no_echo.size() != n || m.mount.size() != n) {
+    problems.push_back({"rejected.sonar_ring", "SONAR_RING: sensor_id/range/no_echo/mount lengths differ (" +
+                                                   std::to_string(n) + "/" + std::to_string(m.range.size()) +
+                                                   "/" + std::to_string(m.no_echo.size()) + "/" +
+                                                   std::to_string(m.mount.size()) + ")"});
+    return g;
+  }
+  const double range_max = std::isfinite(m.range_max) && m.range_max > 0
+                               ? std::min<double>(m.range_max, kMaxSonarRange)
+                               : kMaxSonarRange;
+  for (size_t i = 0; i < n; ++i) {
+    SonarReading r;
+    r.sensor_id = m.sensor_id[i];
+    r.range = m.range[i];
+    r.no_echo = m.no_echo[i] != 0;
+    r.mount = {m.mount[i].x, m.mount[i].y, m.mount[i].theta};
+    if (r.sensor_id < 0 || r.sensor_id >= m.num_sensors) {
+      r.valid = false;
+      problems.push_back({"rejected.sonar_id", field("SONAR_RING", "sensor_id", i) + " = " +
+                                                   std::to_string(r.sensor_id) + " (num_sensors " +
+                                                   std::to_string(m.num_sensors) + ")"});
+    } else if (!finitePose(m.mount[i])) {
+      r.valid = false;
+      problems.push_back({"rejected.sonar_mount", field("SONAR_RING", "mount", i) + " is not finite"});
+    } else if (!r.no_echo && !(std::isfinite(r.range) && r.range >= 0 && r.range <= range_max)) {
+      r.valid = false;
+      problems.push_back({"rejected.sonar_range", field("SONAR_RING", "range", i) + " = " + num(r.range) +
+                                                      " (range_max " + num(m.range_max) + ")"});
+    }
+    g.readings.push_back(r);
+  }
+  return g;
+}
+
+line_map_t radarMapToMessage(const RadarMap& rm) {
+  line_map_t m;
+  m.utime = rm.utime;
+  m.source_utime = rm.source_utime;
+  m.robot_pose = toMsg(rm.robot_pose);
+  for (const RmSegment& s : rm.segments) {
+    line_segment_t l;
+    l.x0 = s.seg.a.x();
+    l.y0 = s.seg.a.y();
+    l.x1 = s.seg.b.x();
+    l.y1 = s.seg.b.y();
+    l.npoints = s.npoints;
+    l.rms = static_cast<float>(s.rms);
+    l.source = line_segment_t::SOURCE_LASER;
+    m.segments.push_back(l);
+  }
+  m.nsegments = static_cast<int32_t>(m.segments.size());
+  return m;
+}
+
+hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const ComplementParams& p) {
+  hypothetical_scan_t m;
+  m.utime = g.utime;
+  m.group = static_cast<int16_t>(g.group);
+  m.radar_map_utime = g.radar_map_utime;
+  m.radar_map_stale = g.radar_map_stale ? 1 : 0;
+  m.range_limit = static_cast<float>(p.model.range_limit);
+  m.beam_width = static_cast<float>(p.model.beam_width);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const ClassifiedReading& r : g.readings) {
+    m.sensor_id.push_back(static_cast<int16_t>(r.sensor_id));
+    m.range.push_back(static_cast<float>(r.hypothetical_range));
+    m.sensor_pose.push_back(toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan})));
+  }
+  m.nreadings = static_cast<int32_t>(m.sensor_id.size());
+  return m;
+}
+
+complement_t complementToMessage(const GroupComplement& g, const ComplementParams& p) {
+  complement_t m;
+  m.utime = g.utime;
+  m.group = static_cast<int16_t>(g.group);
+  m.radar_map_utime = g.radar_map_utime;
+  m.radar_map_stale = g.radar_map_stale ? 1 : 0;
+  m.tolerance = static_cast<float>(p.tolerance);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const ClassifiedReading& r : g.readings) {
+    complement_reading_t c;
+    c.sensor_id = static_cast<int16_t>(r.sensor_id);
+    c.cls = static_cast<int8_t>(r.cls);
+    c.range = static_cast<float>(r.range);
+    c.hypothetical_range = static_cast<float>(r.hypothetical_range);
+    c.sensor_pose = toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan}));
+    const geom::Vec2 end = r.end.value_or(geom::Vec2(nan, nan));
+    c.end_x = end.x();
+    c.end_y = end.y();
+    m.readings.push_back(c);
+  }
+  m.nreadings = static_cast<int32_t>(m.readings.size());
+  return m;
+}
+
+static_assert(static_cast<int8_t>(SonarClass::Complementary) == complement_reading_t::CLASS_COMPLEMENTARY &&
+                  static_cast<int8_t>(SonarClass::Redundant) == complement_reading_t::CLASS_REDUNDANT &&
+                  static_cast<int8_t>(SonarClass::False) == complement_reading_t::CLASS_FALSE &&
+                  static_cast<int8_t>(SonarClass::Unverifiable) == complement_reading_t::CLASS_UNVERIFIABLE &&
+                  static_cast<int8_t>(SonarClass::Invalid) == complement_reading_t::CLASS_INVALID,
+              "SonarClass must match complement_reading_t::CLASS_*");
+
+}  // namespace lasonic::complement

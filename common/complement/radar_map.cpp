@@ -1,0 +1,175 @@
+#include "complement/radar_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lasonic::complement {
+
+using geom::Vec2;
+
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
+  std::vector<ScanPoint> out(scan.readings.size());
+  int missing = 0;
+  for (size_t i = 0; i < scan.readings.size(); ++i) {
+    const LaserReading& r = scan.readings[i];
+    if (!r.valid) continue;
+    const auto robot = pose_at(r.utime);
+    if (!robot) {
+      ++missing;
+      continue;
+    }
+    const Vec2 local = scan.mount.transform(r.range * geom::unitVector(r.angle));
+    out[i] = {robot->transform(local), r.range, true};
+  }
+  if (no_pose) *no_pose = missing;
+  return out;
+}
+
+namespace {
+// A range jump: the threshold grows with range because neighbouring rays diverge.
+bool isJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
+  return (a.p - b.p).norm() > cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range);
+}
+}  // namespace
+
+std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
+                                   const RadarMapConfig& cfg) {
+  const size_t n = points.size();
+  std::vector<Cluster> clusters;
+  if (n == 0) return clusters;
+  // breakBefore(i): point i cannot continue the cluster of point i-1.
+  auto breakBefore = [&](size_t i) {
+    if (i == 0 && !full_circle) return true;
+    const ScanPoint& prev = points[(i + n - 1) % n];
+    const ScanPoint& cur = points[i];
+    return !prev.valid || !cur.valid || isJump(prev, cur, cfg);
+  };
+  // Start at a break so that a cluster spanning the end of a full circle stays whole.
+  std::optional<size_t> start;
+  for (size_t i = 0; i < n && !start; ++i)
+    if (breakBefore(i)) start = i;
+  if (!start) {  // a full circle without a single break
+    Cluster all;
+    for (const ScanPoint& p : points) all.points.push_back(p.p);
+    all.closed = true;
+    clusters.push_back(std::move(all));
+    return clusters;
+  }
+  Cluster cur;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = (*start + k) % n;
+    if (k > 0 && breakBefore(i) && !cur.points.empty()) {
+      clusters.push_back(std::move(cur));
+      cur = Cluster{};
+    }
+    if (points[i].valid) cur.points.push_back(points[i].p);
+  }
+  if (!cur.points.empty()) clusters.push_back(std::move(cur));
+  return clusters;
+}
+
+namespace {
+void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
+                    std::vector<IndexRange>& out) {
+  double dmax = -1;
+  size_t kmax = i;
+  const geom::Segment chord{pts[i], pts[j]};
+  for (size_t k = i + 1; k < j; ++k) {
+    const double d = geom::distance(chord, pts[k]);
+    if (d > dmax) {
+      dmax = d;
+      kmax = k;
+    }
+  }
+  if (dmax < threshold) {
+    out.push_back({i, j});
+    return;
+  }
+  splitRecursive(pts, i, kmax, threshold, out);
+  splitRecursive(pts, kmax, j, threshold, out);
+}
+}  // namespace
+
+std::vector<IndexRange> iterativeEndPointFit(const std::vector<Vec2>& points, IndexRange r,
+                                             double threshold) {
+  std::vector<IndexRange> out;
+  if (points.empty() || r.last >= points.size() || r.first > r.last) return out;
+  splitRecursive(points, r.first, r.last, threshold, out);
+  return out;
+}
+
+RmSegment fitLine(const std::vector<Vec2>& points, IndexRange r) {
+  const double n = static_cast<double>(r.size());
+  Vec2 c = Vec2::Zero();
+  for (size_t k = r.first; k <= r.last; ++k) c += points[k];
+  c /= n;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (size_t k = r.first; k <= r.last; ++k) {
+    const Vec2 d = points[k] - c;
+    sxx += d.x() * d.x();
+    syy += d.y() * d.y();
+    sxy += d.x() * d.y();
+  }
+  // Principal axis of the scatter: minimises the sum of squared orthogonal distances.
+  const double phi = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+  const Vec2 dir = geom::unitVector(phi);
+  const Vec2 nrm(-dir.y(), dir.x());
+  double ss = 0;
+  for (size_t k = r.first; k <= r.last; ++k) {
+    const double e = (points[k] - c).dot(nrm);
+    ss += e * e;
+  }
+  RmSegment s;
+  s.seg = {c + dir * (points[r.first] - c).dot(dir), c + dir * (points[r.last] - c).dot(dir)};
+  s.npoints = static_cast<int>(r.size());
+  s.rms = std::sqrt(ss / n);
+  return s;
+}
+
+void joinCorner(RmSegment& a, RmSegment& b, double max_shift) {
+  const Vec2 da = a.seg.b - a.seg.a, db = b.seg.b - b.seg.a;
+  const double denom = da.x() * db.y() - da.y() * db.x();
+  // Below ~10 deg between the lines the intersection is ill-conditioned (and no real corner).
+  if (std::abs(denom) < std::sin(geom::deg2rad(10.0)) * da.norm() * db.norm()) return;
+  const Vec2 w = b.seg.a - a.seg.a;
+  const Vec2 x = a.seg.a + da * ((w.x() * db.y() - w.y() * db.x()) / denom);
+  if ((x - a.seg.b).norm() > max_shift || (x - b.seg.a).norm() > max_shift) return;
+  a.seg.b = x;
+  b.seg.a = x;
+}
+
+std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg) {
+  std::vector<RmSegment> out;
+  const size_t min_points = static_cast<size_t>(std::max(2, cfg.min_points));
+  if (cluster.points.size() < min_points) return out;
+  std::vector<Vec2> pts = cluster.points;
+  if (cluster.closed) {
+    // Cut the loop at a breakpoint of a first pass (a corner) and close it there.
+    const auto first = iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold);
+    const size_t corner = first.size() > 1 ? first.front().last : 0;
+    std::rotate(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(corner), pts.end());
+    pts.push_back(pts.front());
+  }
+  for (const IndexRange& r : iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold)) {
+    if (r.size() < min_points) continue;
+    RmSegment s = fitLine(pts, r);
+    if (s.seg.length() < cfg.min_length) continue;
+    if (!out.empty()) joinCorner(out.back(), s, cfg.jump_abs);
+    out.push_back(s);
+  }
+  if (cluster.closed && out.size() > 2) joinCorner(out.back(), out.front(), cfg.jump_abs);
+  return out;
+}
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
+                         int* no_pose) {
+  RadarMap rm;
+  rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
+  rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
+  rm.robot_pose = pose_at(rm.utime).value_or(geom::Pose2{});
+  for (const Cluster& cl : splitClusters(placeReadings(scan, pose_at, no_pose), scan.full_circle, cfg))
+    for (const RmSegment& s : clusterSegments(cl, cfg)) rm.segments.push_back(s);
+  return rm;
+}
+
+}  // namespace lasonic::complement

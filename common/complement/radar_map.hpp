@@ -1,0 +1,119 @@
+#pragma once
+// Radar Map (RM): the laser scan's geometric abstraction into line segments (Jörg 1995, sec. 3;
+// DESIGN.md step 1). Every step is a small pure function so each can be tested on its own:
+//
+//   placeReadings        reading i -> global point, with the robot pose at reading i's own time
+//                        (corrects the motion during the scan); no return -> a gap
+//   splitClusters        runs of consecutive points, broken at gaps and at range jumps
+//   clusterSegments      one cluster -> its line segments (the next three steps)
+//   iterativeEndPointFit split a cluster until every point is within split_threshold of its chord
+//   fitLine              total-least-squares refit, endpoints projected onto the fitted line
+//   joinCorner           neighbouring segments of one cluster end at their lines' intersection
+//   extractRadarMap      all of the above; segments with too few points or too short dropped
+//
+// Gaps stay gaps: a no-return reading always ends a cluster, so a glass door or a black box is
+// never bridged by a line (the sonar must be allowed to see what is there).
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "core/geometry.hpp"
+
+namespace lasonic::complement {
+
+// One laser reading in the sensor frame. `valid` is false for no-return readings (and for
+// readings the message layer rejected): they become gaps.
+struct LaserReading {
+  int64_t utime = 0;   // [us] time this reading was taken
+  double angle = 0;    // [rad] sensor frame
+  double range = 0;    // [m]
+  bool valid = false;
+};
+
+struct LaserScan {
+  int64_t utime = 0;               // [us] time of reading 0
+  geom::Pose2 mount;               // sensor pose in the robot frame
+  std::vector<LaserReading> readings;  // in scan (angle) order
+  bool full_circle = false;        // the last reading neighbours the first (360 deg scanner)
+};
+
+// Robot pose (odometry frame) at a time, e.g. PoseHistory::at; nullopt if unknown.
+using PoseLookup = std::function<std::optional<geom::Pose2>(int64_t utime)>;
+
+struct RadarMapConfig {
+  double jump_abs = 0.10;         // [m] consecutive points farther apart than
+  double jump_rel = 0.05;         //     jump_abs + jump_rel * range start a new cluster
+  // [m] max point-to-chord distance in a final segment: 5 sigma of the laser's ~1 cm noise. At
+  // 0.03 noise alone split walls into slivers that the filters below dropped, leaving false gaps.
+  double split_threshold = 0.05;
+  int min_points = 6;             // fewer points: dropped (noise, thin objects)
+  double min_length = 0.15;       // [m] shorter: dropped
+};
+
+// A global point of the scan, or a gap (no return / no pose / rejected).
+struct ScanPoint {
+  geom::Vec2 p = geom::Vec2::Zero();
+  double range = 0;
+  bool valid = false;
+};
+
+struct RmSegment {
+  geom::Segment seg;
+  int npoints = 0;
+  double rms = 0;  // [m] RMS orthogonal distance of its points to the line
+};
+
+struct RadarMap {
+  int64_t utime = 0;          // [us] time of the scan's last reading
+  int64_t source_utime = 0;   // [us] time of the scan's first reading
+  geom::Pose2 robot_pose;     // at utime
+  std::vector<RmSegment> segments;
+};
+
+// Indices [first, last] (inclusive) into a point list.
+struct IndexRange {
+  size_t first = 0, last = 0;
+  size_t size() const { return last - first + 1; }
+};
+
+// Reading -> global point with the robot pose looked up at the reading's own time. Readings
+// whose pose is unknown become gaps; *no_pose (if given) counts them.
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at,
+                                     int* no_pose = nullptr);
+
+// Runs of valid consecutive points without a jump. For a full-circle scan a run that crosses
+// the end of the list continues at its start; if nothing breaks the circle at all (a closed room
+// seen without a gap) the one cluster is `closed`.
+struct Cluster {
+  std::vector<geom::Vec2> points;
+  bool closed = false;
+};
+std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
+                                   const RadarMapConfig& cfg);
+
+// Line segments of a cluster: iterative end-point fit, then fitLine and the size filters.
+// A closed cluster is first cut at one of its corners, so no wall is split at the scan's seam,
+// and its last and first segments are joined like every other corner.
+std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg);
+
+// Iterative end-point fit of points[r]: split at the point farthest from the chord until every
+// point lies within `threshold` of it. The split point belongs to both halves (a corner).
+std::vector<IndexRange> iterativeEndPointFit(const std::vector<geom::Vec2>& points, IndexRange r,
+                                             double threshold);
+
+// Total-least-squares line through points[r]; the segment runs from the projection of the first
+// point to that of the last.
+RmSegment fitLine(const std::vector<geom::Vec2>& points, IndexRange r);
+
+// a and b are neighbours in one cluster (split at a corner, perhaps with a dropped sliver between
+// them): end both at the
+// intersection of their lines, unless the lines are nearly parallel or the intersection lies
+// more than max_shift from either endpoint. Without this a wall would end up to one ray spacing
+// short of the corner (at the projection of the reading nearest to it).
+void joinCorner(RmSegment& a, RmSegment& b, double max_shift);
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
+                         int* no_pose = nullptr);
+
+}  // namespace lasonic::complement

@@ -1,0 +1,89 @@
+#include "stages/complement_stage.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "complement/messages.hpp"
+
+namespace lasonic {
+
+namespace cp = complement;
+
+ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg) {
+  node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
+  node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
+  node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
+}
+
+void ComplementStage::onOdometry(const odometry_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (!(std::isfinite(m.pose.x) && std::isfinite(m.pose.y) && std::isfinite(m.pose.theta))) {
+    node_.reportError("rejected.odometry_pose", "ODOMETRY.pose is not finite (utime " +
+                                                    std::to_string(m.utime) + "): dropped");
+    return;
+  }
+  switch (poses_.add(m.utime, {m.pose.x, m.pose.y, m.pose.theta})) {
+    case PoseHistory::AddResult::Ok: break;
+    case PoseHistory::AddResult::Duplicate: node_.count("odometry_duplicates"); break;
+    case PoseHistory::AddResult::WentBackwards:
+      node_.reportError("rejected.odometry_backwards",
+                        "ODOMETRY.utime = " + std::to_string(m.utime) + " is older than the newest (" +
+                            std::to_string(poses_.newestTime()) + "): dropped");
+      break;
+  }
+}
+
+void ComplementStage::onLaserScan(const laser_scan_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (last_scan_utime_ && m.utime <= *last_scan_utime_) {
+    node_.reportError("rejected.laser_backwards",
+                      "LASER_SCAN.utime = " + std::to_string(m.utime) + " is not newer than the previous scan (" +
+                          std::to_string(*last_scan_utime_) + "): dropped");
+    return;
+  }
+  std::vector<cp::InputProblem> problems;
+  const auto scan = cp::laserScanFromMessage(m, problems);
+  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  if (!scan) return;
+  last_scan_utime_ = m.utime;
+
+  int returns = 0, no_pose = 0;
+  for (const auto& r : scan->readings) returns += r.valid ? 1 : 0;
+  cp::RadarMap rm = cp::extractRadarMap(
+      *scan, [this](int64_t t) { return poses_.at(t); }, cfg_.radar_map, &no_pose);
+  if (no_pose > 0) {
+    node_.reportError("rejected.laser_no_odometry",
+                      "LASER_SCAN utime " + std::to_string(m.utime) + ": no odometry for " +
+                          std::to_string(no_pose) + " of " + std::to_string(returns) + " readings");
+    // Without any placed reading the scan says nothing; keep the previous Radar Map.
+    if (no_pose == returns) return;
+  }
+  line_map_t out = cp::radarMapToMessage(rm);
+  node_.publish(channels::RADAR_MAP, out);
+  radar_map_ = std::move(rm);
+}
+
+void ComplementStage::onSonarRing(const sonar_ring_t& m) {
+  node_.noteMessageTime(m.utime);
+  std::vector<cp::InputProblem> problems;
+  const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
+  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+
+  const auto robot = poses_.at(m.utime);
+  if (!robot)
+    node_.reportError("rejected.sonar_no_odometry", "SONAR_RING utime " + std::to_string(m.utime) +
+                                                        ": no odometry at the firing time; group " +
+                                                        std::to_string(m.group) + " classified invalid");
+  const cp::GroupComplement result =
+      cp::extractComplement(group, robot, radar_map_ ? &*radar_map_ : nullptr, cfg_.params);
+  for (const auto& r : result.readings) {
+    node_.count(std::string("class.") + cp::className(r.cls));
+    if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
+  }
+  hypothetical_scan_t hyp = cp::hypothesisToMessage(result, cfg_.params);
+  node_.publish(channels::SONAR_HYPOTHESIS, hyp);
+  complement_t comp = cp::complementToMessage(result, cfg_.params);
+  node_.publish(channels::SONAR_COMPLEMENT, comp);
+}
+
+}  // namespace lasonic

@@ -1,0 +1,55 @@
+#pragma once
+// ComplementStage: complement extraction (DESIGN.md steps 1-3) on a lasonic::Node.
+//
+// In:  ODOMETRY (pose history), LASER_SCAN, SONAR_RING (one firing group).
+// Out: RADAR_MAP per laser scan; SONAR_HYPOTHESIS and SONAR_COMPLEMENT per firing group.
+// Counters (PROCESS_STATUS): class.<complementary|redundant|false|unverifiable|invalid>,
+// unverifiable.stale_radar_map, rejected.* for every kind of bad input.
+//
+// Time comes only from the messages, never from the wall clock, so a replay is deterministic.
+//
+// Policies:
+// - Before the first laser scan, or when the newest Radar Map is more than rm_max_age_s away
+//   from a firing, the Radar Map is stale: the group is published with radar_map_stale = 1 and
+//   every reading is Unverifiable (counted under unverifiable.stale_radar_map). Without the laser
+//   nothing can be verified, and treating "no map" as "empty map" would make every echo
+//   complementary.
+// - Bad input is reported (node.reportError, naming the field) and never stops the process:
+//   ODOMETRY older than the newest is dropped; a LASER_SCAN not newer than the previous one is
+//   dropped; bad laser readings become gaps; a scan with no usable reading (e.g. no odometry
+//   for its time) leaves the previous Radar Map in place; bad sonar readings (NaN, negative or
+//   huge range, sensor id outside [0, num_sensors), non-finite mount) and every reading of a
+//   group fired when no odometry is known are classified Invalid.
+#include "complement/complement_config.hpp"
+#include "complement/radar_map.hpp"
+#include "core/pose_history.hpp"
+#include "lcmio/node.hpp"
+
+#include <lasonic/laser_scan_t.hpp>
+#include <lasonic/odometry_t.hpp>
+#include <lasonic/sonar_ring_t.hpp>
+
+#include <optional>
+
+namespace lasonic {
+
+using complement::ComplementConfig;
+using complement::complementConfig;
+
+class ComplementStage {
+ public:
+  ComplementStage(Node& node, const ComplementConfig& cfg);
+
+ private:
+  void onOdometry(const odometry_t& m);
+  void onLaserScan(const laser_scan_t& m);
+  void onSonarRing(const sonar_ring_t& m);
+
+  Node& node_;
+  ComplementConfig cfg_;
+  PoseHistory poses_;
+  std::optional<complement::RadarMap> radar_map_;
+  std::optional<int64_t> last_scan_utime_;
+};
+
+}  // namespace lasonic

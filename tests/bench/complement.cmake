@@ -1,0 +1,1 @@
+set(bench_complement_LIBS lasonic_complement)

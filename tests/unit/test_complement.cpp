@@ -1,0 +1,258 @@
+// Complement extraction: classification, the Segment Map point, stale Radar Maps, the message
+// layer's input checks, and the paper's Fig. 4 end to end (scan -> RM -> hypothesis -> classes).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "complement/complement.hpp"
+#include "complement/complement_config.hpp"
+#include "complement/messages.hpp"
+#include "complement_fixture.hpp"
+
+using namespace lasonic;
+
+// The generated CLASS_* are `static const` members without a definition: gtest's EXPECT_EQ
+// takes references, so compare against local copies.
+constexpr int8_t kComplementary = complement_reading_t::CLASS_COMPLEMENTARY;
+constexpr int8_t kRedundant = complement_reading_t::CLASS_REDUNDANT;
+constexpr int8_t kUnverifiable = complement_reading_t::CLASS_UNVERIFIABLE;
+constexpr int8_t kInvalid = complement_reading_t::CLASS_INVALID;
+using namespace lasonic::complement;
+using geom::Pose2;
+
+TEST(Classify, Boundaries) {
+  // h = 1.0, tol = 0.25 (exact in binary, so the boundaries are exact).
+  const double h = 1.0, tol = 0.25, lim = 2.20;
+  EXPECT_EQ(classify(0.74, false, h, tol, lim), SonarClass::Complementary);
+  EXPECT_EQ(classify(0.75, false, h, tol, lim), SonarClass::Redundant);  // |r - h| = tol
+  EXPECT_EQ(classify(1.00, false, h, tol, lim), SonarClass::Redundant);
+  EXPECT_EQ(classify(1.25, false, h, tol, lim), SonarClass::Redundant);
+  EXPECT_EQ(classify(1.26, false, h, tol, lim), SonarClass::False);
+  EXPECT_EQ(classify(2.20, false, h, tol, lim), SonarClass::False);
+  EXPECT_EQ(classify(2.21, false, h, tol, lim), SonarClass::Unverifiable);  // beyond the limit
+  EXPECT_EQ(classify(0.50, true, h, tol, lim), SonarClass::Unverifiable);   // no echo
+  // Nothing in the RM (h = limit): a shorter echo is new information, one at the limit is not.
+  EXPECT_EQ(classify(1.0, false, lim, tol, lim), SonarClass::Complementary);
+  EXPECT_EQ(classify(2.0, false, lim, tol, lim), SonarClass::Redundant);
+  EXPECT_STREQ(className(SonarClass::False), "false");
+}
+
+TEST(SegmentMap, PointOnTheAcousticAxisAtTheRealRange) {
+  const auto p = segmentMapPoint({1.0, 2.0, geom::kPi / 2}, 0.5);
+  EXPECT_NEAR(p.x(), 1.0, 1e-12);
+  EXPECT_NEAR(p.y(), 2.5, 1e-12);
+}
+
+namespace {
+RadarMap wallAhead(int64_t utime) {
+  RadarMap rm;
+  rm.utime = utime;
+  rm.segments = {{{{1.0, -1.0}, {1.0, 1.0}}, 20, 0.0}};
+  return rm;
+}
+SonarGroup oneForward(int64_t utime, double range, bool valid = true) {
+  SonarGroup g;
+  g.utime = utime;
+  g.readings.push_back({3, range, false, {0, 0, 0}, valid});
+  return g;
+}
+}  // namespace
+
+TEST(ExtractComplement, FreshRadarMapClassifies) {
+  const RadarMap rm = wallAhead(1'000'000);
+  const auto out = extractComplement(oneForward(1'100'000, 0.5), Pose2{}, &rm, {});
+  EXPECT_FALSE(out.radar_map_stale);
+  EXPECT_EQ(out.radar_map_utime, 1'000'000);
+  ASSERT_EQ(out.readings.size(), 1u);
+  const auto& r = out.readings[0];
+  EXPECT_EQ(r.sensor_id, 3);
+  EXPECT_EQ(r.cls, SonarClass::Complementary);
+  EXPECT_NEAR(r.hypothetical_range, 1.0, 1e-12);
+  ASSERT_TRUE(r.end.has_value());
+  EXPECT_NEAR(r.end->x(), 0.5, 1e-12);
+}
+
+TEST(ExtractComplement, NoRadarMapYetIsStaleAndUnverifiable) {
+  const auto out = extractComplement(oneForward(1'000'000, 0.5), Pose2{}, nullptr, {});
+  EXPECT_TRUE(out.radar_map_stale);
+  EXPECT_EQ(out.radar_map_utime, 0);
+  EXPECT_EQ(out.readings[0].cls, SonarClass::Unverifiable);
+  EXPECT_DOUBLE_EQ(out.readings[0].hypothetical_range, 2.20);
+}
+
+TEST(ExtractComplement, OldRadarMapIsStale) {
+  const RadarMap rm = wallAhead(1'000'000);
+  ComplementParams p;
+  p.max_rm_age_us = 500'000;
+  EXPECT_FALSE(extractComplement(oneForward(1'500'000, 0.5), Pose2{}, &rm, p).radar_map_stale);
+  const auto out = extractComplement(oneForward(1'500'001, 0.5), Pose2{}, &rm, p);
+  EXPECT_TRUE(out.radar_map_stale);
+  EXPECT_EQ(out.readings[0].cls, SonarClass::Unverifiable);
+  EXPECT_NEAR(out.readings[0].hypothetical_range, 1.0, 1e-12);  // still shown, never trusted
+}
+
+TEST(ExtractComplement, UnknownPoseOrRejectedReadingIsInvalid) {
+  const RadarMap rm = wallAhead(0);
+  const auto no_pose = extractComplement(oneForward(0, 0.5), std::nullopt, &rm, {});
+  EXPECT_EQ(no_pose.readings[0].cls, SonarClass::Invalid);
+  EXPECT_TRUE(std::isnan(no_pose.readings[0].hypothetical_range));
+  EXPECT_FALSE(no_pose.readings[0].sensor_pose.has_value());
+  const auto rejected = extractComplement(oneForward(0, 0.5, false), Pose2{}, &rm, {});
+  EXPECT_EQ(rejected.readings[0].cls, SonarClass::Invalid);
+  EXPECT_FALSE(rejected.readings[0].end.has_value());
+}
+
+// ---------------------------------------------------------------- the paper's Fig. 4
+TEST(Fig4, GlassDoorAndRoundObstacleComplementarySpecularFalseWallsRedundant) {
+  const fixture::World world = fixture::fig4Room();
+  const Pose2 robot = fixture::fig4RobotPose();
+  const auto traj = fixture::still(robot);
+  std::vector<InputProblem> problems;
+  const auto scan = laserScanFromMessage(fixture::simulateScan(world, traj, 0, 100'000), problems);
+  ASSERT_TRUE(scan && problems.empty());
+  const RadarMap rm = extractRadarMap(*scan, [&](int64_t t) { return std::optional(traj(t)); }, {});
+  // Four walls, the top one broken by the (laser-transparent) glass door: five lines.
+  ASSERT_EQ(rm.segments.size(), 5u);
+
+  // The real ring: ideal echoes of the true world (door and obstacle included), except two
+  // specular readings (too long, within the limit) and one beyond the limit.
+  std::vector<double> real = fixture::trueRing(world, robot);
+  const int kDoor = 6, kObstacle = 21, kSpecular1 = 3, kSpecular2 = 15, kBeyond = 9;
+  EXPECT_NEAR(real[kDoor], 1.5, 1e-9);       // the door, 1.5 m from the sensor
+  EXPECT_LT(real[kObstacle], 0.9);           // the round obstacle
+  real[kSpecular1] = real[kSpecular2] = 2.15;
+  real[kBeyond] = 2.8;
+  std::vector<int> ids(24);
+  for (int k = 0; k < 24; ++k) ids[static_cast<size_t>(k)] = k;
+  const SonarGroup ring = sonarGroupFromMessage(fixture::sonarGroup(50'000, 0, ids, real), problems);
+  ASSERT_TRUE(problems.empty());
+  ComplementParams p;
+  p.tolerance = 0.15;
+  const auto out = extractComplement(ring, robot, &rm, p);
+  ASSERT_FALSE(out.radar_map_stale);
+
+  auto cls = [&](int k) { return out.readings[static_cast<size_t>(k)].cls; };
+  EXPECT_EQ(cls(kDoor), SonarClass::Complementary);
+  EXPECT_EQ(cls(kObstacle), SonarClass::Complementary);
+  EXPECT_EQ(cls(kSpecular1), SonarClass::False);
+  EXPECT_EQ(cls(kSpecular2), SonarClass::False);
+  EXPECT_EQ(cls(kBeyond), SonarClass::Unverifiable);
+  // Beams that only see walls: redundant (or unverifiable when the wall is beyond the limit).
+  for (int k : {0, 12, 18}) EXPECT_EQ(cls(k), SonarClass::Redundant) << "sensor " << k;
+  // Nothing else is complementary: every complementary reading is the door or the obstacle.
+  for (const auto& r : out.readings) {
+    if (r.cls != SonarClass::Complementary) continue;
+    const auto& e = *r.end;
+    const bool at_door = std::abs(e.y() - 3.6) < 0.05 && e.x() > 1.4 && e.x() < 2.6;
+    const bool at_obstacle = std::abs((e - geom::Vec2(3.0, 0.9)).norm() - 0.2) < 0.3;
+    EXPECT_TRUE(at_door || at_obstacle) << "sensor " << r.sensor_id << " at " << e.transpose();
+  }
+}
+
+// ---------------------------------------------------------------- message layer
+TEST(Messages, BadSonarReadingsAreInvalidAndNamed) {
+  sonar_ring_t m = fixture::sonarGroup(0, 1, {0, 1, 2, 3, 4, 5}, {1.0, 1.0, 1.0, 1.0, 1.0, -1});
+  m.range[2] = std::numeric_limits<float>::quiet_NaN();
+  m.range[3] = -0.5f;
+  m.range[4] = 1e9f;
+  m.sensor_id[1] = 24;       // num_sensors is 24
+  m.range[5] = std::numeric_limits<float>::quiet_NaN();  // no echo: the range is meaningless, fine
+  std::vector<InputProblem> problems;
+  const SonarGroup g = sonarGroupFromMessage(m, problems);
+  ASSERT_EQ(g.readings.size(), 6u);
+  EXPECT_TRUE(g.readings[0].valid);
+  EXPECT_FALSE(g.readings[1].valid);
+  EXPECT_FALSE(g.readings[2].valid);
+  EXPECT_FALSE(g.readings[3].valid);
+  EXPECT_FALSE(g.readings[4].valid);
+  EXPECT_TRUE(g.readings[5].valid);
+  ASSERT_EQ(problems.size(), 4u);
+  EXPECT_EQ(problems[0].counter, "rejected.sonar_id");
+  EXPECT_NE(problems[0].message.find("SONAR_RING.sensor_id[1] = 24"), std::string::npos);
+  EXPECT_EQ(problems[1].counter, "rejected.sonar_range");
+  EXPECT_NE(problems[1].message.find("SONAR_RING.range[2] = nan"), std::string::npos);
+  EXPECT_NE(problems[2].message.find("SONAR_RING.range[3] = -0.5"), std::string::npos);
+}
+
+TEST(Messages, BadLaserReadingsBecomeGapsBadScansAreRefused) {
+  laser_scan_t m = fixture::simulateScan(fixture::fig4Room(), fixture::still({2, 1.8, 0}), 0, 100'000);
+  m.ranges[10] = std::numeric_limits<float>::quiet_NaN();
+  m.ranges[11] = 99.f;  // beyond range_max 15
+  m.flags[12] = 7;
+  m.offset_us[13] = -5;
+  std::vector<InputProblem> problems;
+  auto s = laserScanFromMessage(m, problems);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(problems.size(), 4u);
+  for (size_t i = 10; i <= 13; ++i) EXPECT_FALSE(s->readings[i].valid) << i;
+  EXPECT_TRUE(s->readings[14].valid);
+  EXPECT_NE(problems[0].message.find("LASER_SCAN.ranges[10] = nan"), std::string::npos);
+  EXPECT_EQ(s->readings[100].utime, m.offset_us[100]);
+
+  laser_scan_t mismatched = m;
+  mismatched.flags.pop_back();
+  problems.clear();
+  EXPECT_FALSE(laserScanFromMessage(mismatched, problems).has_value());
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].counter, "rejected.laser_scan");
+
+  laser_scan_t bad_angles = m;
+  bad_angles.angle_increment = 0;
+  problems.clear();
+  EXPECT_FALSE(laserScanFromMessage(bad_angles, problems).has_value());
+}
+
+TEST(Messages, OutputsCarryClassesAndNaNsForUnknowns) {
+  const RadarMap rm = [] {
+    RadarMap r;
+    r.utime = 7;
+    r.segments = {{{{1.0, -1.0}, {1.0, 1.0}}, 20, 0.001}};
+    return r;
+  }();
+  const line_map_t lm = radarMapToMessage(rm);
+  EXPECT_EQ(lm.nsegments, 1);
+  EXPECT_EQ(lm.segments[0].source, 0);  // SOURCE_LASER
+  SonarGroup g;
+  g.utime = 9;
+  g.group = 2;
+  g.readings = {{0, 0.5, false, {}, true}, {1, 0.0, true, {}, true}};
+  const ComplementParams p;
+  const GroupComplement res = extractComplement(g, Pose2{}, &rm, p);
+  const complement_t c = complementToMessage(res, p);
+  EXPECT_EQ(c.nreadings, 2);
+  EXPECT_EQ(c.group, 2);
+  EXPECT_FLOAT_EQ(c.tolerance, 0.10f);
+  EXPECT_EQ(c.readings[0].cls, kComplementary);
+  EXPECT_EQ(c.readings[1].cls, kUnverifiable);
+  EXPECT_TRUE(std::isnan(c.readings[1].end_x));  // no echo: no Segment Map point
+  const hypothetical_scan_t h = hypothesisToMessage(res, p);
+  EXPECT_EQ(h.nreadings, 2);
+  EXPECT_NEAR(h.range[0], 1.0f, 1e-6);
+  EXPECT_EQ(h.radar_map_utime, 7);
+}
+
+TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
+  const auto def = complementConfig(Config{});
+  EXPECT_DOUBLE_EQ(def.params.tolerance, 0.10);
+  EXPECT_DOUBLE_EQ(def.params.model.range_limit, 2.20);
+  EXPECT_NEAR(def.params.model.beam_width, geom::deg2rad(30), 1e-12);
+  const auto c = complementConfig(
+      Config::fromString("complement: {tolerance: 0.2, rm_max_age_s: 1.5, radar_map: {min_points: 4}}")
+          .section("complement"));
+  EXPECT_DOUBLE_EQ(c.params.tolerance, 0.2);
+  EXPECT_EQ(c.params.max_rm_age_us, 1'500'000);
+  EXPECT_EQ(c.radar_map.min_points, 4);
+  auto err = [](const std::string& yaml) {
+    try {
+      complementConfig(Config::fromString(yaml).section("complement"));
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(err("complement: {tolerence: 0.2}").find("complement.tolerence"), std::string::npos);
+  EXPECT_NE(err("complement: {tolerance: -1}").find("complement.tolerance"), std::string::npos);
+  EXPECT_NE(err("complement: {radar_map: {split: 1}}").find("complement.radar_map.split"), std::string::npos);
+  EXPECT_NE(err("complement: {beam_width_deg: 0}").find("beam_width_deg"), std::string::npos);
+}

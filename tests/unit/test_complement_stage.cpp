@@ -1,0 +1,136 @@
+// ComplementStage on memq://: outputs, class counters, stale Radar Map policy, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <lasonic/complement_t.hpp>
+#include <lasonic/hypothetical_scan_t.hpp>
+#include <lasonic/line_map_t.hpp>
+
+#include "complement_fixture.hpp"
+#include "lcmio/node.hpp"
+#include "stages/complement_stage.hpp"
+
+using namespace lasonic;
+
+// The generated CLASS_* are `static const` members without a definition: gtest's EXPECT_EQ
+// takes references, so compare against local copies.
+constexpr int8_t kComplementary = complement_reading_t::CLASS_COMPLEMENTARY;
+constexpr int8_t kRedundant = complement_reading_t::CLASS_REDUNDANT;
+constexpr int8_t kUnverifiable = complement_reading_t::CLASS_UNVERIFIABLE;
+constexpr int8_t kInvalid = complement_reading_t::CLASS_INVALID;
+
+namespace {
+
+class StageTest : public ::testing::Test {
+ protected:
+  StageTest() : node("test-complement", "memq://", Node::Options{false, false}), stage(node, complementConfig(Config{})) {
+    node.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { maps.push_back(m); });
+    node.subscribe<hypothetical_scan_t>(channels::SONAR_HYPOTHESIS,
+                                        [this](const hypothetical_scan_t& m) { hyps.push_back(m); });
+    node.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { comps.push_back(m); });
+  }
+  template <typename T>
+  void send(const char* channel, T msg) {
+    node.publish(channel, msg);
+    while (node.spinOnce(0) > 0) {
+    }
+  }
+  // Odometry every 20 ms over [t0, t1] for the still Fig. 4 robot.
+  void odometry(int64_t t0, int64_t t1) {
+    for (int64_t t = t0; t <= t1; t += 20'000) send(channels::ODOMETRY, fixture::odometryAt(traj, t));
+  }
+  void scan(int64_t t0) { send(channels::LASER_SCAN, fixture::simulateScan(fixture::fig4Room(), traj, t0, 100'000)); }
+  void ring(int64_t t, std::vector<int> ids, std::vector<double> ranges) {
+    send(channels::SONAR_RING, fixture::sonarGroup(t, 0, ids, ranges));
+  }
+  int8_t cls(size_t i) const { return comps.back().readings.at(i).cls; }
+
+  fixture::Trajectory traj = fixture::still(fixture::fig4RobotPose());
+  Node node;
+  ComplementStage stage;
+  std::vector<line_map_t> maps;
+  std::vector<hypothetical_scan_t> hyps;
+  std::vector<complement_t> comps;
+};
+
+// Fig. 4, sensor 6 faces the glass door (1.5 m), sensor 0 the right wall (1.7 m).
+constexpr int kDoor = 6, kWall = 0;
+
+}  // namespace
+
+TEST_F(StageTest, PublishesRadarMapHypothesisAndComplementAndCountsClasses) {
+  odometry(0, 200'000);
+  scan(0);
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_EQ(maps[0].nsegments, 5);
+  EXPECT_EQ(maps[0].source_utime, 0);
+  ring(150'000, {kDoor, kWall}, {1.5, 1.7});
+  ASSERT_EQ(hyps.size(), 1u);
+  ASSERT_EQ(comps.size(), 1u);
+  EXPECT_EQ(comps[0].radar_map_stale, 0);
+  EXPECT_EQ(comps[0].radar_map_utime, maps[0].utime);
+  EXPECT_EQ(cls(0), kComplementary);
+  EXPECT_EQ(cls(1), kRedundant);
+  EXPECT_NEAR(hyps[0].range[0], 2.20f, 1e-6);
+  EXPECT_NEAR(hyps[0].range[1], 1.7f, 1e-3);
+  EXPECT_EQ(node.counter("class.complementary"), 1);
+  EXPECT_EQ(node.counter("class.redundant"), 1);
+  EXPECT_EQ(node.errors(), 0);
+}
+
+TEST_F(StageTest, BeforeTheFirstScanEverythingIsUnverifiableAndFlagged) {
+  odometry(0, 100'000);
+  ring(50'000, {kDoor, kWall}, {1.5, 1.7});
+  ASSERT_EQ(comps.size(), 1u);
+  EXPECT_EQ(comps[0].radar_map_stale, 1);
+  EXPECT_EQ(comps[0].radar_map_utime, 0);
+  EXPECT_EQ(hyps[0].radar_map_stale, 1);
+  EXPECT_EQ(cls(0), kUnverifiable);
+  EXPECT_EQ(cls(1), kUnverifiable);
+  EXPECT_EQ(node.counter("unverifiable.stale_radar_map"), 2);
+  EXPECT_EQ(node.counter("class.complementary"), 0);
+}
+
+TEST_F(StageTest, AStaleRadarMapIsFlaggedNotTrusted) {
+  odometry(0, 2'000'000);
+  scan(0);
+  ring(1'900'000, {kDoor}, {1.5});  // RM ends at ~0.1 s; default limit 0.5 s
+  EXPECT_EQ(comps.back().radar_map_stale, 1);
+  EXPECT_EQ(cls(0), kUnverifiable);
+  EXPECT_EQ(node.counter("unverifiable.stale_radar_map"), 1);
+}
+
+TEST_F(StageTest, BadSonarReadingsAreInvalidAndTheStageGoesOn) {
+  odometry(0, 200'000);
+  scan(0);
+  ring(150'000, {kDoor, kWall, 30}, {std::numeric_limits<double>::quiet_NaN(), 1.7, 1.0});
+  EXPECT_EQ(cls(0), kInvalid);
+  EXPECT_EQ(cls(1), kRedundant);
+  EXPECT_EQ(cls(2), kInvalid);
+  EXPECT_EQ(node.counter("rejected.sonar_range"), 1);
+  EXPECT_EQ(node.counter("rejected.sonar_id"), 1);
+  EXPECT_EQ(node.counter("class.invalid"), 2);
+  ring(160'000, {kDoor}, {1.5});  // still working
+  EXPECT_EQ(cls(0), kComplementary);
+}
+
+TEST_F(StageTest, TimestampsGoingBackwardsAreRejected) {
+  odometry(0, 300'000);
+  send(channels::ODOMETRY, fixture::odometryAt(traj, 100'000));
+  EXPECT_EQ(node.counter("rejected.odometry_backwards"), 1);
+  scan(100'000);
+  scan(50'000);
+  EXPECT_EQ(maps.size(), 1u);
+  EXPECT_EQ(node.counter("rejected.laser_backwards"), 1);
+}
+
+TEST_F(StageTest, MissingOdometryMakesTheGroupInvalidAndKeepsTheRadarMap) {
+  ring(0, {kDoor}, {1.5});  // no odometry at all yet
+  EXPECT_EQ(cls(0), kInvalid);
+  EXPECT_EQ(node.counter("rejected.sonar_no_odometry"), 1);
+  scan(0);  // no pose for any reading: no Radar Map
+  EXPECT_TRUE(maps.empty());
+  EXPECT_EQ(node.counter("rejected.laser_no_odometry"), 1);
+}

@@ -1,0 +1,174 @@
+// RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
+#include <gtest/gtest.h>
+
+#include "complement/messages.hpp"
+#include "complement/radar_map.hpp"
+#include "complement_fixture.hpp"
+#include "core/pose_history.hpp"
+
+using namespace lasonic;
+using namespace lasonic::complement;
+using geom::Segment;
+using geom::Vec2;
+
+namespace {
+
+LaserScan plain(const laser_scan_t& m) {
+  std::vector<InputProblem> problems;
+  auto s = laserScanFromMessage(m, problems);
+  EXPECT_TRUE(problems.empty());
+  return *s;
+}
+
+fixture::World rectangleRoom() {
+  fixture::World w;
+  w.laser_visible = {{{0, 0}, {5, 0}}, {{5, 0}, {5, 4}}, {{5, 4}, {0, 4}}, {{0, 4}, {0, 0}}};
+  return w;
+}
+
+// True if some RM segment has both endpoints within tol of the wall's (either orientation).
+bool hasWall(const RadarMap& rm, const Segment& wall, double tol) {
+  for (const auto& s : rm.segments) {
+    const bool fwd = (s.seg.a - wall.a).norm() < tol && (s.seg.b - wall.b).norm() < tol;
+    const bool rev = (s.seg.a - wall.b).norm() < tol && (s.seg.b - wall.a).norm() < tol;
+    if (fwd || rev) return true;
+  }
+  return false;
+}
+
+// Largest distance of an RM segment endpoint from the nearest true wall.
+double offWalls(const RadarMap& rm, const fixture::World& w) {
+  double worst = 0;
+  for (const auto& s : rm.segments)
+    for (const Vec2& p : {s.seg.a, s.seg.b}) {
+      double best = 1e9;
+      for (const auto& wall : w.laser_visible) best = std::min(best, geom::distance(wall, p));
+      worst = std::max(worst, best);
+    }
+  return worst;
+}
+
+// Odometry at 50 Hz along a trajectory, as the stage would hold it.
+PoseHistory historyOf(const fixture::Trajectory& traj, int64_t t0, int64_t t1) {
+  PoseHistory h;
+  for (int64_t t = t0; t <= t1; t += 20'000) h.add(t, traj(t));
+  return h;
+}
+
+}  // namespace
+
+TEST(RadarMap, RectangleRoomGivesFourWallsWithCornersWithin2cm) {
+  const auto traj = fixture::still({2.0, 1.5, 0.3});
+  // angle_min = -pi puts the scan's seam in the middle of the left wall: it must stay one line.
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, 1'000'000, 100'000));
+  ASSERT_TRUE(scan.full_circle);
+  const RadarMap rm = extractRadarMap(scan, [&](int64_t t) { return std::optional(traj(t)); }, {});
+  ASSERT_EQ(rm.segments.size(), 4u);
+  for (const auto& wall : rectangleRoom().laser_visible) EXPECT_TRUE(hasWall(rm, wall, 0.02));
+  // Noise-free: the rms comes only from the corner reading each wall shares with its neighbour.
+  for (const auto& s : rm.segments) EXPECT_LT(s.rms, 0.005);
+  EXPECT_EQ(rm.source_utime, 1'000'000);
+  EXPECT_GT(rm.utime, 1'090'000);
+}
+
+TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
+  // 1 m/s and 1 rad/s during a 200 ms scan: 20 cm and 11 deg of motion between first and last ray.
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, t0, dur));
+  const PoseHistory odo = historyOf(traj, t0 - 100'000, t0 + dur + 100'000);
+
+  const RadarMap corrected = extractRadarMap(scan, [&](int64_t t) { return odo.at(t); }, {});
+  // The robot turned 11 deg during the scan, so the left wall is seen twice (at the start and at
+  // the end of the scan, from 20 cm apart): two overlapping pieces, both in place.
+  EXPECT_EQ(corrected.segments.size(), 5u);
+  EXPECT_LT(offWalls(corrected, rectangleRoom()), 0.02);
+  for (const auto& wall : {rectangleRoom().laser_visible[0], rectangleRoom().laser_visible[1],
+                           rectangleRoom().laser_visible[2]})
+    EXPECT_TRUE(hasWall(corrected, wall, 0.02));
+
+  // One pose for the whole scan (no motion correction): walls come out bent and displaced.
+  const auto start = odo.at(t0);
+  const RadarMap uncorrected = extractRadarMap(scan, [&](int64_t) { return start; }, {});
+  EXPECT_GT(offWalls(uncorrected, rectangleRoom()), 0.10);
+}
+
+TEST(RadarMap, GapsStayGaps) {
+  // A wall at y = 3 with a window (no laser return) over x in [2.5, 3.5].
+  fixture::World w;
+  w.laser_visible = {{{0, 3}, {2.5, 3}}, {{3.5, 3}, {6, 3}}};
+  const auto traj = fixture::still({3.0, 1.0, 0.0});
+  const LaserScan scan = plain(fixture::simulateScan(w, traj, 0, 100'000));
+  const RadarMap rm = extractRadarMap(scan, [&](int64_t t) { return std::optional(traj(t)); }, {});
+  ASSERT_EQ(rm.segments.size(), 2u);
+  for (const auto& s : rm.segments) {
+    const double lo = std::min(s.seg.a.x(), s.seg.b.x()), hi = std::max(s.seg.a.x(), s.seg.b.x());
+    EXPECT_TRUE(hi <= 2.5 + 0.02 || lo >= 3.5 - 0.02) << "segment bridges the window: " << lo << ".." << hi;
+  }
+}
+
+TEST(RadarMap, ReadingsWithoutPoseAreGapsAndCounted) {
+  const auto traj = fixture::still({2.0, 1.5, 0.0});
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, 0, 100'000));
+  int no_pose = 0;
+  const RadarMap rm = extractRadarMap(scan, [](int64_t) { return std::optional<geom::Pose2>(); }, {}, &no_pose);
+  EXPECT_TRUE(rm.segments.empty());
+  EXPECT_EQ(no_pose, 720);
+}
+
+TEST(SplitClusters, BreaksAtRangeJumpsAndGapsAndJoinsAcrossTheSeam) {
+  auto pt = [](double x, double y) { return ScanPoint{{x, y}, 1.0, true}; };
+  std::vector<ScanPoint> pts = {pt(0, 0), pt(0.05, 0), pt(0.10, 0), pt(1.0, 0), pt(1.05, 0), ScanPoint{}, pt(-0.05, 0)};
+  const RadarMapConfig cfg;  // jump threshold at 1 m: 0.15 m
+  const auto linear = splitClusters(pts, false, cfg);
+  ASSERT_EQ(linear.size(), 3u);
+  EXPECT_EQ(linear[0].points.size(), 3u);
+  EXPECT_EQ(linear[1].points.size(), 2u);
+  EXPECT_EQ(linear[2].points.size(), 1u);
+  // Full circle: the last point neighbours the first, so {-0.05, 0, 0.05, 0.10} is one cluster.
+  const auto circle = splitClusters(pts, true, cfg);
+  ASSERT_EQ(circle.size(), 2u);
+  EXPECT_EQ(circle[1].points.size(), 4u);
+  EXPECT_FALSE(circle[1].closed);
+  // Nothing breaks the circle: one closed cluster.
+  const std::vector<ScanPoint> ring = {pt(0, 0), pt(0.05, 0), pt(0.05, 0.05), pt(0, 0.05)};
+  const auto closed = splitClusters(ring, true, cfg);
+  ASSERT_EQ(closed.size(), 1u);
+  EXPECT_TRUE(closed[0].closed);
+}
+
+TEST(IterativeEndPointFit, SplitsAnLAtItsCorner) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i <= 10; ++i) pts.emplace_back(0.1 * i, 0.0);
+  for (int i = 1; i <= 10; ++i) pts.emplace_back(1.0, 0.1 * i);
+  const auto parts = iterativeEndPointFit(pts, {0, pts.size() - 1}, 0.03);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].first, 0u);
+  EXPECT_EQ(parts[0].last, 10u);  // the corner belongs to both
+  EXPECT_EQ(parts[1].first, 10u);
+  EXPECT_EQ(parts[1].last, 20u);
+  // A straight run within the threshold is not split.
+  EXPECT_EQ(iterativeEndPointFit(pts, {0, 10}, 0.03).size(), 1u);
+}
+
+TEST(FitLine, TotalLeastSquaresWithEndpointsProjected) {
+  // Points alternating +-1 cm about y = 2 x: TLS recovers the line; endpoints lie on it.
+  std::vector<Vec2> pts;
+  const Vec2 n = Vec2(-2, 1).normalized();
+  for (int i = 0; i <= 20; ++i) pts.push_back(Vec2(0.05 * i, 0.1 * i) + ((i % 2) ? 0.01 : -0.01) * n);
+  const RmSegment s = fitLine(pts, {0, pts.size() - 1});
+  EXPECT_NEAR(s.rms, 0.01, 1e-3);
+  EXPECT_EQ(s.npoints, 21);
+  const Vec2 d = (s.seg.b - s.seg.a).normalized();
+  EXPECT_NEAR(std::abs(d.dot(Vec2(1, 2).normalized())), 1.0, 1e-4);
+  EXPECT_NEAR(s.seg.a.dot(n), 0.0, 2e-3);
+  EXPECT_NEAR(s.seg.b.dot(n), 0.0, 2e-3);
+}
+
+TEST(RadarMap, ShortOrSparseClustersAreDropped) {
+  // A thin pole gives a handful of points: no segment.
+  LaserScan scan;
+  for (int i = 0; i < 4; ++i) scan.readings.push_back({0, 0.01 * i, 1.0, true});
+  const RadarMap rm = extractRadarMap(scan, [](int64_t) { return std::optional(geom::Pose2{}); }, {});
+  EXPECT_TRUE(rm.segments.empty());
+}
