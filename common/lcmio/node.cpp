@@ -86,7 +86,8 @@ int Node::spinOnce(int timeout_ms) {
 int Node::run() {
   spdlog::info("{} running", name_);
   while (!g_shutdown && !stop_requested_) {
-    if (lcm_->handleTimeout(100) < 0) {
+    // A signal interrupts the wait (EINTR): that is shutdown, not an LCM failure.
+    if (lcm_->handleTimeout(100) < 0 && !g_shutdown) {
       reportError("lcm_failures", "LCM handle failed");
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
