@@ -180,10 +180,12 @@ std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const g
 
 namespace {
 struct SectorScore {
-  Ratio missed, false_alarm;
+  Ratio missed, false_alarm, false_of_reports;
   double abs_err = 0;
   int64_t err_n = 0;
-  void add(double reported, double truth, const EvalOptions& o) {
+  // False alarms by the sector's source (sector_map_t::SOURCE_*), to tell whose they are.
+  int64_t false_by_source[4] = {0, 0, 0, 0};
+  void add(double reported, double truth, const EvalOptions& o, int source = -1) {
     const bool has = reported >= 0;
     if (truth <= o.sector_range) {
       missed.add(!has || reported > truth + o.sector_tolerance);
@@ -192,12 +194,24 @@ struct SectorScore {
         ++err_n;
       }
     }
-    if (has && reported <= o.sector_range) false_alarm.add(reported < truth - o.sector_tolerance);
+    // Every sector of every map is an opportunity for a false alarm (like missed_rate's
+    // denominator is every sector that holds a true obstacle); the share among the sectors
+    // that report something within range is kept too, as the stricter view.
+    const bool fa = has && reported <= o.sector_range && reported < truth - o.sector_tolerance;
+    false_alarm.add(fa);
+    if (has && reported <= o.sector_range) false_of_reports.add(fa);
+    if (fa && source >= 0 && source < 4) ++false_by_source[source];
   }
-  void write(Metrics& m, const std::string& prefix) const {
+  void write(Metrics& m, const std::string& prefix, bool by_source) const {
     setRatio(m, prefix + ".missed_rate", missed);
     setRatio(m, prefix + ".false_alarm_rate", false_alarm);
+    setRatio(m, prefix + ".false_alarm_share_of_reports", false_of_reports);
     if (err_n > 0) m.set(prefix + ".mae_m", abs_err / static_cast<double>(err_n));
+    if (!by_source || false_alarm.num == 0) return;
+    static const char* kNames[4] = {"none", "laser", "sonar", "sonar_copied"};
+    for (int s = 1; s < 4; ++s)
+      m.set(prefix + ".false_alarms_by_source." + kNames[s],
+            static_cast<double>(false_by_source[s]) / static_cast<double>(false_alarm.num));
   }
 };
 }  // namespace
@@ -212,13 +226,13 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
     const auto t = trueSectorDistances(world, truth.robotAt(sm.utime), sm.robot_radius,
                                        sm.nsectors, o.sector_range + 1.0);
     for (size_t k = 0; k < t.size(); ++k) {
-      fused.add(sm.distance[k], t[k], o);
+      fused.add(sm.distance[k], t[k], o, sm.source[k]);
       laser_only.add(sm.laser_distance[k], t[k], o);
     }
   }
   m.set("sector_map.maps", static_cast<int64_t>(log.sector_maps.size()));
-  fused.write(m, "sector_map");
-  laser_only.write(m, "baselines.laser_only.sector_map");
+  fused.write(m, "sector_map", true);
+  laser_only.write(m, "baselines.laser_only.sector_map", false);
 }
 
 // ------------------------------------------------------------------------------ AGM
