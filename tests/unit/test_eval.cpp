@@ -89,7 +89,10 @@ TEST(EvalSectorMap, MissedAndFalseAlarm) {
   int within = 0;
   for (double t : truth) within += t <= 2.0;
   EXPECT_NEAR(m.number("sector_map.missed_rate"), 0.0, 1e-12);
-  EXPECT_NEAR(m.number("sector_map.false_alarm_rate"), 1.0 / within, 1e-12);
+  // One false alarm among the 48 sectors of the one map; and among the sectors reporting within 2 m.
+  EXPECT_NEAR(m.number("sector_map.false_alarm_rate"), 1.0 / 48, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.false_alarm_share_of_reports"), 1.0 / within, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.false_alarms_by_source.laser"), 1.0, 1e-12);
   EXPECT_NEAR(m.number("baselines.laser_only.sector_map.missed_rate"), 1.0 / within, 1e-12);
 }
 
