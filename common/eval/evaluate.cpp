@@ -144,8 +144,13 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
       if (direct && !c.laser_visible && range <= limit) invisible.add(comp);
       if (informative_echo) informative.add(comp);
       if (c.cause == sonar_cause_t::CAUSE_SPECULAR_LONG) specular.add(!comp);
-      if (direct && c.laser_visible && rd.hypothetical_range < limit) redundant.add(!comp);
-      if (comp) precision.add(direct && (!c.laser_visible || informative_echo));
+      // "The RM holds it": the Radar Map has a surface inside the ideal beam no farther than the
+      // echoing one (+ tolerance). A laser-reflecting pipe too thin to give an RM segment is
+      // thus not held, and its complementary echo counts as correct, not as a failed drop.
+      const bool rm_holds = std::isfinite(rd.hypothetical_range) && c.true_range >= 0 &&
+                            rd.hypothetical_range <= c.true_range + cm.tolerance;
+      if (direct && c.laser_visible && rm_holds) redundant.add(!comp);
+      if (comp) precision.add(direct && c.true_range >= 0 && !rm_holds);
     }
   }
   setRatio(m, "complement.invisible_recall", invisible);
