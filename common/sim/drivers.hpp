@@ -132,6 +132,7 @@ struct SonarConfig {
   double noise_std = 0.01;            // [m] + noise_rel * range
   double noise_rel = 0.01;
   double multipath_prob = 0.5;        // specular miss -> a too-long reading (else no echo)
+  int multipath_bounces = 3;          // specular reflections followed (1: a single mirror)
   double crosstalk_prob = 0.02;       // per reading
   double foreign_prob = 0.01;         // per reading
   // The ideal beam of DESIGN.md step 2 (SONAR_TRUTH.nearest_laser_visible): keep it equal to

@@ -74,8 +74,8 @@ std::vector<std::vector<int>> firingGroups(const std::vector<SonarSensor>& senso
 
 SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   c.allowOnly({"ring", "sensors", "range_max", "range_min", "group_period_s", "rays_per_beam",
-               "noise_std", "noise_rel", "multipath_prob", "crosstalk_prob", "foreign_prob",
-               "ideal_beam_deg", "ideal_range"});
+               "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk_prob",
+               "foreign_prob", "ideal_beam_deg", "ideal_range"});
   SonarConfig o = base;
   if (c.has("ring") && c.has("sensors")) c.fail("sensors", "give either ring or sensors, not both");
   if (c.has("ring")) o.sensors = parseRing(c.section("ring"));
@@ -98,6 +98,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.noise_std = c.get("noise_std", o.noise_std, Range::nonNegative());
   o.noise_rel = c.get("noise_rel", o.noise_rel, Range::nonNegative());
   o.multipath_prob = c.get("multipath_prob", o.multipath_prob, Range::probability());
+  o.multipath_bounces = c.get("multipath_bounces", o.multipath_bounces, Range::between(0, 10));
   o.crosstalk_prob = c.get("crosstalk_prob", o.crosstalk_prob, Range::probability());
   o.foreign_prob = c.get("foreign_prob", o.foreign_prob, Range::probability());
   o.ideal_beam_width =
@@ -172,12 +173,41 @@ SonarReading fireSensor(const WorldGeometry& world, const geom::Pose2& sensor, d
     out.truth.cause = sonar_cause_t::CAUSE_DIRECT;
     out.truth.true_range = static_cast<float>(reading);
   } else if (!mirrors.empty() && uniform01(rng) < c.multipath_prob) {
-    Candidate multipath;  // shortest path d1 + d2, with the mirror that made it
+    // Follow each mirrored ray through up to multipath_bounces specular reflections. The
+    // reading is time of flight * 343 m/s / 2, so the shortest arrival wins (the first echo).
+    // Each ray stands for the slice of the beam between it and its neighbours (`tube` wide).
+    const double tube = n == 1 ? beam_width : beam_width / (n - 1);
+    Candidate multipath;  // shortest reading, with the first mirror that made it
     for (const Hit* m : mirrors) {
-      const geom::Vec2 r = mirror((m->point - sensor.position()).normalized(), m->normal);
-      // Start just off the mirror so the ray does not meet it again.
-      const auto h2 = world.castRay({m->point + 1e-6 * r, r}, c.range_max - m->range);
-      if (h2 && echoes(*h2, r)) multipath.offer(m->range + h2->range, *m);
+      geom::Vec2 at = m->point;
+      geom::Vec2 dir = mirror((m->point - sensor.position()).normalized(), m->normal);
+      double path = m->range;  // sensor -> first mirror -> ... -> `at`
+      for (int bounce = 1; bounce <= c.multipath_bounces && path < 2 * c.range_max; ++bounce) {
+        // Start just off the mirror so the ray does not meet it again.
+        const auto h = world.castRay({at + 1e-6 * dir, dir}, 2 * c.range_max - path);
+        // (a) After two or more reflections (a corner) the sound may come back to the transducer
+        // itself: its ray tube covers the sensor, it arrives within the beam, nothing in between.
+        // Reading: half the closed loop. (One flat reflection cannot return off the normal.)
+        const geom::Vec2 to_sensor = sensor.position() - at;
+        const double t = to_sensor.dot(dir);
+        if (bounce >= 2 && t > 0 && (!h || h->range > t) && path + t <= 2 * c.range_max &&
+            std::abs(dir.x() * to_sensor.y() - dir.y() * to_sensor.x()) <= 0.5 * tube * (path + t) &&
+            std::abs(geom::angleDiff(std::atan2(-dir.y(), -dir.x()), sensor.theta)) <= 0.5 * beam_width) {
+          multipath.offer(0.5 * (path + t), *m);
+          break;
+        }
+        if (!h) break;
+        // (b) A surface met within its echo angle echoes back along the incoming ray, and the
+        // echo retraces the whole path: the reading is the one-way path d1 + d2 + ... + dk.
+        if (geom::incidenceAngle(dir, h->normal) <= h->primitive->material->sonar_echo_angle) {
+          if (path + h->range <= c.range_max && echoes(*h, dir)) multipath.offer(path + h->range, *m);
+          break;  // beyond range_max, or not heard (echo_prob): no echo along this ray
+        }
+        // (c) Oblique again: the sound mirrors once more.
+        path += h->range;
+        at = h->point;
+        dir = mirror(dir, h->normal);
+      }
     }
     if (multipath.hit) {
       reading = multipath.range;

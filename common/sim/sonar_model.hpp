@@ -11,10 +11,19 @@
 //     reading and obstacle, not per ray: one glass pane is either heard or not.
 //  3. The reading is the nearest direct echo over all rays (the first echo to arrive wins),
 //     plus noise N(0, noise_std + noise_rel * range): cause DIRECT.
-//  4. No direct echo: with multipath_prob the sound mirrors off a specular surface it met at
-//     oblique incidence; if the mirrored ray meets a surface that echoes, the echo returns the
-//     same way and the reading is the path length d1 + d2 (SPECULAR_LONG, too long), nearest
-//     over the rays. Otherwise, or beyond range_max: NO_ECHO.
+//  4. No direct echo: with multipath_prob the sound mirrors off the surfaces it met at oblique
+//     incidence (beyond their echo angle), and each mirrored ray is followed through up to
+//     multipath_bounces specular reflections (the first mirror included). At each surface met:
+//     - within its echo angle (and its echo_prob draw passes): the echo is assumed to retrace
+//       the path back to the sensor, so the reading is the one-way path d1 + d2 + ... + dk
+//       (round trip / 2) if that is within range_max; if the draw fails, no echo on this ray;
+//     - oblique again: the sound mirrors once more (if bounces are left, else no echo);
+//     - after two or more reflections (a corner) the sound may instead come back to the
+//       transducer itself, from any direction within its beam: when the ray's tube (the beam
+//       slice it samples, beam_width / (rays_per_beam - 1) wide) covers the sensor with nothing
+//       in between, the reading is half the closed loop's length.
+//     SPECULAR_LONG (never shorter than the first mirror), nearest over the rays. Otherwise, or
+//     beyond range_max: NO_ECHO. multipath_bounces = 1 is the single-mirror model.
 //  5. Independently per reading, crosstalk (crosstalk_prob) or a foreign source (foreign_prob)
 //     replaces the reading by a too-short one, uniform in [range_min, reading or range_max].
 //

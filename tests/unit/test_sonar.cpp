@@ -131,6 +131,81 @@ TEST(SonarModel, SpecularMultipathReadsTooLong) {
   EXPECT_EQ(r.truth.obstacle, 0);  // the mirror
   // Without multipath the same firing hears nothing.
   EXPECT_EQ(fireOnce(s, clean(0.0), {0, 0, 0}).truth.cause, kNoEcho);
+  // One mirror is all this path needs: the single-mirror model gives the same reading.
+  c.multipath_bounces = 1;
+  const SonarReading one = fireOnce(s, c, {0, 0, 0});
+  EXPECT_EQ(one.truth.cause, kSpecularLong);
+  EXPECT_EQ(one.range, r.range);
+  EXPECT_EQ(one.truth.obstacle, 0);
+}
+
+// Two parallel metal walls 1 m apart (y = +-0.5) ending at a rough wall across x = 2.7; the
+// sensor between them faces 45°, so every ray meets the metal at 30°..60° (beyond 12°): no
+// direct echo, and every ray needs at least two reflections to reach the end wall.
+const char* kMetalCorridor =
+    "obstacles:\n"
+    "  - {shape: segment, material: metal, from: [-1,0.5], to: [2.7,0.5]}\n"
+    "  - {shape: segment, material: metal, from: [-1,-0.5], to: [2.7,-0.5]}\n"
+    "  - {shape: segment, material: wall, from: [2.7,-0.5], to: [2.7,0.5]}\n";
+
+TEST(SonarModel, MultipathFollowsSeveralSpecularBounces) {
+  const Scenario s = scenario(kMetalCorridor);
+  SonarConfig c = clean(1.0);
+  c.range_max = 5;
+  c.group_period_s = 0.05;
+  const geom::Pose2 sensor{0, 0, deg2rad(45)};
+  c.multipath_bounces = 3;
+  const SonarReading r = fireOnce(s, c, sensor);
+  EXPECT_EQ(r.truth.cause, kSpecularLong);
+  EXPECT_FALSE(r.no_echo);
+  // The -15° edge ray (30°) reaches the end wall after two reflections (at x = 0.87, 2.60),
+  // meeting it at 30° (a rough wall echoes up to 60°): one-way path 2.7 / cos 30°.
+  EXPECT_NEAR(r.range, 2.7 / std::cos(deg2rad(30)), 0.01);
+  EXPECT_GT(r.range, 2.0 * 0.5 / std::sin(deg2rad(60)));  // far beyond the nearest wall in the beam
+  EXPECT_EQ(r.truth.true_range, -1);
+  EXPECT_TRUE(r.truth.obstacle == 0 || r.truth.obstacle == 1);  // a metal wall: the first mirror
+  EXPECT_EQ(r.truth.laser_visible, 1);
+  // A single mirror (the old model) never reaches the end wall: no echo.
+  c.multipath_bounces = 1;
+  EXPECT_EQ(fireOnce(s, c, sensor).truth.cause, kNoEcho);
+  c.multipath_bounces = 0;
+  EXPECT_EQ(fireOnce(s, c, sensor).truth.cause, kNoEcho);
+  // Two reflections suffice for the edge ray.
+  c.multipath_bounces = 2;
+  EXPECT_NEAR(fireOnce(s, c, sensor).range, 2.7 / std::cos(deg2rad(30)), 0.01);
+}
+
+TEST(SonarModel, MultipathBeyondRangeMaxIsNoEcho) {
+  // Same corridor, default range_max 3 m: the shortest bounced path (3.12 m) is out of range.
+  const Scenario s = scenario(kMetalCorridor);
+  SonarConfig c = clean(1.0);
+  ASSERT_EQ(c.multipath_bounces, 3);  // the default
+  ASSERT_DOUBLE_EQ(c.range_max, 3.0);
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    const SonarReading r = fireOnce(s, c, {0, 0, deg2rad(45)}, seed);
+    EXPECT_EQ(r.truth.cause, kNoEcho);
+    EXPECT_TRUE(r.no_echo);
+  }
+}
+
+TEST(SonarModel, MetalCornerReturnsTheSoundToTheSensor) {
+  // Two metal walls meeting at (2,2); the sensor faces the corner obliquely (45.1°: no ray hits
+  // the vertex itself). No ray meets either wall within 12°, but the ray nearest the corner
+  // comes back after two reflections (a corner reflector), from within the beam: the reading is
+  // the distance to the corner, too long against the walls 2.31 m away at the beam's edges.
+  const Scenario s = scenario(
+      "obstacles:\n"
+      "  - {shape: segment, material: metal, from: [2,-3], to: [2,2]}\n"
+      "  - {shape: segment, material: metal, from: [-3,2], to: [2,2]}\n");
+  SonarConfig c = clean(1.0);
+  const geom::Pose2 sensor{0, 0, deg2rad(45.1)};
+  const SonarReading r = fireOnce(s, c, sensor);
+  EXPECT_EQ(r.truth.cause, kSpecularLong);
+  EXPECT_NEAR(r.range, 2.0 * std::sqrt(2.0), 0.01);
+  EXPECT_GT(r.range, 2.0 / std::cos(deg2rad(30)) + 0.3);
+  // One reflection cannot bring the sound back: the single-mirror model hears nothing.
+  c.multipath_bounces = 1;
+  EXPECT_EQ(fireOnce(s, c, sensor).truth.cause, kNoEcho);
 }
 
 TEST(SonarModel, RoughWallAt45DegreesEchoesFromTheBeamEdge) {
@@ -379,6 +454,10 @@ TEST(SonarConfigErrors, NameTheKey) {
   };
   EXPECT_NE(err("sonar: {rangemax: 2}").find("sonar.rangemax: unknown key"), std::string::npos);
   EXPECT_NE(err("sonar: {range_max: -1}").find("sonar.range_max: must be > 0"), std::string::npos);
+  EXPECT_NE(err("sonar: {multipath_bounces: 11}").find("sonar.multipath_bounces: must be in [0, 10]"),
+            std::string::npos);
+  EXPECT_EQ(err("sonar: {multipath_bounces: 0}"), "");
+  EXPECT_EQ(sonarConfig(Config::fromString("multipath_bounces: 5")).multipath_bounces, 5);
   EXPECT_NE(err("sonar: {crosstalk_prob: 1.5}").find("sonar.crosstalk_prob: must be in [0, 1]"), std::string::npos);
   EXPECT_NE(err("sonar: {ring: {count: 0}}").find("sonar.ring.count"), std::string::npos);
   EXPECT_NE(err("sonar: {ring: {count: 4, groups: 6}}").find("sonar.ring.groups"), std::string::npos);
