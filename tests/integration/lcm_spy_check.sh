@@ -1,31 +1,41 @@
 #!/usr/bin/env bash
 # lcm_spy_check.sh BUILD_DIR
 #
-# Checks that lcm-spy can decode every lasonic channel:
+# Checks that lcm-spy decodes every lasonic channel:
 #  (a) BUILD_DIR/lcmtypes.jar holds a class <package>/<struct>.class for every
 #      struct of every lcmtypes/*.lcm file;
-#  (b) lcm-spy (lcm.spy.Spy from lcm.jar, with jchart2d.jar and our jar on the
-#      class path) starts under a virtual X server (xvfb-run) inside a private
-#      network namespace, reports at least that many LCM types on the class path
-#      ("Found N LCM types" -- lcm 1.3.1 prints only this count, not the names),
-#      finishes its start-up ("Found N plugins"), stays up for a few seconds and
-#      prints no Java exception.
+#  (b) lcm-spy's own type database (lcm.spy.LCMTypeDatabase, the class-path scan
+#      lcm-spy uses to name and decode a channel) finds every one of those
+#      classes by its fingerprint;
+#  (c) a short log of lasonic-sim (fig4_room, 3 s; run through lasonic-replay
+#      when it is built, which adds the complement's and the pilot's channels)
+#      is played with lcm-logplayer into the real lcm-spy (tests/integration/
+#      SpyProbe.java runs lcm.spy.Spy in its JVM) under a virtual X server
+#      (xvfb-run) inside a private network namespace. lcm-spy's channel table
+#      must then list every channel of the log with our type name (not
+#      "?? <fingerprint>", which is what lcm-spy shows for a type it does not
+#      know), at least 90 % of the log's messages, 0 undecodable, and lcm-spy
+#      must print no Java exception.
 #
-# Exit status: 0 pass, 1 fail, 77 skip (java, javac, xvfb-run, xauth, lcm.jar or
-# jchart2d.jar missing, or no private network namespace possible).
-# Env: LCM_SPY_SECONDS (default 5) seconds to stay up after start-up;
-#      LCM_SPY_STARTUP_TIMEOUT (default 60) seconds allowed for start-up.
+# Exit status: 0 pass, 1 fail, 77 skip (java, javac, xvfb-run, xauth, lcm.jar,
+# jchart2d.jar or lcm-logplayer missing, or no private network namespace).
+# Env: LCM_SPY_STARTUP_TIMEOUT (default 60) seconds allowed for start-up;
+#      LCM_SPY_PNG=FILE also saves a screenshot of the spy window to FILE;
+#      LCM_SPY_LOG=LOG plays LOG instead of the 3 s lasonic-sim log.
 set -euo pipefail
 
 LCM_URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
 
 # ---- inner part: runs inside the namespace, under xvfb-run ------------------
+# --inner OUT CP URL JAR LOG TSV PNG: SpyProbe (the real lcm-spy) + lcm-logplayer LOG.
 if [[ ${1:-} == --inner ]]; then
-  out=$2 cp=$3 url=$4
-  java -Djava.net.preferIPv4Stack=true -cp "$cp" lcm.spy.Spy --lcm-url="$url" >"$out" 2>&1 &
+  out=$2 cp=$3 url=$4 jar=$5 log=$6 tsv=$7 png=$8
+  tmp=$(dirname "$tsv")
+  java -Djava.net.preferIPv4Stack=true -cp "$cp" SpyProbe "$url" "$jar" "$tmp/ready" "$tmp/done" \
+    "$tsv" ${png:+"$png"} >"$out" 2>&1 &
   pid=$!
   deadline=$((SECONDS + ${LCM_SPY_STARTUP_TIMEOUT:-60}))
-  until grep -q '^Found [0-9]* plugins' "$out"; do
+  until [[ -e $tmp/ready ]]; do
     if ! kill -0 "$pid" 2>/dev/null; then
       rc=0; wait "$pid" || rc=$?
       echo "lcm-spy exited during start-up (status $rc)" >>"$out"
@@ -38,15 +48,12 @@ if [[ ${1:-} == --inner ]]; then
     fi
     sleep 0.2
   done
-  sleep "${LCM_SPY_SECONDS:-5}"
-  if ! kill -0 "$pid" 2>/dev/null; then
-    rc=0; wait "$pid" || rc=$?
-    echo "lcm-spy exited on its own (status $rc)" >>"$out"
-    exit 3
-  fi
-  kill -TERM "$pid" 2>/dev/null || true
-  wait "$pid" 2>/dev/null || true
-  exit 0
+  sleep 1   # the spy's subscription is up before the first message
+  lcm-logplayer --lcm-url="$url" "$log" >>"$out" 2>&1 || echo "lcm-logplayer failed" >>"$out"
+  touch "$tmp/done"
+  rc=0; wait "$pid" || rc=$?
+  ((rc == 0)) || echo "SpyProbe exited with status $rc" >>"$out"
+  exit "$rc"
 fi
 
 # ---- outer part ---------------------------------------------------------------
@@ -110,23 +117,71 @@ done
 ((${#missing[@]} == 0)) || fail "$jar lacks: ${missing[*]}"
 echo "lcm_spy_check: (a) ok: $jar holds all ${#expected[@]} type classes of ${#lcm_files[@]} .lcm files"
 
-# ---- (b) lcm-spy starts and finds the types ----------------------------------
-out=$(mktemp -t lcm-spy-check.XXXXXX)
-trap 'rm -f "$out"' EXIT
+# ---- (b), (c) lcm-spy knows every type and decodes a real log ---------------
+command -v javac >/dev/null 2>&1 || skip "javac not found (default-jdk-headless)"
+command -v lcm-logplayer >/dev/null 2>&1 || skip "lcm-logplayer not found (liblcm-bin)"
+tmp=$(mktemp -d -t lcm-spy-check.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+cp="$lcm_jar:$jchart_jar:$jar"
+javac -d "$tmp" -cp "$cp" "$here/SpyProbe.java" || fail "cannot compile SpyProbe.java"
+
+log=${LCM_SPY_LOG:-}
+if [[ -z $log ]]; then
+  bin=$build/bin
+  [[ -x $bin/lasonic-sim ]] || fail "$bin/lasonic-sim was not built"
+  "$bin/lasonic-sim" --scenario "$root/deploy/scenarios/fig4_room.yaml" --duration 3 \
+    --out "$tmp/sim.lcmlog" >/dev/null || fail "lasonic-sim failed"
+  log=$tmp/sim.lcmlog
+  if [[ -x $bin/lasonic-replay ]]; then
+    "$bin/lasonic-replay" --in "$tmp/sim.lcmlog" --out "$tmp/replay.lcmlog" \
+      --config "$root/deploy/config/lasonic.yaml" >/dev/null 2>&1 || fail "lasonic-replay failed"
+    log=$tmp/replay.lcmlog
+  fi
+fi
+[[ -x $build/bin/lasonic-log-stats ]] || fail "$build/bin/lasonic-log-stats was not built"
+# Channels and counts of the log: the "<CHANNEL> <count>" lines of lasonic-log-stats.
+declare -A want=()
+while read -r k v; do
+  # LCM_SELF_TEST: raw bytes every LCM instance sends itself, no type (lcm-spy shows "??").
+  [[ $k =~ ^[A-Z][A-Z0-9_]*$ && $k != LCM_SELF_TEST ]] && want[$k]=$v
+done < <("$build/bin/lasonic-log-stats" "$log")
+((${#want[@]} > 0)) || fail "no channels in $log"
+
+out=$tmp/spy.txt
 rc=0
-"$root/tests/netns/in-netns.sh" xvfb-run -a "$0" --inner "$out" \
-  "$lcm_jar:$jchart_jar:$jar" "$LCM_URL" || rc=$?
+"$root/tests/netns/in-netns.sh" xvfb-run -a -s '-screen 0 1024x600x24' "$0" --inner "$out" \
+  "$cp:$tmp" "$LCM_URL" "$jar" "$log" "$tmp/table.tsv" "${LCM_SPY_PNG:-}" || rc=$?
 echo "---- lcm-spy output ----"
 cat "$out"
+echo "---- lcm-spy channel table ----"
+cat "$tmp/table.tsv" 2>/dev/null || true
 echo "------------------------"
 ((rc != 77)) || skip "no private network namespace (see message above)"
 ((rc == 0)) || fail "lcm-spy did not run cleanly (status $rc)"
-if grep -qE 'Exception|^Error|Could not create the Java Virtual Machine' "$out"; then
+if grep -qE 'Exception|^Error|Could not create the Java Virtual Machine|Spy.messageReceived ex' "$out"; then
   fail "lcm-spy printed an error"
 fi
-found=$(sed -n 's/^Found \([0-9]*\) LCM types.*/\1/p' "$out" | head -n1)
-[[ -n $found ]] || fail "lcm-spy did not print 'Found N LCM types'"
-((found >= ${#expected[@]})) ||
-  fail "lcm-spy found $found LCM types on the class path, expected at least ${#expected[@]}"
-echo "lcm_spy_check: (b) ok: lcm-spy found $found LCM types (expected >= ${#expected[@]}) and ran without errors"
+if grep -q ' MISSING$' "$out"; then
+  fail "lcm-spy's type database lacks: $(grep ' MISSING$' "$out" | awk '{print $2}' | tr '\n' ' ')"
+fi
+ntypes=$(grep -c '^type .* ok$' "$out" || true)
+((ntypes >= ${#expected[@]})) ||
+  fail "lcm-spy's type database found $ntypes of our types, expected ${#expected[@]}"
+echo "lcm_spy_check: (b) ok: lcm-spy's type database finds all $ntypes types by fingerprint"
+
+declare -A seen=()
+bad=()
+while IFS=$'\t' read -r ch type num _hz _per _jit _bw undec; do
+  [[ $ch == Channel || $ch == LCM_SELF_TEST ]] && continue
+  seen[$ch]=1
+  [[ -n ${want[$ch]:-} ]] || { bad+=("$ch: not in the log"); continue; }
+  [[ $type =~ ^[a-z0-9_]+_t$ ]] || bad+=("$ch: type '$type' not decoded")
+  [[ $undec == 0 ]] || bad+=("$ch: $undec undecodable")
+  ((num * 10 >= ${want[$ch]} * 9)) || bad+=("$ch: $num of ${want[$ch]} messages")
+done <"$tmp/table.tsv"
+for ch in "${!want[@]}"; do
+  [[ -n ${seen[$ch]:-} ]] || bad+=("$ch: not listed by lcm-spy")
+done
+((${#bad[@]} == 0)) || fail "lcm-spy's channel table: ${bad[*]}"
+echo "lcm_spy_check: (c) ok: lcm-spy decoded all ${#want[@]} channels of the log: $(printf '%s ' "${!want[@]}" | tr ' ' '\n' | sort | tr '\n' ' ')"
 echo "lcm_spy_check: PASS"

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# demo_replay.sh: the demo end to end, and its log replayed. Run it inside a private network
+# namespace (tests/netns/in-netns.sh; ctest does). Env: LASONIC_BIN (build/bin), LASONIC_SOURCE
+# (repository root).
+#  1. `run __demo-in-netns` (what `./run demo` runs inside its namespace, minus deps and build)
+#     runs fig7_lab for LASONIC_DEMO_DURATION=5 s: every live process over real LCM, recorded by
+#     lcm-logger; it must exit 0, print the evaluation table, and the log must hold every channel
+#     of the processes that were built, with no process reporting errors it should not;
+#  2. the log is played with lcm-logplayer while a second lcm-logger records it: the re-recorded
+#     log must hold the same channels with the same message counts (LCM_SELF_TEST, which every
+#     LCM instance sends itself on start-up, excepted: the demo does not record it, the second
+#     logger may), and lasonic-eval must score both logs alike.
+set -euo pipefail
+
+bin=${LASONIC_BIN:?set LASONIC_BIN}
+src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
+url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
+scenario=$src/deploy/scenarios/fig7_lab.yaml
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+die() {
+  echo "demo_replay.sh: FAIL: $*" >&2
+  for f in "$tmp"/*.err "$tmp"/live.out/*.txt; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
+  exit 1
+}
+stat() { awk -v k="$2" '$1 == k {print $2}' "$tmp/$1.stats"; }
+
+for b in lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver lasonic-eval lasonic-log-stats; do
+  [[ -x $bin/$b ]] || die "$bin/$b was not built"
+done
+command -v lcm-logger >/dev/null 2>&1 || { echo "demo_replay.sh: SKIP: lcm-logger not found (liblcm-bin)"; exit 77; }
+
+# 1. The demo, 5 s.
+rc=0
+LASONIC_BUILD_DIR=$(dirname "$bin") LASONIC_DEMO_DURATION=5 \
+  "$src/run" __demo-in-netns "$scenario" "$tmp/live.lcmlog" >"$tmp/demo.txt" 2>"$tmp/demo.err" || rc=$?
+cat "$tmp/demo.err" "$tmp/demo.txt"
+((rc == 0)) || die "the demo exited with status $rc"
+grep -q 'sensors.sonar_causes.direct' "$tmp/demo.txt" || die "the demo printed no evaluation table"
+if grep -E 'exited with status|stopped during the run|ignored SIGINT' "$tmp/demo.err"; then
+  die "a process of the demo failed (see above)"
+fi
+"$bin/lasonic-log-stats" "$tmp/live.lcmlog" >"$tmp/live.stats" || die "cannot read the demo's log"
+
+expect=(SIM_STATE ODOMETRY LASER_SCAN SONAR_RING SONAR_TRUTH SONAR_GEOMETRY PROCESS_STATUS)
+procs=(lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver)
+if [[ -x $bin/lasonic-complement ]]; then
+  expect+=(RADAR_MAP SONAR_HYPOTHESIS SONAR_COMPLEMENT); procs+=(lasonic-complement)
+fi
+if [[ -x $bin/lasonic-pilot ]]; then
+  expect+=(SECTOR_MAP AGM_OPERATIONAL); procs+=(lasonic-pilot)
+fi
+for ch in "${expect[@]}"; do
+  [[ -n $(stat live "$ch") ]] || die "the demo's log has no $ch"
+done
+[[ -z $(stat live LCM_SELF_TEST) ]] || die "the demo recorded LCM_SELF_TEST (no LCM type)"
+# 5 s of sim time: 251 states at 50 Hz, 25 scans at 5 Hz, ~167 firing groups.
+(($(stat live SIM_STATE) >= 240)) || die "only $(stat live SIM_STATE) SIM_STATE messages in 5 s"
+(($(stat live LASER_SCAN) >= 23)) || die "only $(stat live LASER_SCAN) LASER_SCAN messages in 5 s"
+(($(stat live SONAR_RING) >= 160)) || die "only $(stat live SONAR_RING) SONAR_RING messages in 5 s"
+for p in "${procs[@]}"; do
+  [[ -n $(stat live "$p.errors") ]] || die "no PROCESS_STATUS of $p in the demo's log"
+done
+for p in lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver; do
+  [[ $(stat live "$p.errors") == 0 ]] || die "$p reported $(stat live "$p.errors") errors"
+done
+echo "demo_replay.sh: (1) ok: the demo ran ${#procs[@]} processes and recorded ${#expect[@]} channels"
+
+# 2. Replay the log into a second logger.
+lcm-logger --lcm-url="$url" "$tmp/replayed.lcmlog" >"$tmp/logger.err" 2>&1 &
+logger=$!
+pids+=("$logger")
+sleep 1  # the logger's subscription is up
+lcm-logplayer --lcm-url="$url" "$tmp/live.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+sleep 0.5
+kill -INT "$logger"
+wait "$logger" || true
+"$bin/lasonic-log-stats" "$tmp/replayed.lcmlog" >"$tmp/replayed.stats" || die "cannot read the replayed log"
+
+channels() { awk '$1 ~ /^[A-Z][A-Z0-9_]*$/ && $1 != "LCM_SELF_TEST" {print $1, $2}' "$tmp/$1.stats" | sort; }
+if ! diff <(channels live) <(channels replayed) >"$tmp/diff.err"; then
+  die "channel counts differ between the demo's log (<) and its replay (>)"
+fi
+"$bin/lasonic-eval" --log "$tmp/live.lcmlog" --scenario "$scenario" --json - >"$tmp/live.json" ||
+  die "lasonic-eval failed on the demo's log"
+"$bin/lasonic-eval" --log "$tmp/replayed.lcmlog" --scenario "$scenario" --json - >"$tmp/replayed.json" ||
+  die "lasonic-eval failed on the replayed log"
+diff "$tmp/live.json" "$tmp/replayed.json" >"$tmp/eval-diff.err" ||
+  die "lasonic-eval scores the replayed log differently"
+echo "demo_replay.sh: (2) ok: replayed: $(channels replayed | tr '\n' ' ')"
+echo "demo_replay.sh: PASS"

@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# sim_bad_input.sh: bad input to the simulator executables. Run it inside a private network
+# namespace (tests/netns/in-netns.sh; ctest does). Env: LASONIC_BIN (build/bin), LASONIC_SOURCE
+# (repository root).
+#  1. lasonic-sim, lasonic-sim-world, lasonic-laser-driver and lasonic-sonar-driver, given a
+#     missing scenario file, a scenario with a YAML syntax error, a scenario with an unknown key,
+#     a missing config file, or a config with a bad value: exit status 2 and one message that
+#     names the file and, for a bad key, the key path;
+#  2. lasonic-laser-driver fed malformed messages on SIM_STATE (lasonic-sonar-check garbage:
+#     19 bytes that are no lasonic type): counts them as decode errors in PROCESS_STATUS, keeps
+#     running, and still scans when good SIM_STATE messages follow. (lasonic-sonar-driver gets
+#     the same in sonar_driver.sh; lasonic-sim-world subscribes to nothing.)
+set -euo pipefail
+
+bin=${LASONIC_BIN:?set LASONIC_BIN}
+src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
+url='udpm://239.255.76.67:7667?ttl=0'
+scenario=$src/deploy/scenarios/fig7_lab.yaml
+config=$src/deploy/config/lasonic.yaml
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+die() {
+  echo "sim_bad_input.sh: FAIL: $*" >&2
+  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
+  exit 1
+}
+stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+
+# 1. Start-up errors.
+printf 'name: x\nduration_s: 5\nseed: 1\nobstacles: [\n' >"$tmp/syntax.yaml"
+sed 's/^  speed: 0.3$/  speed: 0.3\n  colour: red/' "$scenario" >"$tmp/unknown_key.yaml"
+grep -q colour "$tmp/unknown_key.yaml" || die "could not make unknown_key.yaml"
+printf 'sonar:\n  range_min: 5\n' >"$tmp/bad_sonar.yaml"
+printf 'laser:\n  readings: 1\n' >"$tmp/bad_laser.yaml"
+printf 'odometry:\n  rate_hz: -1\n' >"$tmp/bad_odometry.yaml"
+
+expect_error() {  # TOOL CASE WANT ARGS...: exit status 2 and stderr+stdout contain WANT
+  local tool=$1 case=$2 want=$3 rc=0
+  shift 3
+  local extra=(--lcm-url "$url")
+  [[ $tool == lasonic-sim ]] && extra=(--out "$tmp/out.lcmlog")
+  timeout 20 "$bin/$tool" "$@" "${extra[@]}" >"$tmp/$tool.$case.out" 2>&1 || rc=$?
+  [[ $rc -eq 2 ]] || die "$tool ($case): exit status $rc, expected 2: $(tail -n 3 "$tmp/$tool.$case.out")"
+  grep -qF -- "$want" "$tmp/$tool.$case.out" ||
+    die "$tool ($case): the message does not say '$want': $(tail -n 3 "$tmp/$tool.$case.out")"
+  echo "  $tool ($case): $(grep -F -- "$want" "$tmp/$tool.$case.out" | head -n 1 | sed 's/^\[[^]]*\] //')"
+}
+declare -A bad_file=(
+  [lasonic-sim]=bad_sonar [lasonic-sim-world]=bad_odometry
+  [lasonic-laser-driver]=bad_laser [lasonic-sonar-driver]=bad_sonar
+)
+declare -A bad_value=(
+  [bad_sonar]='sonar.range_min: range_min must be < range_max'
+  [bad_odometry]='odometry.rate_hz: must be in [1, 1000]'
+  [bad_laser]='laser.readings: must be in [2, 100000]'
+)
+for tool in lasonic-sim lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver; do
+  [[ -x $bin/$tool ]] || die "$bin/$tool was not built"
+  expect_error "$tool" missing_scenario "$tmp/nonexistent.yaml: cannot open file" --scenario "$tmp/nonexistent.yaml"
+  expect_error "$tool" yaml_syntax "syntax.yaml: YAML syntax error at line" --scenario "$tmp/syntax.yaml"
+  expect_error "$tool" unknown_key "unknown_key.yaml: robot.colour: unknown key" --scenario "$tmp/unknown_key.yaml"
+  expect_error "$tool" missing_config "$tmp/nonexistent-config.yaml: cannot open file" \
+    --scenario "$scenario" --config "$tmp/nonexistent-config.yaml"
+  f=${bad_file[$tool]}
+  expect_error "$tool" bad_config "$f.yaml: ${bad_value[$f]}" --scenario "$scenario" --config "$tmp/$f.yaml"
+done
+echo "sim_bad_input.sh: (1) ok: every start-up error exits 2 and names the file and key"
+
+# 2. Malformed messages on the laser driver's input.
+lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
+logger=$!
+pids+=("$logger")
+"$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/driver.err" >&2 &
+driver=$!
+pids+=("$driver")
+sleep 1  # subscriptions up
+"$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5 || die "could not publish garbage"
+sleep 0.5
+kill -0 "$driver" 2>/dev/null || die "the laser driver died on malformed SIM_STATE messages"
+"$bin/lasonic-sim-world" --scenario "$scenario" --duration 1 --lcm-url "$url" 2>"$tmp/world.err" >&2 ||
+  die "lasonic-sim-world failed"
+sleep 1.5  # at least one heartbeat after the run
+kill -0 "$driver" 2>/dev/null || die "the laser driver died during the run"
+kill -TERM "$driver"
+rc=0
+wait "$driver" || rc=$?
+[[ $rc -eq 0 ]] || die "laser driver exit status $rc after SIGTERM, expected 0"
+kill -INT "$logger"
+wait "$logger" || true
+"$bin/lasonic-log-stats" "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/stats.err" || die "log-stats: $(cat "$tmp/stats.err")"
+grep '^lasonic-laser-driver\.' "$tmp/stats" || true
+decode=$(stat lasonic-laser-driver.decode_errors.SIM_STATE)
+if [[ -z $decode ]] || ((decode < 5)); then
+  die "lasonic-laser-driver counted ${decode:-no} decode errors on SIM_STATE, expected 5"
+fi
+(($(stat LASER_SCAN) >= 4)) || die "only $(stat LASER_SCAN) LASER_SCAN after the malformed messages, expected 5"
+echo "sim_bad_input.sh: (2) ok: $decode malformed SIM_STATE messages counted; $(stat LASER_SCAN) scans after them"
+echo "sim_bad_input.sh: PASS"
