@@ -72,11 +72,13 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& 
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
                     const geom::Vec2 lo = o + geom::Vec2(ix * c, iy * c);
+                    const geom::Vec2 centre = lo + geom::Vec2(0.5 * c, 0.5 * c) - robot;
                     const geom::Vec2 nearest(std::clamp(robot.x(), lo.x(), lo.x() + c),
                                              std::clamp(robot.y(), lo.y(), lo.y() + c));
-                    const double d = std::max(0.0, (nearest - robot).norm() - p_.robot_radius);
+                    const double r =
+                        p_.sonar_cell_point == CellPoint::Centre ? centre.norm() : (nearest - robot).norm();
+                    const double d = std::max(0.0, r - p_.robot_radius);
                     if (d > p_.max_range) return;
-                    const geom::Vec2 centre = lo + geom::Vec2(0.5 * c, 0.5 * c) - robot;
                     Value& v = out[static_cast<size_t>(sectorOf(std::atan2(centre.y(), centre.x()) - pose.theta))];
                     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
                   });

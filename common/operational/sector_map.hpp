@@ -7,9 +7,10 @@
 // it, if that is at most max_range:
 // - laser value: the newest scan's points, kept in the global frame (each placed with the pose
 //   at its own time), moved into the current robot pose;
-// - sonar value: operational-AGM cells with Gp >= gp_threshold, each at the point of its square
-//   nearest to the robot centre (never farther than any part of the cell: the safe choice; the
-//   cell centre could be up to c/sqrt(2) too far), in the sector of the cell centre's bearing;
+// - sonar value: operational-AGM cells with Gp >= gp_threshold, in the sector of the cell
+//   centre's bearing, at (sonar_cell_point) the point of the square nearest to the robot centre
+//   (never farther than any part of the cell; but up to c*sqrt(2) nearer than the echo that made
+//   it) or at the cell centre (within c/sqrt(2) of the echo either way);
 // - copy rule: a sector's own sonar value is copied into both adjacent sectors (the trivial
 //   sensor model's bearing error is half the beam width), except into a sector that holds sonar
 //   data of its own; a copy takes the min with other copies and never makes a sector freer;
@@ -30,11 +31,15 @@ namespace lasonic {
 // Values equal sector_map_t::SOURCE_*.
 enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied = 3 };
 
+// Where an AGM cell's obstacle is taken to be (see the file comment).
+enum class CellPoint { Nearest, Centre };
+
 struct SectorMapParams {
   int sectors = 48;             // paper: 48 sectors of 7.5 deg
   double robot_radius = 0.35;   // [m] the robot's boundary circle
   double max_range = 3.0;       // [m] from the boundary; farther obstacles are not reported
   int gp_threshold = 2;         // AGM cells with Gp >= this count as obstacles
+  CellPoint sonar_cell_point = CellPoint::Nearest;
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
 };

@@ -21,7 +21,7 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
 
 PilotConfig pilotConfig(const Config& c) {
   c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
-               "agm_publish_hz"});
+               "agm_publish_hz", "agm_bearing", "neighbour_bearing", "sonar_cell_point"});
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   SectorMapParams& s = p.sector_map;
@@ -32,6 +32,28 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
+  if (const auto b = c.getOptionalString("agm_bearing")) {
+    if (*b == "axis")
+      p.agm_bearing = AgmBearing::Axis;
+    else if (*b == "neighbours")
+      p.agm_bearing = AgmBearing::Neighbours;
+    else
+      c.fail("agm_bearing", "'" + *b + "' is neither 'axis' nor 'neighbours'");
+  }
+  if (const auto cp = c.getOptionalString("sonar_cell_point")) {
+    if (*cp == "nearest")
+      s.sonar_cell_point = CellPoint::Nearest;
+    else if (*cp == "centre")
+      s.sonar_cell_point = CellPoint::Centre;
+    else
+      c.fail("sonar_cell_point", "'" + *cp + "' is neither 'nearest' nor 'centre'");
+  }
+  const Config nb = c.section("neighbour_bearing");
+  nb.allowOnly({"beam_deg", "similar", "max_age_s"});
+  p.bearing.beam_width =
+      geom::deg2rad(nb.get("beam_deg", geom::rad2deg(p.bearing.beam_width), Range::between(1e-3, 180)));
+  p.bearing.similar = nb.get("similar", p.bearing.similar, Range::nonNegative());
+  p.bearing.max_age_s = nb.get("max_age_s", p.bearing.max_age_s, Range::nonNegative());
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
   if (view < s.robot_radius + s.max_range) {
@@ -55,7 +77,7 @@ std::string reading(size_t i, const char* field) {
 }  // namespace
 
 PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
-    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map) {
+    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map), bearing_(cfg.bearing) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -129,6 +151,9 @@ void PilotStage::onComplement(const complement_t& m) {
   last_complement_utime_ = m.utime;
 
   std::vector<geom::Vec2> hits;
+  // Every reading replaces its sensor's latest echo (after the whole group: the sensors of one
+  // group fire together and never overlap); only a usable complementary one is an echo.
+  std::vector<std::pair<int, std::optional<SonarEcho>>> latest;
   for (size_t i = 0; i < m.readings.size(); ++i) {
     const complement_reading_t& r = m.readings[i];
     if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
@@ -136,6 +161,7 @@ void PilotStage::onComplement(const complement_t& m) {
                         reading(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped");
       continue;
     }
+    latest.emplace_back(r.sensor_id, std::nullopt);
     if (r.cls != complement_reading_t::CLASS_COMPLEMENTARY) continue;
     const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
     bool ok = true;
@@ -145,8 +171,21 @@ void PilotStage::onComplement(const complement_t& m) {
         ok = false;
       }
     }
-    if (ok) hits.emplace_back(r.end_x, r.end_y);
+    if (!ok) continue;
+    const geom::Vec2 axis_end(r.end_x, r.end_y);
+    const SonarEcho echo{m.utime, r.range, {r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta}};
+    const bool pose_ok =
+        std::isfinite(echo.sensor.x) && std::isfinite(echo.sensor.y) && std::isfinite(echo.sensor.theta);
+    if (pose_ok) latest.back().second = echo;
+    if (cfg_.agm_bearing == AgmBearing::Neighbours && pose_ok) {
+      // On the axis: exactly the paper's point (the reading's own end point).
+      const double b = bearing_.bearing(r.sensor_id, echo);
+      hits.push_back(b == echo.sensor.theta ? axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
+    } else {
+      hits.push_back(axis_end);
+    }
   }
+  for (const auto& [id, echo] : latest) bearing_.record(id, echo);
 
   if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
     node_.count("agm.recentred");

@@ -16,6 +16,8 @@
 //   arrive, only on their order.
 // - Before a cycle the window follows the robot (pose at the firing time, speed from the newest
 //   ODOMETRY); see AccumulativeGridMap::recenterLimit.
+// - The cell of a complementary reading: cfg.agm_bearing (see PilotConfig). Per sensor id the
+//   stage keeps its latest reading; only a complementary one counts as a neighbour's echo.
 // - The sector map's time is the newest sensor time seen (laser: the scan's last reading;
 //   sonar: the firing time), with the robot pose interpolated from ODOMETRY at that time, so the
 //   map never goes back in time and both sensors' ages are measured from it. No pose -> no map.
@@ -38,6 +40,7 @@
 #include "lcmio/node.hpp"
 #include "operational/agm.hpp"
 #include "operational/sector_map.hpp"
+#include "operational/sonar_bearing.hpp"
 
 namespace lasonic {
 
@@ -45,6 +48,11 @@ struct PilotConfig {
   AgmParams agm;             // library defaults are the operational ones
   SectorMapParams sector_map;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
+  // The one cell a complementary reading increments: Axis = the paper's (the reading's end
+  // point on the acoustic axis), Neighbours = echoPoint() against the other sensors' latest
+  // complementary readings (operational/sonar_bearing.hpp).
+  AgmBearing agm_bearing = AgmBearing::Neighbours;
+  SonarBearingParams bearing;
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
@@ -66,6 +74,7 @@ class PilotStage {
   double speed_ = 0;  // [m/s] newest ODOMETRY.v
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
+  SonarBearingTracker bearing_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
 };

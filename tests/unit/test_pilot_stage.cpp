@@ -211,3 +211,87 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   EXPECT_EQ(c.sector_map.gp_threshold, 3);  // defaults to G_T
   EXPECT_DOUBLE_EQ(c.sector_map.max_range, 2.5);
 }
+
+TEST(PilotConfig, BearingAndCellPointOptions) {
+  const PilotConfig d = pilotConfig(Config::fromString("pilot: {}").section("pilot"));
+  EXPECT_EQ(d.agm_bearing, AgmBearing::Neighbours);
+  EXPECT_EQ(d.sector_map.sonar_cell_point, CellPoint::Nearest);
+  const PilotConfig c = pilotConfig(
+      Config::fromString("pilot: {agm_bearing: axis, sonar_cell_point: centre, "
+                         "neighbour_bearing: {beam_deg: 25, similar: 0.05, max_age_s: 0.3}}")
+          .section("pilot"));
+  EXPECT_EQ(c.agm_bearing, AgmBearing::Axis);
+  EXPECT_EQ(c.sector_map.sonar_cell_point, CellPoint::Centre);
+  EXPECT_NEAR(c.bearing.beam_width, geom::deg2rad(25.0), 1e-12);
+  EXPECT_DOUBLE_EQ(c.bearing.similar, 0.05);
+  EXPECT_DOUBLE_EQ(c.bearing.max_age_s, 0.3);
+  for (const char* bad : {"pilot: {agm_bearing: cone}", "pilot: {sonar_cell_point: far}",
+                          "pilot: {neighbour_bearing: {beam: 30}}", "pilot: {neighbour_bearing: {similar: -1}}"}) {
+    EXPECT_THROW(pilotConfig(Config::fromString(bad).section("pilot")), ConfigError) << bad;
+  }
+}
+
+namespace {
+// Two adjacent sensors of a ring at the origin (axes 5 and 20 deg): sensor 1 reads 0.6 m at
+// 0.30 s, sensor 0 reads 1.0 m at 0.33 s (its left neighbour reads shorter: beam edge).
+std::vector<grid_map_t> runTwoSensors(AgmBearing b) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig cfg;
+  cfg.agm_bearing = b;
+  cfg.agm_publish_hz = 1000;  // a grid after every cycle
+  PilotStage stage{node, cfg};
+  std::vector<grid_map_t> grids;
+  node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    node.publish(channels::ODOMETRY, o);
+  }
+  const auto group = [&](int64_t utime, int id, double deg, double range) {
+    const double a = geom::deg2rad(deg);
+    complement_reading_t r{};
+    r.sensor_id = static_cast<int16_t>(id);
+    r.cls = complement_reading_t::CLASS_COMPLEMENTARY;
+    r.range = static_cast<float>(range);
+    r.hypothetical_range = 2.2f;
+    r.sensor_pose = {0.35 * std::cos(a), 0.35 * std::sin(a), a};
+    r.end_x = r.sensor_pose.x + r.range * std::cos(a);
+    r.end_y = r.sensor_pose.y + r.range * std::sin(a);
+    complement_t c{};
+    c.utime = utime;
+    c.readings.push_back(r);
+    c.nreadings = 1;
+    node.publish(channels::SONAR_COMPLEMENT, c);
+  };
+  group(300'000, 1, 20.0, 0.6);
+  group(330'000, 0, 5.0, 1.0);
+  while (node.spinOnce(0) > 0) {
+  }
+  return grids;
+}
+int occupiedCell(const grid_map_t& g, int skip = -1) {
+  for (int i = 0; i < g.ncells; ++i)
+    if (g.g[static_cast<size_t>(i)] > 0 && i != skip) return i;
+  return -1;
+}
+}  // namespace
+
+TEST(PilotStageBearing, AxisIsThePapersEndPointNeighboursUseTheBeamEdge) {
+  const auto axis = runTwoSensors(AgmBearing::Axis);
+  const auto nb = runTwoSensors(AgmBearing::Neighbours);
+  ASSERT_EQ(axis.size(), 2u);
+  ASSERT_EQ(nb.size(), 2u);
+  // The first reading has no neighbour: the same cell either way.
+  const int first = occupiedCell(axis[0]);
+  EXPECT_EQ(occupiedCell(nb[0]), first);
+  const auto cellOf = [](const grid_map_t& g, double x, double y) {
+    return static_cast<int>(std::floor((y - g.origin_y) / g.cell_size)) * g.width +
+           static_cast<int>(std::floor((x - g.origin_x) / g.cell_size));
+  };
+  // Axis: sensor 0's echo at its end point, 1.35 m along 5 deg; neighbours: at its beam edge
+  // (20 deg), 1.0 m from the sensor.
+  const double a = geom::deg2rad(5.0), e = geom::deg2rad(20.0);
+  EXPECT_EQ(occupiedCell(axis[1], first), cellOf(axis[1], 1.35 * std::cos(a), 1.35 * std::sin(a)));
+  EXPECT_EQ(occupiedCell(nb[1], first), cellOf(nb[1], 0.35 * std::cos(a) + std::cos(e), 0.35 * std::sin(a) + std::sin(e)));
+  EXPECT_NE(occupiedCell(nb[1], first), occupiedCell(axis[1], first));
+}

@@ -1,0 +1,61 @@
+#include "operational/sonar_bearing.hpp"
+
+#include <cmath>
+
+namespace lasonic {
+
+namespace {
+// What one side of the axis says: Shorter wins over Similar (the surface comes nearer there).
+struct Side {
+  bool shorter = false;
+  bool similar = false;
+  double similar_offset = 0;  // angleDiff(psi_j, psi_i) of the similar neighbour nearest the axis
+};
+}  // namespace
+
+double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {
+  const double psi = self.sensor.theta;
+  const auto max_age_us = static_cast<int64_t>(p.max_age_s * 1e6);
+  Side side[2];  // 0: right (clockwise), 1: left
+  for (const SonarEcho& o : others) {
+    const int64_t age = self.utime - o.utime;
+    if (age < 0 || age > max_age_us) continue;
+    const double off = geom::angleDiff(o.sensor.theta, psi);
+    if (std::abs(off) >= p.beam_width || off == 0.0) continue;
+    Side& s = side[off > 0 ? 1 : 0];
+    if (o.range < self.range - p.similar) {
+      s.shorter = true;
+    } else if (o.range <= self.range + p.similar) {
+      if (!s.similar || std::abs(off) < std::abs(s.similar_offset)) s.similar_offset = off;
+      s.similar = true;
+    }
+  }
+  const auto some = [](const Side& s) { return s.shorter || s.similar; };
+  for (int k = 0; k < 2; ++k) {
+    const Side& s = side[k];
+    const Side& other = side[1 - k];
+    if (!some(s) || some(other)) continue;
+    if (s.shorter) return geom::normalizeAngle(psi + (k == 1 ? 0.5 : -0.5) * p.beam_width);
+    return geom::normalizeAngle(psi + 0.5 * s.similar_offset);
+  }
+  return psi;
+}
+
+geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {
+  return self.sensor.position() + self.range * geom::unitVector(echoBearing(self, others, p));
+}
+
+double SonarBearingTracker::bearing(int id, const SonarEcho& e) const {
+  scratch_.clear();
+  for (const auto& [other, echo] : latest_)
+    if (other != id && echo) scratch_.push_back(*echo);
+  return echoBearing(e, scratch_, p_);
+}
+
+geom::Vec2 SonarBearingTracker::place(int id, const SonarEcho& e) const {
+  return e.sensor.position() + e.range * geom::unitVector(bearing(id, e));
+}
+
+void SonarBearingTracker::record(int id, const std::optional<SonarEcho>& e) { latest_[id] = e; }
+
+}  // namespace lasonic

@@ -1,0 +1,76 @@
+#pragma once
+// Neighbour-aware bearing of a sonar echo (operational AGM's one-cell sensor model; DESIGN.md
+// step 4, beyond the paper).
+//
+// The paper's trivial sensor model puts every echo on the sensor's acoustic axis. But a sonar's
+// first echo comes from the surface point NEAREST to the sensor anywhere in its beam (width b):
+// - an oblique wall/fence: the nearest point of the wall inside the beam is at the beam edge
+//   towards the wall's foot of perpendicular, so the axis point lies in FRONT of the wall, a
+//   consistent ghost line the AGM reinforces;
+// - a thin object (pipe) anywhere within +-b/2 of the axis is put on the axis.
+// Adjacent sensors of a ring overlap (24 sensors of 30 deg: the beam of sensor i covers the axes
+// of i-1 and i+1), so their readings locate the echo better, still as ONE point per reading:
+//   neighbours j of reading i: readings of other sensors, at most max_age old, whose axis lies
+//   inside i's beam (|angleDiff(psi_j, psi_i)| < b). Per side of i's axis (left: psi_j > psi_i):
+//   - "shorter": some neighbour on that side reads r_j < r_i - similar: the surface comes nearer
+//     on that side, so i's nearest point is at its beam edge on that side: psi_i +- b/2;
+//   - "similar": some neighbour reads |r_j - r_i| <= similar: the same nearest point is most
+//     likely in both beams, i.e. in their overlap, which lies between the two axes: bearing =
+//     bisector of psi_i and psi_j (error <= half the axis spacing; the axis alone: <= b/2);
+//   - otherwise (no neighbour, or only longer readings): nothing on that side.
+//   Exactly one side "shorter" (the other side not "shorter" or "similar") -> its beam edge;
+//   exactly one side "similar" (the other side nothing) -> that bisector; both sides something
+//   (the object straddles i's axis, or a concave corner) or neither -> the axis.
+// The echo point is at range r from the sensor along the chosen bearing. Everything is in the
+// global frame (the sensor poses at their firing times), so the robot's rotation between two
+// firings is accounted for.
+#include <cstdint>
+#include <optional>
+#include <map>
+#include <vector>
+
+#include "core/geometry.hpp"
+
+namespace lasonic {
+
+enum class AgmBearing { Axis, Neighbours };
+
+struct SonarBearingParams {
+  double beam_width = geom::deg2rad(30.0);  // [rad] full opening b
+  double similar = 0.10;                    // [m] |r_j - r_i| <= this: the same nearest point
+  double max_age_s = 0.25;                  // [s] neighbour readings older than this are ignored
+};
+
+// One sonar echo: firing time, range, sensor pose (global frame, at firing time).
+struct SonarEcho {
+  int64_t utime = 0;
+  double range = 0;
+  geom::Pose2 sensor;
+};
+
+// The chosen bearing (global frame) of echo `self`, given the other sensors' latest echoes
+// (the caller leaves out the sensor of `self`; ages and beam overlap are checked here).
+// Returns exactly self.sensor.theta when the axis is chosen.
+double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
+// The point at self.range from the sensor along echoBearing().
+geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
+
+// Keeps, per sensor id, its latest echo, and places new echoes with echoPoint().
+class SonarBearingTracker {
+ public:
+  explicit SonarBearingTracker(const SonarBearingParams& p) : p_(p) {}
+  const SonarBearingParams& params() const { return p_; }
+  // Bearing / point of the echo of sensor `id` against the latest echoes of the other sensors.
+  // Does not record it (so the echoes of one firing group do not depend on their order).
+  double bearing(int id, const SonarEcho& e) const;
+  geom::Vec2 place(int id, const SonarEcho& e) const;
+  // Records the latest echo of sensor `id`; nullopt: its latest reading has no usable echo.
+  void record(int id, const std::optional<SonarEcho>& e);
+
+ private:
+  SonarBearingParams p_;
+  std::map<int, std::optional<SonarEcho>> latest_;
+  mutable std::vector<SonarEcho> scratch_;
+};
+
+}  // namespace lasonic

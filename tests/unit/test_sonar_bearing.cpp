@@ -1,0 +1,155 @@
+// echoBearing / SonarBearingTracker: the neighbour-aware one-cell sensor model against ideal
+// sonar readings (geom::nearestInSector: the first echo is the nearest point in the beam).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "operational/sonar_bearing.hpp"
+
+using namespace lasonic;
+using geom::deg2rad;
+using geom::Vec2;
+
+namespace {
+
+const SonarBearingParams kP{};  // 30 deg beam, 0.10 m similar, 0.25 s
+constexpr double kRingRadius = 0.35;
+constexpr double kHalfCell = 0.05;
+
+// A sensor of a ring centred at the origin, facing outwards at `deg`.
+geom::Pose2 ringSensor(double deg) {
+  const double a = deg2rad(deg);
+  return {kRingRadius * std::cos(a), kRingRadius * std::sin(a), a};
+}
+
+template <typename Shape>
+std::optional<SonarEcho> idealEcho(double deg, const Shape& s, int64_t utime = 0) {
+  const geom::Pose2 p = ringSensor(deg);
+  const auto r = geom::nearestInSector(geom::Sector{p.position(), p.theta, kP.beam_width, 3.0}, s);
+  if (!r) return std::nullopt;
+  return SonarEcho{utime, *r, p};
+}
+
+// Echoes of a 24-sensor ring (15 deg apart) of one shape; each sensor's point against all others.
+template <typename Shape>
+std::vector<std::pair<double, Vec2>> ringPoints(const Shape& s, bool axis = false) {
+  std::vector<std::pair<double, SonarEcho>> echoes;
+  for (int k = 0; k < 24; ++k)
+    if (const auto e = idealEcho(k * 15.0, s)) echoes.emplace_back(k * 15.0, *e);
+  std::vector<std::pair<double, Vec2>> out;
+  for (size_t i = 0; i < echoes.size(); ++i) {
+    std::vector<SonarEcho> others;
+    for (size_t j = 0; j < echoes.size(); ++j)
+      if (j != i) others.push_back(echoes[j].second);
+    const SonarEcho& e = echoes[i].second;
+    out.emplace_back(echoes[i].first, axis ? e.sensor.position() + e.range * geom::unitVector(e.sensor.theta)
+                                           : echoPoint(e, others, kP));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(EchoBearing, NoNeighbourIsExactlyTheAxis) {
+  const SonarEcho e{1'000'000, 1.5, ringSensor(33.0)};
+  EXPECT_EQ(echoBearing(e, {}, kP), e.sensor.theta);
+  // Too old, not overlapping (30 deg away), or from the future: ignored.
+  const std::vector<SonarEcho> ignored = {{1'000'000 - 260'000, 1.5, ringSensor(48.0)},
+                                          {1'000'000, 1.5, ringSensor(63.0)},
+                                          {1'000'000, 1.5, ringSensor(3.0)},
+                                          {1'000'001, 1.5, ringSensor(18.0)}};
+  EXPECT_EQ(echoBearing(e, ignored, kP), e.sensor.theta);
+  // Longer neighbours say nothing either.
+  EXPECT_EQ(echoBearing(e, {{1'000'000, 1.7, ringSensor(18.0)}, {1'000'000, 1.9, ringSensor(48.0)}}, kP),
+            e.sensor.theta);
+}
+
+TEST(EchoBearing, DecisionTable) {
+  const SonarEcho e{0, 1.5, ringSensor(0.0)};
+  const SonarEcho left_similar{0, 1.45, ringSensor(15.0)}, left_shorter{0, 1.2, ringSensor(15.0)};
+  const SonarEcho right_similar{0, 1.55, ringSensor(-15.0)}, right_shorter{0, 1.3, ringSensor(-15.0)};
+  const SonarEcho right_longer{0, 2.0, ringSensor(-15.0)};
+  EXPECT_NEAR(echoBearing(e, {left_similar}, kP), deg2rad(7.5), 1e-12);     // bisector
+  EXPECT_NEAR(echoBearing(e, {right_similar}, kP), deg2rad(-7.5), 1e-12);
+  EXPECT_NEAR(echoBearing(e, {left_shorter}, kP), deg2rad(15.0), 1e-12);    // beam edge
+  EXPECT_NEAR(echoBearing(e, {right_shorter}, kP), deg2rad(-15.0), 1e-12);
+  EXPECT_NEAR(echoBearing(e, {left_shorter, right_longer}, kP), deg2rad(15.0), 1e-12);
+  EXPECT_NEAR(echoBearing(e, {left_similar, right_longer}, kP), deg2rad(7.5), 1e-12);
+  // Something on both sides: the axis.
+  EXPECT_EQ(echoBearing(e, {left_similar, right_similar}, kP), 0.0);
+  EXPECT_EQ(echoBearing(e, {left_shorter, right_shorter}, kP), 0.0);
+  EXPECT_EQ(echoBearing(e, {left_shorter, right_similar}, kP), 0.0);
+  // Across the +-pi seam.
+  const SonarEcho back{0, 1.5, {0, 0, deg2rad(175.0)}};
+  EXPECT_NEAR(geom::angleDiff(echoBearing(back, {{0, 1.2, {0, 0, deg2rad(-170.0)}}}, kP), deg2rad(-170.0)), 0.0,
+              1e-12);
+}
+
+TEST(EchoBearing, ObliqueWallCellsLieOnTheWall) {
+  // A wall 1 m to the left of the ring centre (y = 1), seen obliquely by the sensors at 30, 45
+  // and 60 deg: their first echoes are at their beam edges towards the wall's foot (90 deg).
+  const geom::Segment wall{{-3.0, 1.0}, {3.0, 1.0}};
+  const auto pts = ringPoints(wall);
+  const auto axis = ringPoints(wall, true);
+  int checked = 0;
+  double worst_axis = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const double deg = pts[i].first;
+    if (deg < 30.0 || deg > 60.0) continue;
+    ++checked;
+    EXPECT_NEAR(pts[i].second.y(), 1.0, kHalfCell) << "sensor at " << deg << " deg";
+    worst_axis = std::max(worst_axis, 1.0 - axis[i].second.y());
+  }
+  EXPECT_EQ(checked, 3);
+  EXPECT_GT(worst_axis, 0.2);  // the axis model's ghost line in front of the wall
+  // The mirrored side (120 .. 150 deg) too.
+  for (const auto& [deg, p] : pts) {
+    if (deg >= 120.0 && deg <= 150.0) {
+      EXPECT_NEAR(p.y(), 1.0, kHalfCell) << "sensor at " << deg << " deg";
+    }
+  }
+}
+
+TEST(EchoBearing, PipeBetweenTwoAxesWithinHalfTheSpacing) {
+  // A 2 cm pipe 1.2 m from the ring centre at bearings between the axes at 0 and 15 deg: every
+  // sensor that hears it places it within 7.5 deg (as seen from that sensor) of the pipe.
+  double worst = 0, worst_axis = 0;
+  for (double b = 0.0; b <= 15.0; b += 1.0) {
+    const geom::Circle pipe{1.2 * geom::unitVector(deg2rad(b)), 0.01};
+    const auto pts = ringPoints(pipe);
+    const auto axis = ringPoints(pipe, true);
+    ASSERT_FALSE(pts.empty());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const geom::Pose2 s = ringSensor(pts[i].first);
+      // Angle between the point's bearing and the nearest bearing that meets the pipe.
+      const Vec2 to_pipe = pipe.center - s.position();
+      const double truth = std::atan2(to_pipe.y(), to_pipe.x());
+      const double half_width = std::asin(pipe.radius / to_pipe.norm());
+      const auto err = [&](const Vec2& p) {
+        return std::max(0.0, std::abs(geom::angleDiff(std::atan2(p.y() - s.y, p.x() - s.x), truth)) - half_width);
+      };
+      worst = std::max(worst, err(pts[i].second));
+      worst_axis = std::max(worst_axis, err(axis[i].second));
+    }
+  }
+  EXPECT_LE(worst, deg2rad(7.5) + 1e-9);
+  EXPECT_GT(worst_axis, deg2rad(12.0));  // the axis: up to half the beam
+}
+
+TEST(SonarBearingTracker, LatestEchoPerSensor) {
+  SonarBearingTracker t(kP);
+  const SonarEcho e{100'000, 1.5, ringSensor(0.0)};
+  EXPECT_EQ(t.bearing(0, e), 0.0);
+  t.record(1, SonarEcho{70'000, 1.2, ringSensor(15.0)});
+  EXPECT_NEAR(t.bearing(0, e), deg2rad(15.0), 1e-12);
+  const Vec2 p = t.place(0, e);
+  EXPECT_NEAR(p.x(), kRingRadius + 1.5 * std::cos(deg2rad(15.0)), 1e-12);
+  EXPECT_NEAR(p.y(), 1.5 * std::sin(deg2rad(15.0)), 1e-12);
+  // Its own earlier echo is never a neighbour.
+  t.record(0, SonarEcho{0, 1.2, ringSensor(0.0)});
+  EXPECT_NEAR(t.bearing(0, e), deg2rad(15.0), 1e-12);
+  // Sensor 1's latest reading has no echo: it no longer counts.
+  t.record(1, std::nullopt);
+  EXPECT_EQ(t.bearing(0, e), 0.0);
+}
