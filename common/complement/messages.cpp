@@ -54,6 +54,19 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.mount is not finite"});
     return std::nullopt;
   }
+  // A scan without readings says nothing; accepted, it would read as "everything is free"
+  // (an empty Radar Map makes every sonar echo complementary; the pilot's laser sectors clear).
+  if (n == 0) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.nranges = 0: a scan without readings"});
+    return std::nullopt;
+  }
+  // Every reading is checked against range_max: a NaN or infinite one would accept any range.
+  if (!(std::isfinite(m.range_min) && std::isfinite(m.range_max) && m.range_min >= 0 &&
+        m.range_min < m.range_max)) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.range_min = " + num(m.range_min) + ", range_max = " +
+                                                   num(m.range_max) + ": need finite 0 <= range_min < range_max"});
+    return std::nullopt;
+  }
   LaserScan s;
   s.utime = m.utime;
   s.mount = {m.mount.x, m.mount.y, m.mount.theta};

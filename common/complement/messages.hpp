@@ -23,7 +23,8 @@ struct InputProblem {
   std::string message;  // e.g. "SONAR_RING.range[2] = nan"
 };
 
-// nullopt when the scan as a whole is unusable (arrays of different length, bad angles, mount).
+// nullopt when the scan as a whole is unusable (arrays of different length, no readings, bad
+// angles, range limits or mount).
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems);
 SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems);
 

@@ -40,7 +40,9 @@ geom::Vec2 AccumulativeGridMap::originMetres() const {
 }
 
 int64_t AccumulativeGridMap::globalCell(double v) const {
-  return static_cast<int64_t>(std::floor(v / p_.cell_size));
+  // Clamped: a far-away (but finite) point must not overflow the conversion (undefined behaviour);
+  // +-1e15 cells is outside any window.
+  return static_cast<int64_t>(std::clamp(std::floor(v / p_.cell_size), -1e15, 1e15));
 }
 
 int AccumulativeGridMap::recenterLimit(double speed) const {

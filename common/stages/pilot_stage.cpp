@@ -171,6 +171,10 @@ void PilotStage::onComplement(const complement_t& m) {
         ok = false;
       }
     }
+    if (ok && r.range < 0) {  // a negative "echo" would also make every neighbour's bearing shift
+      node_.reportError("rejected.complement_range", reading(i, "range") + " = " + num(r.range) + ": skipped");
+      ok = false;
+    }
     if (!ok) continue;
     const geom::Vec2 axis_end(r.end_x, r.end_y);
     const SonarEcho echo{m.utime, r.range, {r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta}};

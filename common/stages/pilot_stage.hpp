@@ -27,7 +27,7 @@
 // ODOMETRY with a non-finite field or older than the newest is dropped; a LASER_SCAN or
 // SONAR_COMPLEMENT not newer than the previous one is dropped; bad laser readings are skipped
 // (the complement stage's validation); a complement reading with an unknown class, or a
-// complementary one with a non-finite range or end point, is skipped.
+// complementary one with a non-finite range or end point or a negative range, is skipped.
 #include <cstdint>
 #include <optional>
 
