@@ -11,33 +11,16 @@
 # processes keep running and exit 0 on SIGTERM.
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
-config=$src/deploy/config/lasonic.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "bad_messages.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
+source "$(dirname "$0")/lib.sh"
+url+='&recv_buf_size=4194304'
 
-lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
-logger=$!
-pids+=("$logger")
-"$bin/lasonic-complement" --config "$config" --lcm-url "$url" 2>"$tmp/complement.err" >&2 &
+start_logger run.lcmlog
+start complement "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
+# shellcheck disable=SC2034  # complement, pilot: used as ${!name} below
 complement=$!
-pids+=("$complement")
-"$bin/lasonic-pilot" --config "$config" --lcm-url "$url" 2>"$tmp/pilot.err" >&2 &
+start pilot "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
+# shellcheck disable=SC2034
 pilot=$!
-pids+=("$pilot")
 
 # Waits for both heartbeats, publishes, waits until both report every message received.
 "$bin/lasonic-bad-messages" feed "$url" >"$tmp/feed.out" 2>"$tmp/feed.err" || die "feed: $(cat "$tmp/feed.err")"
@@ -46,18 +29,14 @@ cat "$tmp/feed.out"
 for name in complement pilot; do
   p=${!name}
   kill -0 "$p" 2>/dev/null || die "lasonic-$name died on bad messages"
-  kill -TERM "$p"
-  rc=0
-  wait "$p" || rc=$?
-  [[ $rc -eq 0 ]] || die "lasonic-$name: exit status $rc after SIGTERM, expected 0"
+  expect_term_exit "$p" "lasonic-$name:"
 done
 sleep 0.3  # the final PROCESS_STATUS reaches the logger
-kill -INT "$logger"
-wait "$logger" || true
+stop_logger
 
 "$bin/lasonic-bad-messages" check "$tmp/run.lcmlog" >"$tmp/check.out" 2>"$tmp/check.err" || {
   cat "$tmp/check.out"
   die "log check: $(cat "$tmp/check.err")"
 }
 grep -E '^(lasonic-[a-z]+\.(errors|last_error)|valid\.|last\.)' "$tmp/check.out"
-echo "bad_messages.sh: PASS"
+echo "$test_name: PASS"

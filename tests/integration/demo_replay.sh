@@ -12,29 +12,15 @@
 #     logger may), and lasonic-eval must score both logs alike.
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
-scenario=$src/deploy/scenarios/fig7_lab.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "demo_replay.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err "$tmp"/live.out/*.txt; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
+source "$(dirname "$0")/lib.sh"
+url+='&recv_buf_size=4194304'
+die_globs+=('live.out/*.txt')
 stat() { awk -v k="$2" '$1 == k {print $2}' "$tmp/$1.stats"; }
 
 for b in lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver lasonic-eval lasonic-log-stats; do
   [[ -x $bin/$b ]] || die "$bin/$b was not built"
 done
-command -v lcm-logger >/dev/null 2>&1 || { echo "demo_replay.sh: SKIP: lcm-logger not found (liblcm-bin)"; exit 77; }
+command -v lcm-logger >/dev/null 2>&1 || { echo "$test_name: SKIP: lcm-logger not found (liblcm-bin)"; exit 77; }
 
 # 1. The demo, 5 s.
 rc=0
@@ -70,17 +56,14 @@ done
 for p in lasonic-sim-world lasonic-laser-driver lasonic-sonar-driver; do
   [[ $(stat live "$p.errors") == 0 ]] || die "$p reported $(stat live "$p.errors") errors"
 done
-echo "demo_replay.sh: (1) ok: the demo ran ${#procs[@]} processes and recorded ${#expect[@]} channels"
+echo "$test_name: (1) ok: the demo ran ${#procs[@]} processes and recorded ${#expect[@]} channels"
 
 # 2. Replay the log into a second logger.
-lcm-logger --lcm-url="$url" "$tmp/replayed.lcmlog" >"$tmp/logger.err" 2>&1 &
-logger=$!
-pids+=("$logger")
+start_logger replayed.lcmlog
 sleep 1  # the logger's subscription is up
 lcm-logplayer --lcm-url="$url" "$tmp/live.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
 sleep 0.5
-kill -INT "$logger"
-wait "$logger" || true
+stop_logger
 "$bin/lasonic-log-stats" "$tmp/replayed.lcmlog" >"$tmp/replayed.stats" || die "cannot read the replayed log"
 
 channels() { awk '$1 ~ /^[A-Z][A-Z0-9_]*$/ && $1 != "LCM_SELF_TEST" {print $1, $2}' "$tmp/$1.stats" | sort; }
@@ -93,5 +76,5 @@ fi
   die "lasonic-eval failed on the replayed log"
 diff "$tmp/live.json" "$tmp/replayed.json" >"$tmp/eval-diff.err" ||
   die "lasonic-eval scores the replayed log differently"
-echo "demo_replay.sh: (2) ok: replayed: $(channels replayed | tr '\n' ' ')"
-echo "demo_replay.sh: PASS"
+echo "$test_name: (2) ok: replayed: $(channels replayed | tr '\n' ' ')"
+echo "$test_name: PASS"

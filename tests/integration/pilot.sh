@@ -8,33 +8,16 @@
 #     2 Hz with the hand-computed values, counts the bad input, keeps running, exits 0 on SIGTERM.
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "pilot.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
+source "$(dirname "$0")/lib.sh"
+url+='&recv_buf_size=4194304'
 
 # 1. Command line and configuration.
 "$bin/lasonic-pilot" --help >"$tmp/help.out" || die "--help failed"
 grep -q -- '--lcm-url' "$tmp/help.out" || die "--help does not mention --lcm-url"
 printf 'pilot:\n  agm: {t: -1}\n' >"$tmp/bad.yaml"
+expect_bad_config pilot.agm.t pilot.agm.t "$bin/lasonic-pilot" --config "$tmp/bad.yaml"
 rc=0
-"$bin/lasonic-pilot" --config "$tmp/bad.yaml" --lcm-url "$url" 2>"$tmp/bad.err" >&2 || rc=$?
-[[ $rc -eq 2 ]] || die "bad config: exit status $rc, expected 2"
-grep -q 'pilot.agm.t' "$tmp/bad.err" || die "bad config: error does not name pilot.agm.t"
-rc=0
-timeout --preserve-status -s TERM 1 "$bin/lasonic-pilot" --config "$src/deploy/config/lasonic.yaml" \
+timeout --preserve-status -s TERM 1 "$bin/lasonic-pilot" --config "$config" \
   --lcm-url "$url" 2>"$tmp/shipped.err" >&2 || rc=$?
 [[ $rc -eq 0 ]] || die "the shipped config: exit status $rc, expected 0 after SIGTERM"
 
@@ -49,23 +32,17 @@ pilot:
   sonar_stale_s: 0.5
   agm_publish_hz: 2
 YAML
-lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
-pids+=($!)
-"$bin/lasonic-pilot" --config "$tmp/pilot.yaml" --lcm-url "$url" 2>"$tmp/pilot.err" >&2 &
+start_logger run.lcmlog
+start pilot "$bin/lasonic-pilot" --config "$tmp/pilot.yaml" --lcm-url "$url"
 pilot=$!
-pids+=("$pilot")
 sleep 1  # subscriptions up
 
 "$bin/lasonic-pilot-fixture" feed "$url" || die "feeding the pilot failed"
 sleep 1.5  # at least one heartbeat after the input
 kill -0 "$pilot" 2>/dev/null || die "the pilot died during the run"
-kill -TERM "$pilot"
-rc=0
-wait "$pilot" || rc=$?
-[[ $rc -eq 0 ]] || die "pilot exit status $rc after SIGTERM, expected 0"
+expect_term_exit "$pilot" pilot
 sleep 0.3
-kill -INT "${pids[0]}"
-wait "${pids[0]}" || true
+stop_logger
 
 "$bin/lasonic-pilot-fixture" check "$tmp/run.lcmlog" 2>"$tmp/check.err" || die "log check: $(cat "$tmp/check.err")"
-echo "pilot.sh: PASS"
+echo "$test_name: PASS"

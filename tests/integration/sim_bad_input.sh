@@ -12,25 +12,7 @@
 #     the same in sonar_driver.sh; lasonic-sim-world subscribes to nothing.)
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0'
-scenario=$src/deploy/scenarios/fig7_lab.yaml
-config=$src/deploy/config/lasonic.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "sim_bad_input.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
-stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+source "$(dirname "$0")/lib.sh"
 
 # 1. Start-up errors.
 printf 'name: x\nduration_s: 5\nseed: 1\nobstacles: [\n' >"$tmp/syntax.yaml"
@@ -70,15 +52,12 @@ for tool in lasonic-sim lasonic-sim-world lasonic-laser-driver lasonic-sonar-dri
   f=${bad_file[$tool]}
   expect_error "$tool" bad_config "$f.yaml: ${bad_value[$f]}" --scenario "$scenario" --config "$tmp/$f.yaml"
 done
-echo "sim_bad_input.sh: (1) ok: every start-up error exits 2 and names the file and key"
+echo "$test_name: (1) ok: every start-up error exits 2 and names the file and key"
 
 # 2. Malformed messages on the laser driver's input.
-lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
-logger=$!
-pids+=("$logger")
-"$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/driver.err" >&2 &
+start_logger run.lcmlog
+start driver "$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-pids+=("$driver")
 sleep 1  # subscriptions up
 "$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5 || die "could not publish garbage"
 sleep 0.5
@@ -87,12 +66,8 @@ kill -0 "$driver" 2>/dev/null || die "the laser driver died on malformed SIM_STA
   die "lasonic-sim-world failed"
 sleep 1.5  # at least one heartbeat after the run
 kill -0 "$driver" 2>/dev/null || die "the laser driver died during the run"
-kill -TERM "$driver"
-rc=0
-wait "$driver" || rc=$?
-[[ $rc -eq 0 ]] || die "laser driver exit status $rc after SIGTERM, expected 0"
-kill -INT "$logger"
-wait "$logger" || true
+expect_term_exit "$driver" "laser driver"
+stop_logger
 "$bin/lasonic-log-stats" "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/stats.err" || die "log-stats: $(cat "$tmp/stats.err")"
 grep '^lasonic-laser-driver\.' "$tmp/stats" || true
 decode=$(stat lasonic-laser-driver.decode_errors.SIM_STATE)
@@ -100,5 +75,5 @@ if [[ -z $decode ]] || ((decode < 5)); then
   die "lasonic-laser-driver counted ${decode:-no} decode errors on SIM_STATE, expected 5"
 fi
 (($(stat LASER_SCAN) >= 4)) || die "only $(stat LASER_SCAN) LASER_SCAN after the malformed messages, expected 5"
-echo "sim_bad_input.sh: (2) ok: $decode malformed SIM_STATE messages counted; $(stat LASER_SCAN) scans after them"
-echo "sim_bad_input.sh: PASS"
+echo "$test_name: (2) ok: $decode malformed SIM_STATE messages counted; $(stat LASER_SCAN) scans after them"
+echo "$test_name: PASS"

@@ -9,36 +9,11 @@
 #     by the driver, which keeps running and exits 0 on SIGTERM.
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0'
-scenario=$src/deploy/scenarios/fig7_lab.yaml
-config=$src/deploy/config/lasonic.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "sim_laser.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
-stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+source "$(dirname "$0")/lib.sh"
 # within VALUE LO HI: LO <= VALUE <= HI (decimals allowed)
 within() { awk -v v="$1" -v lo="$2" -v hi="$3" 'BEGIN {exit !(v != "" && v >= lo && v <= hi)}'; }
 
 # 1. Start-up errors: exit 2, and the message names the file's key.
-expect_config_error() {  # NAME KEY CMD...
-  local name=$1 key=$2 rc=0
-  shift 2
-  "$@" --lcm-url "$url" >"$tmp/$name.out" 2>"$tmp/$name.err" || rc=$?
-  [[ $rc -eq 2 ]] || die "$name: exit status $rc, expected 2"
-  grep -qF "$key" "$tmp/$name.err" || die "$name: the error does not name $key"
-}
 printf 'laser:\n  fov_deg: 400\n' >"$tmp/bad_laser.yaml"
 expect_config_error laser_fov 'bad_laser.yaml: laser.fov_deg: must be in [1, 360]' \
   "$bin/lasonic-laser-driver" --config "$tmp/bad_laser.yaml" --scenario "$scenario"
@@ -52,18 +27,14 @@ expect_config_error scenario_laser 'bad_scenario.yaml: obstacles[2].radius: must
   "$bin/lasonic-laser-driver" --scenario "$tmp/bad_scenario.yaml"
 
 # 2. A live run, recorded.
-lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
-logger=$!
-pids+=("$logger")
-"$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/driver.err" >&2 &
+start_logger run.lcmlog
+start driver "$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-pids+=("$driver")
 sleep 1  # subscriptions up
 "$bin/lasonic-sim-world" --config "$config" --scenario "$scenario" --duration 3 --lcm-url "$url" \
   2>"$tmp/world.err" >&2 || die "lasonic-sim-world failed"
 sleep 0.3
-kill -INT "$logger"
-wait "$logger" || true
+stop_logger
 kill -0 "$driver" 2>/dev/null || die "the laser driver died during the run"
 
 "$bin/lasonic-log-stats" "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/stats.err" || die "log-stats: $(cat "$tmp/stats.err")"
@@ -82,23 +53,17 @@ within "$(stat LASER_SCAN.ok_fraction)" 0.9 1.0 || die "only $(stat LASER_SCAN.o
 [[ $(stat lasonic-laser-driver.errors) -eq 0 ]] || die "lasonic-laser-driver reported errors"
 
 # 3. Sim time starting over: every state goes back in time.
-lcm-logger --lcm-url="$url" "$tmp/restart.lcmlog" >"$tmp/logger2.err" 2>&1 &
-logger=$!
-pids+=("$logger")
+start_logger restart.lcmlog logger2.err
 sleep 0.5
 "$bin/lasonic-sim-world" --scenario "$scenario" --duration 0.5 --lcm-url "$url" 2>"$tmp/world2.err" >&2 ||
   die "second lasonic-sim-world failed"
 sleep 0.3
 kill -0 "$driver" 2>/dev/null || die "the laser driver died on states going back in time"
-kill -TERM "$driver"
-rc=0
-wait "$driver" || rc=$?
-[[ $rc -eq 0 ]] || die "laser driver exit status $rc after SIGTERM, expected 0"
+expect_term_exit "$driver" "laser driver"
 sleep 0.3
-kill -INT "$logger"
-wait "$logger" || true
+stop_logger
 "$bin/lasonic-log-stats" "$tmp/restart.lcmlog" >"$tmp/stats" 2>"$tmp/stats.err" || die "log-stats: $(cat "$tmp/stats.err")"
 within "$(stat lasonic-laser-driver.rejected.sim_state)" 20 26 ||
   die "$(stat lasonic-laser-driver.rejected.sim_state) states rejected, expected 26 (all of the second run)"
 [[ -z $(stat LASER_SCAN) ]] || die "scans published from states going back in time"
-echo "sim_laser.sh: PASS"
+echo "$test_name: PASS"

@@ -10,39 +10,17 @@
 #     and the driver still keeps running and exits cleanly on SIGTERM.
 set -euo pipefail
 
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0'
-scenario=$src/deploy/scenarios/fig7_lab.yaml
-config=$src/deploy/config/lasonic.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "sonar_driver.sh: FAIL: $*" >&2
-  for f in "$tmp"/*.err; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
-  exit 1
-}
-stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+source "$(dirname "$0")/lib.sh"
 
 # 1. Config errors name the key and exit 2.
 printf 'sonar:\n  ring: {count: 24, beams: 3}\n' >"$tmp/bad.yaml"
-rc=0
-"$bin/lasonic-sonar-driver" --config "$tmp/bad.yaml" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/bad.err" >&2 || rc=$?
-[[ $rc -eq 2 ]] || die "bad config: exit status $rc, expected 2"
-grep -q 'sonar.ring.beams: unknown key' "$tmp/bad.err" || die "bad config: error does not name sonar.ring.beams"
+expect_bad_config 'sonar.ring.beams: unknown key' sonar.ring.beams \
+  "$bin/lasonic-sonar-driver" --config "$tmp/bad.yaml" --scenario "$scenario"
 
 # 2. A live run.
-lcm-logger --lcm-url="$url" "$tmp/run.lcmlog" >"$tmp/logger.err" 2>&1 &
-pids+=($!)
-"$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$url" 2>"$tmp/driver.err" >&2 &
+start_logger run.lcmlog
+start driver "$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-pids+=("$driver")
 sleep 1  # subscriptions up
 
 "$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5
@@ -56,13 +34,9 @@ kill -0 "$driver" 2>/dev/null || die "the driver died during the run"
   die "second lasonic-sim-world failed"
 sleep 1.5
 kill -0 "$driver" 2>/dev/null || die "the driver died on states going back in time"
-kill -TERM "$driver"
-rc=0
-wait "$driver" || rc=$?
-[[ $rc -eq 0 ]] || die "driver exit status $rc after SIGTERM, expected 0"
+expect_term_exit "$driver" driver
 sleep 0.3
-kill -INT "${pids[0]}"
-wait "${pids[0]}" || true
+stop_logger
 
 "$bin/lasonic-sonar-check" log "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/check.err" || die "log check: $(cat "$tmp/check.err")"
 cat "$tmp/stats"
@@ -76,4 +50,4 @@ geometry=$(stat SONAR_GEOMETRY)
 ((geometry >= 3 && geometry <= 4)) || die "SONAR_GEOMETRY count $geometry, expected 3..4 (1 Hz)"
 (($(stat driver.decode_errors.SIM_STATE) >= 1)) || die "garbage on SIM_STATE not counted as decode errors"
 (($(stat driver.rejected.sim_state) >= 1)) || die "states going back in time not counted as rejected"
-echo "sonar_driver.sh: PASS"
+echo "$test_name: PASS"

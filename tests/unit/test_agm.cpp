@@ -53,6 +53,25 @@ TEST(Agm, AccumulationIncrementsOneCellAndResetsH) {
   EXPECT_EQ(m.update({{100.0, 0.0}, {0.5, -5.5}}), 0);
 }
 
+TEST(Agm, HugeFiniteHitsAreOutsideAndLeaveTheGridAlone) {
+  // 1e30 m is 1e30 cells: beyond int64, so the cell index must not be a plain conversion.
+  AccumulativeGridMap m(small());
+  m.centreOn({0.5, 0.5});
+  EXPECT_EQ(m.update({at(5, 5)}), 1);
+  EXPECT_EQ(m.update({{1e30, 0.5}, {0.5, -1e30}, {1e30, 1e30}, {-1e30, -1e30}, at(5, 5)}), 1);
+  int ix = -1, iy = -1;
+  EXPECT_FALSE(m.cellAt({1e30, 0.5}, ix, iy));
+  EXPECT_FALSE(m.cellAt({-1e30, -1e30}, ix, iy));
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) {
+      EXPECT_EQ(m.g(x, y), x == 5 && y == 5 ? 2 : 0) << x << "," << y;
+    }
+  EXPECT_EQ(m.h(5, 5), 0);
+  // And the window still follows the robot normally afterwards.
+  m.centreOn({3.5, 0.5});
+  EXPECT_EQ(m.originX(), -2);
+}
+
 TEST(Agm, WeightSaturatesAtCapButHitStillResetsH) {
   AccumulativeGridMap m(small());
   m.centreOn({0.5, 0.5});

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "complement/complement.hpp"
 #include "complement/complement_config.hpp"
@@ -201,6 +202,42 @@ TEST(Messages, BadLaserReadingsBecomeGapsBadScansAreRefused) {
   bad_angles.angle_increment = 0;
   problems.clear();
   EXPECT_FALSE(laserScanFromMessage(bad_angles, problems).has_value());
+}
+
+TEST(Messages, EmptyScansAreRefused) {
+  // Accepted, a scan without readings would read as "everything is free".
+  laser_scan_t m = fixture::simulateScan(fixture::fig4Room(), fixture::still({2, 1.8, 0}), 0, 100'000);
+  m.nranges = 0;
+  m.ranges.clear();
+  m.flags.clear();
+  m.offset_us.clear();
+  std::vector<InputProblem> problems;
+  EXPECT_FALSE(laserScanFromMessage(m, problems).has_value());
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].counter, "rejected.laser_scan");
+  EXPECT_NE(problems[0].message.find("nranges = 0"), std::string::npos) << problems[0].message;
+}
+
+TEST(Messages, ScansWithBadRangeLimitsAreRefused) {
+  const laser_scan_t good = fixture::simulateScan(fixture::fig4Room(), fixture::still({2, 1.8, 0}), 0, 100'000);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::pair<float, float> limits[] = {
+      {good.range_min, nan},  // every reading would pass "r <= range_max"
+      {good.range_min, inf},
+      {nan, good.range_max},
+      {good.range_max, good.range_max},  // range_min >= range_max
+      {20.f, good.range_max},
+  };
+  for (const auto& [lo, hi] : limits) {
+    laser_scan_t m = good;
+    m.range_min = lo;
+    m.range_max = hi;
+    std::vector<InputProblem> problems;
+    EXPECT_FALSE(laserScanFromMessage(m, problems).has_value()) << lo << ".." << hi;
+    ASSERT_EQ(problems.size(), 1u) << lo << ".." << hi;
+    EXPECT_EQ(problems[0].counter, "rejected.laser_scan");
+    EXPECT_NE(problems[0].message.find("range_max"), std::string::npos) << problems[0].message;
+  }
 }
 
 TEST(Messages, OutputsCarryClassesAndNaNsForUnknowns) {

@@ -177,6 +177,20 @@ TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
   EXPECT_EQ(node.counter("rejected.odometry_backwards"), 1);
 }
 
+TEST_F(PilotFixture, NegativeComplementRangesAreSkipped) {
+  odometry();
+  // A complementary reading with a finite but negative range: skipped, not accumulated.
+  complement_reading_t negative = reading(complement_reading_t::CLASS_COMPLEMENTARY, 1.0, 3.0);
+  negative.range = -0.5f;
+  complement(300'000, {negative});
+  EXPECT_EQ(node.counter("rejected.complement_range"), 1);
+  EXPECT_EQ(node.counter("agm.hits"), 1);  // the fixture's own echo only
+  EXPECT_EQ(node.errors(), 1);
+  complement(330'000);  // still working
+  EXPECT_EQ(node.counter("agm.cycles"), 2);
+  EXPECT_EQ(node.counter("rejected.complement_range"), 1);
+}
+
 TEST_F(PilotFixture, NoOdometryNoSectorMap) {
   complement(300'000);
   EXPECT_TRUE(maps.empty());

@@ -1,0 +1,87 @@
+# lib.sh: what the integration test scripts share. Sourced, after `set -euo pipefail`, by
+#   source "$(dirname "$0")/lib.sh"
+# Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root); both required.
+# Sets: test_name (the script's file name, for messages), bin, src, url (LCM over a TTL-0
+# multicast group: a test needing a bigger receive buffer appends &recv_buf_size=...), scenario
+# (fig7_lab), config (the shipped configuration), tmp (a fresh directory, removed on exit) and
+# pids (background processes, killed on exit).
+
+# shellcheck disable=SC2034  # bin, scenario, config: for the sourcing script
+test_name=$(basename "$0")
+bin=${LASONIC_BIN:?set LASONIC_BIN}
+src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
+url='udpm://239.255.76.67:7667?ttl=0'
+scenario=$src/deploy/scenarios/fig7_lab.yaml
+config=$src/deploy/config/lasonic.yaml
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+# die MESSAGE...: prints "<test>: FAIL: MESSAGE" and the tails of the files under $tmp matching
+# die_globs (a test may append more globs), exits 1.
+die_globs=('*.err')
+die() {
+  echo "$test_name: FAIL: $*" >&2
+  local g f
+  for g in "${die_globs[@]}"; do
+    # shellcheck disable=SC2086  # $g is a glob
+    for f in "$tmp"/$g; do [[ -f $f ]] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done
+  done
+  exit 1
+}
+
+# stat KEY: the value of KEY in $tmp/stats ("key value" lines, lasonic-log-stats / -sonar-check).
+stat() { awk -v k="$1" '$1 == k {print $2}' "$tmp/stats"; }
+
+# start ERR CMD...: runs CMD in the background, stdout and stderr to $tmp/ERR.err, its pid added
+# to pids; $! is its pid after the call.
+start() {
+  "${@:2}" 2>"$tmp/$1.err" >&2 &
+  pids+=("$!")
+}
+
+# start_logger LOG [ERR]: lcm-logger on $url recording $tmp/LOG, output to $tmp/ERR (default
+# logger.err); its pid in logger and pids. stop_logger: SIGINT, wait.
+start_logger() {
+  lcm-logger --lcm-url="$url" "$tmp/$1" >"$tmp/${2:-logger.err}" 2>&1 &
+  logger=$!
+  pids+=("$logger")
+}
+stop_logger() {
+  kill -INT "$logger"
+  wait "$logger" || true
+}
+
+# expect_term_exit PID [WHO]: SIGTERM to PID, which must exit 0;
+# else die "[WHO ]exit status RC after SIGTERM, expected 0".
+expect_term_exit() {
+  kill -TERM "$1"
+  local rc=0
+  wait "$1" || rc=$?
+  [[ $rc -eq 0 ]] || die "${2:+$2 }exit status $rc after SIGTERM, expected 0"
+}
+
+# expect_config_error NAME KEY CMD...: CMD --lcm-url $url (stdout $tmp/NAME.out, stderr
+# $tmp/NAME.err) exits 2 and its error names KEY (fixed string).
+expect_config_error() {
+  local name=$1 key=$2 rc=0
+  shift 2
+  "$@" --lcm-url "$url" >"$tmp/$name.out" 2>"$tmp/$name.err" || rc=$?
+  [[ $rc -eq 2 ]] || die "$name: exit status $rc, expected 2"
+  grep -qF "$key" "$tmp/$name.err" || die "$name: the error does not name $key"
+}
+
+# expect_bad_config PATTERN KEY CMD...: CMD --lcm-url $url (output to $tmp/bad.err) exits 2 and
+# its error matches PATTERN (grep regex); else die "bad config: ..." naming KEY.
+expect_bad_config() {
+  local pattern=$1 key=$2 rc=0
+  shift 2
+  "$@" --lcm-url "$url" 2>"$tmp/bad.err" >&2 || rc=$?
+  [[ $rc -eq 2 ]] || die "bad config: exit status $rc, expected 2"
+  grep -q "$pattern" "$tmp/bad.err" || die "bad config: error does not name $key"
+}
