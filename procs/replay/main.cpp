@@ -19,10 +19,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "stages/complement_stage.hpp"
-#if __has_include("stages/pilot_stage.hpp")
 #include "stages/pilot_stage.hpp"
-#define LASONIC_REPLAY_PILOT 1
-#endif
 
 namespace {
 
@@ -50,16 +47,9 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   // ---- the stages, in pipeline order. Add a stage here: its Node and its object.
   Node complement_node("lasonic-complement", lcm, offline);
   ComplementStage complement_stage(complement_node, complementConfig(root.section("complement")));
-#ifdef LASONIC_REPLAY_PILOT
   Node pilot_node("lasonic-pilot", lcm, offline);
   PilotStage pilot_stage(pilot_node, pilotConfig(root.section("pilot")));
-#endif
-  const std::vector<const Node*> nodes = {
-      &complement_node,
-#ifdef LASONIC_REPLAY_PILOT
-      &pilot_node,
-#endif
-  };
+  const std::vector<const Node*> nodes = {&complement_node, &pilot_node};
   // ----
 
   LogWriter out(out_path);
