@@ -133,3 +133,39 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
   EXPECT_DOUBLE_EQ(m.number("complement.redundant_drop"), 0.0);  // the wall echo was not dropped
   EXPECT_DOUBLE_EQ(m.number("complement.precision"), 0.5);
 }
+
+TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
+  const auto sc = boxRoom();  // mesh circle (laser-invisible) at (3, 2), r = 0.1
+  RunLog log;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  grid_map_t g{};
+  g.utime = 500'000;
+  g.robot_pose.x = 2;  // odometry equals the truth here
+  g.robot_pose.y = 2;
+  g.cell_size = 0.1f;
+  g.width = g.height = 40;
+  g.origin_x = 0;
+  g.origin_y = 0;
+  g.gp_threshold = 2;
+  g.g.assign(1600, 0);
+  g.h.assign(1600, 0);
+  g.gp.assign(1600, 0);
+  auto cell = [&](double x, double y) { return static_cast<size_t>(int(y / 0.1) * 40 + int(x / 0.1)); };
+  g.gp[cell(2.85, 2.05)] = 5;  // on the circle's near side: correct
+  g.gp[cell(2.45, 3.05)] = 5;  // in free space: wrong
+  g.gp[cell(2.95, 2.45)] = 1;  // below the threshold: not occupied
+  log.agm_operational.push_back(g);
+  Metrics m;
+  evalAgmOperational(log, sc, EvalOptions{}, m);
+  EXPECT_DOUBLE_EQ(m.number("agm_operational.precision"), 0.5);
+  // Only the near side of the circle is in the robot's line of sight; one cell covers part of it.
+  const double recall = m.number("agm_operational.recall");
+  EXPECT_GT(recall, 0.5);
+  EXPECT_LT(recall, 1.0);
+  // Without the correct cell nothing of the boundary is found.
+  log.agm_operational[0].gp[cell(2.85, 2.05)] = 0;
+  Metrics m2;
+  evalAgmOperational(log, sc, EvalOptions{}, m2);
+  EXPECT_DOUBLE_EQ(m2.number("agm_operational.recall"), 0.0);
+  EXPECT_DOUBLE_EQ(m2.number("agm_operational.precision"), 0.0);
+}
