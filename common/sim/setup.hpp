@@ -26,6 +26,10 @@ inline LaserConfig laserConfigFor(const SimSetup& s) {
   return laserConfig(s.scenario.laser, laserConfig(s.config.section("laser")));
 }
 
+inline SonarConfig sonarConfigFor(const SimSetup& s) {
+  return sonarConfig(s.scenario.sonar, sonarConfig(s.config.section("sonar")));
+}
+
 inline OdometryConfig odometryConfigFor(const SimSetup& s) {
   return odometryConfig(s.scenario.odometry, odometryConfig(s.config.section("odometry")));
 }

@@ -35,16 +35,12 @@ int main(int argc, char** argv) {
   std::optional<sim::SimSetup> setup;
   sim::OdometryConfig odo_cfg;
   sim::LaserConfig laser_cfg;
-#ifdef LASONIC_HAVE_SONAR
   sim::SonarConfig sonar_cfg;
-#endif
   try {
     setup = sim::loadSimSetup(config_file, scenario_file);
     odo_cfg = sim::odometryConfigFor(*setup);
     laser_cfg = sim::laserConfigFor(*setup);
-#ifdef LASONIC_HAVE_SONAR
-    sonar_cfg = sim::sonarConfig(setup->scenario.sonar, sim::sonarConfig(setup->config.section("sonar")));
-#endif
+    sonar_cfg = sim::sonarConfigFor(*setup);
   } catch (const ConfigError& e) {
     std::cerr << "lasonic-sim: " << e.what() << "\n";
     return 2;
@@ -67,27 +63,21 @@ int main(int argc, char** argv) {
     };
     sim::WorldCore world(scenario, odo_cfg);
     sim::LaserDriverCore laser(scenario, laser_cfg, scenario.seed);
-#ifdef LASONIC_HAVE_SONAR
     sim::SonarDriverCore sonar(scenario, sonar_cfg, scenario.seed);
-#endif
     for (int64_t utime = world.startUtime(); !world.finished(utime); utime += world.periodUs()) {
       sim_state_t st = world.stateAt(utime);
       odometry_t od = world.odometry();
       write(channels::SIM_STATE, utime, st);
       write(channels::ODOMETRY, utime, od);
-#ifdef LASONIC_HAVE_SONAR
       if ((utime - world.startUtime()) % 1'000'000 < world.periodUs()) {
         sonar_geometry_t g = sonar.geometry(utime);
         write(channels::SONAR_GEOMETRY, utime, g);
       }
-#endif
       for (laser_scan_t& scan : laser.onSimState(st)) write(channels::LASER_SCAN, utime, scan);
-#ifdef LASONIC_HAVE_SONAR
       for (sim::SonarDriverCore::Output& o : sonar.onSimState(st)) {
         write(channels::SONAR_RING, utime, o.ring);
         write(channels::SONAR_TRUTH, utime, o.truth);
       }
-#endif
     }
   } catch (const LogError& e) {
     std::cerr << "lasonic-sim: " << e.what() << "\n";

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   sim::SonarConfig cfg;
   try {
     setup = sim::loadSimSetup(config_file, scenario_file);
-    cfg = sim::sonarConfig(setup->scenario.sonar, sim::sonarConfig(setup->config.section("sonar")));
+    cfg = sim::sonarConfigFor(*setup);
   } catch (const ConfigError& e) {
     spdlog::error("{}", e.what());
     return 2;
