@@ -13,7 +13,8 @@ struct Side {
 };
 }  // namespace
 
-double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {
+BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<SonarEcho>& others,
+                                    const SonarBearingParams& p) {
   const double psi = self.sensor.theta;
   const auto max_age_us = static_cast<int64_t>(p.max_age_s * 1e6);
   Side side[2];  // 0: right (clockwise), 1: left
@@ -35,22 +36,28 @@ double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, 
     const Side& s = side[k];
     const Side& other = side[1 - k];
     if (!some(s) || some(other)) continue;
-    if (s.shorter) return geom::normalizeAngle(psi + (k == 1 ? 0.5 : -0.5) * p.beam_width);
-    return geom::normalizeAngle(psi + 0.5 * s.similar_offset);
+    if (s.shorter) return {geom::normalizeAngle(psi + (k == 1 ? 0.5 : -0.5) * p.beam_width), 0.0};
+    return {geom::normalizeAngle(psi + 0.5 * s.similar_offset), 0.5 * (p.beam_width - std::abs(s.similar_offset))};
   }
-  return psi;
+  return {psi, 0.5 * p.beam_width};
+}
+
+double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {
+  return echoBearingEstimate(self, others, p).bearing;
 }
 
 geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {
   return self.sensor.position() + self.range * geom::unitVector(echoBearing(self, others, p));
 }
 
-double SonarBearingTracker::bearing(int id, const SonarEcho& e) const {
+BearingEstimate SonarBearingTracker::estimate(int id, const SonarEcho& e) const {
   scratch_.clear();
   for (const auto& [other, echo] : latest_)
     if (other != id && echo) scratch_.push_back(*echo);
-  return echoBearing(e, scratch_, p_);
+  return echoBearingEstimate(e, scratch_, p_);
 }
+
+double SonarBearingTracker::bearing(int id, const SonarEcho& e) const { return estimate(id, e).bearing; }
 
 geom::Vec2 SonarBearingTracker::place(int id, const SonarEcho& e) const {
   return e.sensor.position() + e.range * geom::unitVector(bearing(id, e));

@@ -48,9 +48,21 @@ struct SonarEcho {
   geom::Pose2 sensor;
 };
 
+// A chosen bearing and how far (either way) the echo's true bearing may lie from it:
+// axis (no usable neighbour, or both sides): b/2, the paper's "half the beam width";
+// bisector with a similar neighbour at axis offset o: the overlap's half width (b - |o|)/2;
+// beam edge: 0 (a surface coming nearer on that side has its nearest point at the edge).
+struct BearingEstimate {
+  double bearing = 0;    // [rad] global frame
+  double halfwidth = 0;  // [rad]
+};
+
 // The chosen bearing (global frame) of echo `self`, given the other sensors' latest echoes
 // (the caller leaves out the sensor of `self`; ages and beam overlap are checked here).
-// Returns exactly self.sensor.theta when the axis is chosen.
+// Its bearing is exactly self.sensor.theta when the axis is chosen.
+BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<SonarEcho>& others,
+                                    const SonarBearingParams& p);
+// echoBearingEstimate(...).bearing.
 double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
 // The point at self.range from the sensor along echoBearing().
 geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
@@ -63,6 +75,7 @@ class SonarBearingTracker {
   // Bearing / point of the echo of sensor `id` against the latest echoes of the other sensors.
   // Does not record it (so the echoes of one firing group do not depend on their order).
   double bearing(int id, const SonarEcho& e) const;
+  BearingEstimate estimate(int id, const SonarEcho& e) const;
   geom::Vec2 place(int id, const SonarEcho& e) const;
   // Records the latest echo of sensor `id`; nullopt: its latest reading has no usable echo.
   void record(int id, const std::optional<SonarEcho>& e);

@@ -2,4 +2,5 @@
 lasonic_add_gtest(test_agm SOURCES test_agm.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_sector_map SOURCES test_sector_map.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_sonar_bearing SOURCES test_sonar_bearing.cpp LIBS lasonic_operational)
+lasonic_add_gtest(test_evidence_placement SOURCES test_evidence_placement.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_pilot_stage SOURCES test_pilot_stage.cpp LIBS lasonic_stages)

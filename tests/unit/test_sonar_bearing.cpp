@@ -86,6 +86,35 @@ TEST(EchoBearing, DecisionTable) {
               1e-12);
 }
 
+TEST(EchoBearing, EstimateHalfwidths) {
+  const SonarEcho e{0, 1.5, ringSensor(0.0)};
+  const SonarEcho left_similar{0, 1.45, ringSensor(15.0)}, left_shorter{0, 1.2, ringSensor(15.0)};
+  const SonarEcho right_similar{0, 1.55, ringSensor(-15.0)};
+  EXPECT_NEAR(echoBearingEstimate(e, {}, kP).halfwidth, deg2rad(15.0), 1e-12);  // the paper's b/2
+  const BearingEstimate bis = echoBearingEstimate(e, {left_similar}, kP);
+  EXPECT_NEAR(bis.bearing, deg2rad(7.5), 1e-12);
+  EXPECT_NEAR(bis.halfwidth, deg2rad(7.5), 1e-12);  // the 15 deg overlap of the two beams
+  EXPECT_EQ(echoBearingEstimate(e, {left_shorter}, kP).halfwidth, 0.0);  // the beam edge
+  EXPECT_NEAR(echoBearingEstimate(e, {left_similar, right_similar}, kP).halfwidth, deg2rad(15.0), 1e-12);
+  // A pipe anywhere between two axes lies within the estimate's halfwidth, seen from each sensor.
+  for (double b = 0.0; b <= 15.0; b += 0.5) {
+    const geom::Circle pipe{1.2 * geom::unitVector(deg2rad(b)), 0.01};
+    std::vector<SonarEcho> echoes;
+    for (int k = 0; k < 24; ++k)
+      if (const auto x = idealEcho(k * 15.0, pipe)) echoes.push_back(*x);
+    for (size_t i = 0; i < echoes.size(); ++i) {
+      std::vector<SonarEcho> others;
+      for (size_t j = 0; j < echoes.size(); ++j)
+        if (j != i) others.push_back(echoes[j]);
+      const BearingEstimate est = echoBearingEstimate(echoes[i], others, kP);
+      const Vec2 to_pipe = pipe.center - echoes[i].sensor.position();
+      const double err = std::abs(geom::angleDiff(std::atan2(to_pipe.y(), to_pipe.x()), est.bearing)) -
+                         std::asin(pipe.radius / to_pipe.norm());
+      EXPECT_LE(err, est.halfwidth + 1e-9) << "pipe at " << b << " deg, sensor " << i;
+    }
+  }
+}
+
 TEST(EchoBearing, ObliqueWallCellsLieOnTheWall) {
   // A wall 1 m to the left of the ring centre (y = 1), seen obliquely by the sensors at 30, 45
   // and 60 deg: their first echoes are at their beam edges towards the wall's foot (90 deg).
