@@ -226,7 +226,15 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
   TruthTrack truth(log.sim_states);
   sim::WorldGeometry world(sc);
   SectorScore fused, laser_only;
+  int64_t scored = 0, warmup = 0;
   for (const auto& sm : log.sector_maps) {
+    // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,
+    // before the first scan or firing group) declares itself blind there: counted, not scored.
+    if (sm.laser_age_s < 0 || sm.sonar_age_s < 0) {
+      ++warmup;
+      continue;
+    }
+    ++scored;
     world.setMovers(truth.moversAt(sm.utime));
     const auto t = trueSectorDistances(world, truth.robotAt(sm.utime), sm.robot_radius,
                                        sm.nsectors, o.sector_range + 1.0);
@@ -235,7 +243,8 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
       laser_only.add(sm.laser_distance[k], t[k], o);
     }
   }
-  m.set("sector_map.maps", static_cast<int64_t>(log.sector_maps.size()));
+  m.set("sector_map.maps", scored);
+  m.set("sector_map.maps_before_first_data", warmup);
   fused.write(m, "sector_map", true);
   laser_only.write(m, "baselines.laser_only.sector_map", false);
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "eval/evaluate.hpp"
@@ -94,6 +95,27 @@ TEST(EvalSectorMap, MissedAndFalseAlarm) {
   EXPECT_NEAR(m.number("sector_map.false_alarm_share_of_reports"), 1.0 / within, 1e-12);
   EXPECT_NEAR(m.number("sector_map.false_alarms_by_source.laser"), 1.0, 1e-12);
   EXPECT_NEAR(m.number("baselines.laser_only.sector_map.missed_rate"), 1.0 / within, 1e-12);
+  EXPECT_EQ(m.number("sector_map.maps"), 1.0);
+  EXPECT_EQ(m.number("sector_map.maps_before_first_data"), 0.0);
+
+  // A map from before the first laser scan (laser_age_s -1) reports nothing: counted, not scored.
+  sector_map_t blind = sm;
+  blind.utime = 100'000;
+  blind.laser_age_s = -1;
+  std::fill(blind.distance.begin(), blind.distance.end(), -1.0f);
+  std::fill(blind.laser_distance.begin(), blind.laser_distance.end(), -1.0f);
+  log.sector_maps.insert(log.sector_maps.begin(), blind);
+  Metrics w;
+  evalSectorMap(log, sc, EvalOptions{}, w);
+  EXPECT_EQ(w.number("sector_map.maps"), 1.0);
+  EXPECT_EQ(w.number("sector_map.maps_before_first_data"), 1.0);
+  EXPECT_NEAR(w.number("sector_map.missed_rate"), 0.0, 1e-12);
+  // The same map once the scan has arrived (age 0.1 s) is scored: everything within 2 m missed.
+  log.sector_maps.front().laser_age_s = 0.1f;
+  Metrics s;
+  evalSectorMap(log, sc, EvalOptions{}, s);
+  EXPECT_EQ(s.number("sector_map.maps"), 2.0);
+  EXPECT_NEAR(s.number("sector_map.missed_rate"), 0.5, 1e-12);
 }
 
 TEST(EvalComplement, JoinsTruthAndClasses) {
