@@ -11,7 +11,8 @@ bool known(float d) { return d >= 0; }
 }  // namespace
 
 SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
-  if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1)
+  if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1 ||
+      !(p.copy_confirm_tolerance >= 0) || !(p.laser_explains_radius >= 0))
     throw std::invalid_argument("SectorMap: inconsistent parameters");
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
@@ -36,6 +37,26 @@ void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_points_ = std::move(points);
   laser_utime_ = utime;
   have_laser_ = true;
+  explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
+}
+
+void SectorMap::rebuildExplained(double c) {
+  // Once per scan (not per map): the global cells whose centres lie within the radius of a point.
+  explained_.clear();
+  explained_cell_size_ = c;
+  const double rho = p_.laser_explains_radius;
+  if (!(rho > 0)) return;
+  const auto global = [c](double v) { return static_cast<int64_t>(std::clamp(std::floor(v / c), -1e15, 1e15)); };
+  const int64_t span = static_cast<int64_t>(std::ceil(rho / c)) + 1;
+  for (const auto& p : laser_points_) {
+    const int64_t gx = global(p.x()), gy = global(p.y());
+    for (int64_t y = gy - span; y <= gy + span; ++y)
+      for (int64_t x = gx - span; x <= gx + span; ++x)
+        if ((geom::Vec2((static_cast<double>(x) + 0.5) * c, (static_cast<double>(y) + 0.5) * c) - p).norm() <= rho)
+          explained_.emplace_back(x, y);
+  }
+  std::sort(explained_.begin(), explained_.end());
+  explained_.erase(std::unique(explained_.begin(), explained_.end()), explained_.end());
 }
 
 void SectorMap::setSonarTime(int64_t utime) {
@@ -60,9 +81,11 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   }
 }
 
-void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm,
+void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, bool use_explained,
                             std::vector<Value>& out) const {
   std::fill(out.begin(), out.end(), Value{});
+  const bool check = use_explained && !explained_.empty();
+  const int64_t ox = agm.originX(), oy = agm.originY();
   const double c = agm.cellSize();
   const double reach = p_.robot_radius + p_.max_range;
   const geom::Vec2 o = agm.originMetres();
@@ -71,6 +94,9 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& 
   agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
+                    if (check && std::binary_search(explained_.begin(), explained_.end(),
+                                                    std::make_pair(ox + ix, oy + iy)))
+                      return;
                     const geom::Vec2 lo = o + geom::Vec2(ix * c, iy * c);
                     const geom::Vec2 centre = lo + geom::Vec2(0.5 * c, 0.5 * c) - robot;
                     const geom::Vec2 nearest(std::clamp(robot.x(), lo.x(), lo.x() + c),
@@ -102,13 +128,20 @@ const SectorMapState& SectorMap::update(int64_t utime, const geom::Pose2& pose, 
   s_.sonar_stale = !have_sonar_ || s_.sonar_age_s > p_.sonar_stale_s;
 
   laserValues(pose, laser_now_);
-  sonarValues(pose, agm, sonar_own_);
-  // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own.
+  if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
+  // A stale scan no longer says what is where: it explains nothing away.
+  sonarValues(pose, agm, !s_.laser_stale, sonar_own_);
+  // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own
+  // (with CopyRule::UnlessLaserConfirmed, not from a sector whose laser value confirms it).
+  const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
   for (size_t k = 0; k < n; ++k) {
     sonar_now_[k] = sonar_own_[k];
     if (known(sonar_own_[k].d)) continue;
     for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {
       const float d = sonar_own_[j].d;
+      if (skip_confirmed && known(d) && known(laser_now_[j].d) &&
+          std::abs(laser_now_[j].d - d) <= p_.copy_confirm_tolerance)
+        continue;
       if (known(d) && (!known(sonar_now_[k].d) || d < sonar_now_[k].d))
         sonar_now_[k] = {d, SectorSource::SonarCopied};
     }

@@ -10,10 +10,18 @@
 // - sonar value: operational-AGM cells with Gp >= gp_threshold, in the sector of the cell
 //   centre's bearing, at (sonar_cell_point) the point of the square nearest to the robot centre
 //   (never farther than any part of the cell; but up to c*sqrt(2) nearer than the echo that made
-//   it) or at the cell centre (within c/sqrt(2) of the echo either way);
+//   it) or at the cell centre (within c/sqrt(2) of the echo either way). Beyond the paper:
+//   cells whose centre lies within laser_explains_radius of a point of the newest (not stale)
+//   scan do not count: the laser already reports that obstacle, at its 0.5 deg bearing, so the
+//   sonar part keeps only what the laser does not see -- the complement idea applied to the
+//   scan's points, which hold thin things (a 2 cm pipe) that the Radar Map's lines leave out;
 // - copy rule: a sector's own sonar value is copied into both adjacent sectors (the trivial
 //   sensor model's bearing error is half the beam width), except into a sector that holds sonar
-//   data of its own; a copy takes the min with other copies and never makes a sector freer;
+//   data of its own; a copy takes the min with other copies and never makes a sector freer.
+//   CopyRule::UnlessLaserConfirmed (beyond the paper): nor is a value copied out of a sector
+//   whose laser value lies within copy_confirm_tolerance of it: the laser (0.5 deg rays) has
+//   then put that obstacle in this sector, so the bearing error the copy guards against is
+//   not there (a thin pipe that the Radar Map's lines leave out but the scan's points hold);
 // - the sector value is the smaller of laser and sonar (a tie goes to the laser, the more
 //   accurate sensor), with its source recorded.
 // Staleness: a sensor whose newest data is more than its limit older than the map's time is
@@ -21,6 +29,7 @@
 // the held one, and the held values only ever get shorter, so stale data never makes a sector
 // look freer than the last fresh data did. A sensor never heard from is stale with age -1.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -33,6 +42,8 @@ enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied =
 
 // Where an AGM cell's obstacle is taken to be (see the file comment).
 enum class CellPoint { Nearest, Centre };
+// Which own sonar values are copied into the neighbours (see the file comment).
+enum class CopyRule { Paper, UnlessLaserConfirmed };
 
 struct SectorMapParams {
   int sectors = 48;             // paper: 48 sectors of 7.5 deg
@@ -40,6 +51,9 @@ struct SectorMapParams {
   double max_range = 3.0;       // [m] from the boundary; farther obstacles are not reported
   int gp_threshold = 2;         // AGM cells with Gp >= this count as obstacles
   CellPoint sonar_cell_point = CellPoint::Nearest;
+  double laser_explains_radius = 0;      // [m] 0: every cell counts (the paper)
+  CopyRule copy_rule = CopyRule::Paper;
+  double copy_confirm_tolerance = 0.10;  // [m] |laser - sonar| within this: laser-confirmed
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
 };
@@ -78,12 +92,16 @@ class SectorMap {
   };
   int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
-  void sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, std::vector<Value>& out) const;
+  void sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, bool use_explained,
+                   std::vector<Value>& out) const;
+  void rebuildExplained(double cell_size);
   // Staleness: fresh -> remember; stale -> min with what is held (which only shrinks).
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
 
   SectorMapParams p_;
   std::vector<geom::Vec2> laser_points_;
+  std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted global cells (gx, gy)
+  double explained_cell_size_ = 0;                       // 0: to be rebuilt
   int64_t laser_utime_ = 0, sonar_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false;
   std::vector<Value> laser_now_, sonar_own_, sonar_now_, held_laser_, held_sonar_;

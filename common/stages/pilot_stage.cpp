@@ -21,7 +21,8 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
 
 PilotConfig pilotConfig(const Config& c) {
   c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
-               "agm_publish_hz", "agm_bearing", "neighbour_bearing", "sonar_cell_point"});
+               "agm_publish_hz", "agm_bearing", "agm_placement", "neighbour_bearing", "sonar_cell_point",
+               "copy_rule", "copy_confirm_tolerance", "laser_explains_radius"});
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   SectorMapParams& s = p.sector_map;
@@ -39,6 +40,24 @@ PilotConfig pilotConfig(const Config& c) {
       p.agm_bearing = AgmBearing::Neighbours;
     else
       c.fail("agm_bearing", "'" + *b + "' is neither 'axis' nor 'neighbours'");
+  }
+  if (const auto cr = c.getOptionalString("copy_rule")) {
+    if (*cr == "paper")
+      s.copy_rule = CopyRule::Paper;
+    else if (*cr == "unless_laser_confirmed")
+      s.copy_rule = CopyRule::UnlessLaserConfirmed;
+    else
+      c.fail("copy_rule", "'" + *cr + "' is neither 'paper' nor 'unless_laser_confirmed'");
+  }
+  s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
+  s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
+  if (const auto pl = c.getOptionalString("agm_placement")) {
+    if (*pl == "estimate")
+      p.agm_placement = AgmPlacement::Estimate;
+    else if (*pl == "evidence")
+      p.agm_placement = AgmPlacement::Evidence;
+    else
+      c.fail("agm_placement", "'" + *pl + "' is neither 'estimate' nor 'evidence'");
   }
   if (const auto cp = c.getOptionalString("sonar_cell_point")) {
     if (*cp == "nearest")
@@ -181,9 +200,14 @@ void PilotStage::onComplement(const complement_t& m) {
     const bool pose_ok =
         std::isfinite(echo.sensor.x) && std::isfinite(echo.sensor.y) && std::isfinite(echo.sensor.theta);
     if (pose_ok) latest.back().second = echo;
-    if (cfg_.agm_bearing == AgmBearing::Neighbours && pose_ok) {
+    if (pose_ok) {
+      // The paper's axis is the estimate, uncertain by half the beam width.
+      BearingEstimate est{echo.sensor.theta, 0.5 * cfg_.bearing.beam_width};
+      if (cfg_.agm_bearing == AgmBearing::Neighbours) est = bearing_.estimate(r.sensor_id, echo);
+      const double b = cfg_.agm_placement == AgmPlacement::Evidence
+                           ? evidenceBearing(agm_, echo.sensor.position(), echo.range, est)
+                           : est.bearing;
       // On the axis: exactly the paper's point (the reading's own end point).
-      const double b = bearing_.bearing(r.sensor_id, echo);
       hits.push_back(b == echo.sensor.theta ? axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
     } else {
       hits.push_back(axis_end);

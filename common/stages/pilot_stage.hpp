@@ -39,6 +39,7 @@
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "operational/agm.hpp"
+#include "operational/evidence_placement.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
 
@@ -52,6 +53,9 @@ struct PilotConfig {
   // point on the acoustic axis), Neighbours = echoPoint() against the other sensors' latest
   // complementary readings (operational/sonar_bearing.hpp).
   AgmBearing agm_bearing = AgmBearing::Neighbours;
+  // Estimate: that bearing's cell; Evidence: the cell of greatest G on the reading's arc within
+  // the bearing's uncertainty (operational/evidence_placement.hpp).
+  AgmPlacement agm_placement = AgmPlacement::Evidence;
   SonarBearingParams bearing;
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.

@@ -227,3 +227,63 @@ TEST(SectorMap, NeverHeardIsStaleWithAgeMinusOne) {
   EXPECT_EQ(m.sonar_age_s, -1);
   for (auto src : m.source) EXPECT_EQ(src, SectorSource::None);
 }
+
+TEST(SectorMap, CellsTheScanExplainsAreNotSonarValues) {
+  SectorMapParams p;
+  p.laser_explains_radius = 0.10;
+  p.sonar_cell_point = CellPoint::Centre;
+  SectorMap s(p);
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});                 // ahead (sector 24), centre 1.0 m away
+  obstacle(agm, {0.05, 1.05});                 // to the left (sector 36), centre 1.0 m away
+  s.setSonarTime(0);
+  // A laser point 8 cm from the first cell's centre (a thin pipe the scan holds); the second
+  // cell's nearest laser point is 15 cm from its centre (beyond the radius).
+  s.setLaserPoints(0, {{1.05, 0.13}, {0.20, 1.05}});
+  const auto& m = s.update(0, pose, agm);
+  EXPECT_FLOAT_EQ(m.sonar[24], -1.0f);          // explained: the laser reports it
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  EXPECT_NEAR(m.sonar[36], 0.65, 1e-6);         // not explained: still the sonar's
+  EXPECT_EQ(m.source[36], SectorSource::Sonar);
+  // Once the scan is stale it explains nothing away: both cells count again.
+  const auto& late = s.update(kSec, pose, agm);
+  ASSERT_TRUE(late.laser_stale);
+  EXPECT_NEAR(late.sonar[24], 0.65, 1e-6);
+  // Radius 0 (the paper): every cell counts.
+  SectorMap paper({});
+  paper.setSonarTime(0);
+  paper.setLaserPoints(0, {{1.05, 0.13}});
+  EXPECT_GE(paper.update(0, pose, agm).sonar[24], 0.0f);
+}
+
+TEST(SectorMap, LaserConfirmedValuesAreNotCopied) {
+  SectorMapParams p;
+  p.copy_rule = CopyRule::UnlessLaserConfirmed;
+  p.sonar_cell_point = CellPoint::Centre;
+  SectorMap s(p);
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});                  // sector 24, sonar 0.65
+  obstacle(agm, {0.05, 1.05});                  // sector 36, sonar 0.65
+  s.setSonarTime(0);
+  // The laser sees an obstacle 0.05 m from sector 24's sonar value (confirmed), and one 0.3 m
+  // beyond sector 36's (not confirmed).
+  s.setLaserPoints(0, {pointAt(pose, 1.0 * kDeg, 0.70), pointAt(pose, 91.0 * kDeg, 0.95)});
+  const auto& m = s.update(0, pose, agm);
+  EXPECT_EQ(m.source[23], SectorSource::None);
+  EXPECT_EQ(m.source[25], SectorSource::None);
+  EXPECT_EQ(m.source[35], SectorSource::SonarCopied);
+  EXPECT_EQ(m.source[37], SectorSource::SonarCopied);
+  // The paper's rule copies both.
+  SectorMapParams q = p;
+  q.copy_rule = CopyRule::Paper;
+  SectorMap paper(q);
+  paper.setSonarTime(0);
+  paper.setLaserPoints(0, {pointAt(pose, 1.0 * kDeg, 0.70), pointAt(pose, 91.0 * kDeg, 0.95)});
+  const auto& n = paper.update(0, pose, agm);
+  EXPECT_EQ(n.source[23], SectorSource::SonarCopied);
+  EXPECT_EQ(n.source[25], SectorSource::SonarCopied);
+}
