@@ -6,7 +6,7 @@
 namespace lasonic {
 
 double evidenceBearing(const AccumulativeGridMap& agm, const geom::Vec2& sensor, double range,
-                       const BearingEstimate& est) {
+                       const BearingEstimate& est, int min_g) {
   if (!(est.halfwidth > 0) || !(range > 0)) return est.bearing;
   // Samples at most half a cell apart along the arc: no cell the arc crosses is skipped over.
   const double step = 0.5 * agm.cellSize() / range;
@@ -29,7 +29,7 @@ double evidenceBearing(const AccumulativeGridMap& agm, const geom::Vec2& sensor,
       }
     }
   }
-  return best_g > 0 && best_q > 0 ? geom::normalizeAngle(best) : est.bearing;
+  return best_g >= std::max(min_g, 1) && best_q > 0 ? geom::normalizeAngle(best) : est.bearing;
 }
 
 }  // namespace lasonic

@@ -9,8 +9,8 @@
 // its cells fall into the pipe's neighbour sectors (false alarms, copied on by the copy rule).
 // Every reading's true point lies on its range arc, and so does the true obstacle: so the cell
 // incremented is the one on the arc, within the bearing's uncertainty, that already holds the
-// most weight G (the readings before it, from other poses, agree there); only where the arc
-// crosses no weight is the estimate used. Still one cell per reading, still no free-space
+// most weight G (the readings before it, from other poses, agree there), if that is at least
+// min_g; otherwise the estimate's cell. Still one cell per reading, still no free-space
 // clearing; what changes is the choice of the cell, by evidence the AGM holds anyway.
 #include "core/geometry.hpp"
 #include "operational/agm.hpp"
@@ -23,10 +23,11 @@ enum class AgmPlacement { Estimate, Evidence };
 
 // The bearing (global frame) of the point to increment for an echo at `range` from `sensor`:
 // the bearing in [est.bearing - est.halfwidth, est.bearing + est.halfwidth] whose arc point lies
-// in the window cell of greatest G > 0 (the arc sampled at most half a cell apart; ties: the
-// sample nearest to est.bearing); est.bearing exactly when no sample touches a weighted cell,
-// when halfwidth is 0, or when range is not positive.
+// in the window cell of greatest G (the arc sampled at most half a cell apart; ties: the sample
+// nearest to est.bearing), if that G is at least min_g (2: a cell two readings agree on; a
+// single hit may be crosstalk, and would attract the next echoes); otherwise, or when
+// halfwidth is 0 or range not positive, exactly est.bearing.
 double evidenceBearing(const AccumulativeGridMap& agm, const geom::Vec2& sensor, double range,
-                       const BearingEstimate& est);
+                       const BearingEstimate& est, int min_g = 2);
 
 }  // namespace lasonic

@@ -21,7 +21,7 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
 
 PilotConfig pilotConfig(const Config& c) {
   c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
-               "agm_publish_hz", "agm_bearing", "agm_placement", "neighbour_bearing", "sonar_cell_point",
+               "agm_publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing", "sonar_cell_point",
                "copy_rule", "copy_confirm_tolerance", "laser_explains_radius"});
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
@@ -51,6 +51,7 @@ PilotConfig pilotConfig(const Config& c) {
   }
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
+  p.evidence_min_g = c.get("evidence_min_g", p.evidence_min_g, Range::between(1, 1e9));
   if (const auto pl = c.getOptionalString("agm_placement")) {
     if (*pl == "estimate")
       p.agm_placement = AgmPlacement::Estimate;
@@ -205,7 +206,7 @@ void PilotStage::onComplement(const complement_t& m) {
       BearingEstimate est{echo.sensor.theta, 0.5 * cfg_.bearing.beam_width};
       if (cfg_.agm_bearing == AgmBearing::Neighbours) est = bearing_.estimate(r.sensor_id, echo);
       const double b = cfg_.agm_placement == AgmPlacement::Evidence
-                           ? evidenceBearing(agm_, echo.sensor.position(), echo.range, est)
+                           ? evidenceBearing(agm_, echo.sensor.position(), echo.range, est, cfg_.evidence_min_g)
                            : est.bearing;
       // On the axis: exactly the paper's point (the reading's own end point).
       hits.push_back(b == echo.sensor.theta ? axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));

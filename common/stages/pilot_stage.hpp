@@ -56,6 +56,7 @@ struct PilotConfig {
   // Estimate: that bearing's cell; Evidence: the cell of greatest G on the reading's arc within
   // the bearing's uncertainty (operational/evidence_placement.hpp).
   AgmPlacement agm_placement = AgmPlacement::Evidence;
+  int evidence_min_g = 2;  // Evidence: the least G of a cell that attracts an echo
   SonarBearingParams bearing;
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.

@@ -230,18 +230,27 @@ TEST(PilotConfig, BearingAndCellPointOptions) {
   const PilotConfig d = pilotConfig(Config::fromString("pilot: {}").section("pilot"));
   EXPECT_EQ(d.agm_bearing, AgmBearing::Neighbours);
   EXPECT_EQ(d.agm_placement, AgmPlacement::Evidence);
+  EXPECT_EQ(d.evidence_min_g, 2);
+  EXPECT_EQ(d.sector_map.copy_rule, CopyRule::Paper);
+  EXPECT_EQ(d.sector_map.laser_explains_radius, 0.0);
   EXPECT_EQ(d.sector_map.sonar_cell_point, CellPoint::Nearest);
   const PilotConfig c = pilotConfig(
-      Config::fromString("pilot: {agm_bearing: axis, agm_placement: estimate, sonar_cell_point: centre, "
+      Config::fromString("pilot: {agm_bearing: axis, agm_placement: estimate, evidence_min_g: 3, sonar_cell_point: centre, "
+                         "copy_rule: unless_laser_confirmed, copy_confirm_tolerance: 0.2, laser_explains_radius: 0.15, "
                          "neighbour_bearing: {beam_deg: 25, similar: 0.05, max_age_s: 0.3}}")
           .section("pilot"));
   EXPECT_EQ(c.agm_bearing, AgmBearing::Axis);
   EXPECT_EQ(c.agm_placement, AgmPlacement::Estimate);
+  EXPECT_EQ(c.evidence_min_g, 3);
+  EXPECT_EQ(c.sector_map.copy_rule, CopyRule::UnlessLaserConfirmed);
+  EXPECT_DOUBLE_EQ(c.sector_map.copy_confirm_tolerance, 0.2);
+  EXPECT_DOUBLE_EQ(c.sector_map.laser_explains_radius, 0.15);
   EXPECT_EQ(c.sector_map.sonar_cell_point, CellPoint::Centre);
   EXPECT_NEAR(c.bearing.beam_width, geom::deg2rad(25.0), 1e-12);
   EXPECT_DOUBLE_EQ(c.bearing.similar, 0.05);
   EXPECT_DOUBLE_EQ(c.bearing.max_age_s, 0.3);
-  for (const char* bad : {"pilot: {agm_bearing: cone}", "pilot: {agm_placement: arc}", "pilot: {sonar_cell_point: far}",
+  for (const char* bad : {"pilot: {agm_bearing: cone}", "pilot: {agm_placement: arc}", "pilot: {evidence_min_g: 0}",
+                          "pilot: {copy_rule: never}", "pilot: {laser_explains_radius: -0.1}", "pilot: {sonar_cell_point: far}",
                           "pilot: {neighbour_bearing: {beam: 30}}", "pilot: {neighbour_bearing: {similar: -1}}"}) {
     EXPECT_THROW(pilotConfig(Config::fromString(bad).section("pilot")), ConfigError) << bad;
   }
