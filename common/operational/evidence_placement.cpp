@@ -8,6 +8,9 @@ namespace lasonic {
 double evidenceBearing(const AccumulativeGridMap& agm, const geom::Vec2& sensor, double range,
                        const BearingEstimate& est, int min_g) {
   if (!(est.halfwidth > 0) || !(range > 0)) return est.bearing;
+  // An arc longer than the window is wider than anything the AGM could say (and a malformed
+  // huge range must not cost a huge loop): the estimate.
+  if (!(range * est.halfwidth <= agm.size() * agm.cellSize())) return est.bearing;
   // Samples at most half a cell apart along the arc: no cell the arc crosses is skipped over.
   const double step = 0.5 * agm.cellSize() / range;
   const int half = static_cast<int>(std::ceil(est.halfwidth / step));

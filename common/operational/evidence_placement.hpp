@@ -26,7 +26,7 @@ enum class AgmPlacement { Estimate, Evidence };
 // in the window cell of greatest G (the arc sampled at most half a cell apart; ties: the sample
 // nearest to est.bearing), if that G is at least min_g (2: a cell two readings agree on; a
 // single hit may be crosstalk, and would attract the next echoes); otherwise, or when
-// halfwidth is 0 or range not positive, exactly est.bearing.
+// halfwidth is 0, range not positive, or the arc longer than the window, exactly est.bearing.
 double evidenceBearing(const AccumulativeGridMap& agm, const geom::Vec2& sensor, double range,
                        const BearingEstimate& est, int min_g = 2);
 

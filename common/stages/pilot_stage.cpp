@@ -86,6 +86,7 @@ PilotConfig pilotConfig(const Config& c) {
 }
 
 namespace {
+constexpr double kMaxEchoRange = 100.0;  // [m] no sonar hears this far: a malformed reading
 std::string num(double v) {
   std::ostringstream s;
   s << v;
@@ -191,8 +192,10 @@ void PilotStage::onComplement(const complement_t& m) {
         ok = false;
       }
     }
-    if (ok && r.range < 0) {  // a negative "echo" would also make every neighbour's bearing shift
-      node_.reportError("rejected.complement_range", reading(i, "range") + " = " + num(r.range) + ": skipped");
+    // A negative or absurd "echo" would also shift every neighbour's bearing.
+    if (ok && (r.range < 0 || r.range > kMaxEchoRange)) {
+      node_.reportError("rejected.complement_range", reading(i, "range") + " = " + num(r.range) +
+                                                         " (not in [0, 100] m): skipped");
       ok = false;
     }
     if (!ok) continue;

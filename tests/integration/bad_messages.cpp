@@ -9,7 +9,7 @@
 //                                       ranges and an unknown flag, no readings, a negative offset,
 //                                       a NaN range_max, a zero angle_increment, one going
 //                                       backwards; SONAR_COMPLEMENT with a NaN end point, class 42,
-//                                       a negative range, an end point 1e30 away, one going
+//                                       a negative range, a 1e30 m range, an end point 1e30 away, one going
 //                                       backwards; a SONAR_RING with ranges NaN / -1 / 1e9 and
 //                                       sensor ids -1 / 99 (num_sensors 24);
 //                                   (e) a valid stream (10.0 .. 11.5 s): the robot standing in a
@@ -207,6 +207,7 @@ void semanticGarbage(lcm::LCM& lcm, Sent& sent) {
   c.readings.push_back(reading(complement_reading_t::CLASS_COMPLEMENTARY, 1.0, kNaN, 2.0));  // complement_nan
   c.readings.push_back(reading(42, 1.0, 3.0, 2.0));                                         // complement_class
   c.readings.push_back(reading(complement_reading_t::CLASS_COMPLEMENTARY, -1.0, 3.0, 2.0));  // complement_range
+  c.readings.push_back(reading(complement_reading_t::CLASS_COMPLEMENTARY, 1e30, 3.0, 2.0));  // complement_range
   c.readings.push_back(reading(complement_reading_t::CLASS_COMPLEMENTARY, 1.0, 1e30, -1e30));  // outside the window
   send(lcm, sent, channels::SONAR_COMPLEMENT, c);
   c.utime = 1'500'000;
@@ -454,7 +455,7 @@ int check(const std::string& file) {
                {"rejected.laser_backwards", 1},
                {"rejected.complement_nan", 1},
                {"rejected.complement_class", 1},
-               {"rejected.complement_range", 1},
+               {"rejected.complement_range", 2},
                {"rejected.complement_backwards", 1},
                {"agm.hits_outside_window", 1}},
               "SONAR_COMPLEMENT.utime = 1500000");

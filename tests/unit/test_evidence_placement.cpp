@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "operational/evidence_placement.hpp"
@@ -71,6 +72,10 @@ TEST(EvidenceBearing, IgnoresWeightOutsideTheUncertaintyOrOffTheArc) {
   addWeight(m, onArc(36.0), 5);
   EXPECT_EQ(evidenceBearing(m, kSensor, kRange, {deg2rad(37.5), 0.0}), deg2rad(37.5));
   EXPECT_EQ(evidenceBearing(m, kSensor, 0.0, est), est.bearing);
+  // Malformed ranges: the estimate, at once.
+  EXPECT_EQ(evidenceBearing(m, kSensor, 1e30, est), est.bearing);
+  EXPECT_EQ(evidenceBearing(m, kSensor, std::numeric_limits<double>::infinity(), est), est.bearing);
+  EXPECT_EQ(evidenceBearing(m, kSensor, std::numeric_limits<double>::quiet_NaN(), est), est.bearing);
 }
 
 TEST(EvidenceBearing, ASingleHitAttractsOnlyWithMinGOne) {
