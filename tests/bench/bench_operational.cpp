@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "operational/agm.hpp"
+#include "operational/evidence_placement.hpp"
 #include "operational/sector_map.hpp"
 
 using namespace lasonic;
@@ -131,5 +132,16 @@ BENCHMARK(BM_SectorMapUpdate)
     ->Args({1, 0})
     ->Args({1, 1})
     ->Unit(benchmark::kNanosecond);
+
+// Evidence placement of one echo at 1.5 m on the paper's +-15 deg arc (the widest) in an AGM
+// holding a room's worth of weight.
+void BM_EvidenceBearing(benchmark::State& state) {
+  AccumulativeGridMap agm{AgmParams{}};
+  agm.centreOn({0.0, 0.0});
+  for (const auto& g : firingGroups(5.0, 200, 4, 11)) agm.update(g);
+  const BearingEstimate est{0.7, geom::deg2rad(15.0)};
+  for (auto _ : state) benchmark::DoNotOptimize(evidenceBearing(agm, {0.3, 0.2}, 1.5, est));
+}
+BENCHMARK(BM_EvidenceBearing)->Unit(benchmark::kNanosecond);
 
 }  // namespace
