@@ -9,10 +9,12 @@
 // Processes catch ConfigError at start-up, log it and exit with code 2.
 #include <yaml-cpp/yaml.h>
 
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -70,6 +72,10 @@ class Config {
   int get(const std::string& key, int def, const Range& r) const;
   double requireNum(const std::string& key, const Range& r) const;
   std::optional<std::string> getOptionalString(const std::string& key) const;
+  // A string that names one of `choices` (name, value); missing -> def; any other string is an
+  // error listing the names.
+  template <typename T>
+  T getChoice(const std::string& key, T def, std::initializer_list<std::pair<const char*, T>> choices) const;
 
   // [x, y]
   geom::Vec2 requireVec2(const std::string& key) const;
@@ -114,6 +120,18 @@ template <typename T>
 T Config::require(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
   return convert<T>(node_[key], key);
+}
+
+template <typename T>
+T Config::getChoice(const std::string& key, T def, std::initializer_list<std::pair<const char*, T>> choices) const {
+  const auto v = getOptionalString(key);
+  if (!v) return def;
+  std::string names;
+  for (const auto& [name, value] : choices) {
+    if (*v == name) return value;
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  }
+  fail(key, "must be one of " + names + " (got \"" + *v + "\")");
 }
 
 }  // namespace lasonic

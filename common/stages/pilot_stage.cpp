@@ -33,41 +33,17 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
-  if (const auto b = c.getOptionalString("agm_bearing")) {
-    if (*b == "axis")
-      p.agm_bearing = AgmBearing::Axis;
-    else if (*b == "neighbours")
-      p.agm_bearing = AgmBearing::Neighbours;
-    else
-      c.fail("agm_bearing", "'" + *b + "' is neither 'axis' nor 'neighbours'");
-  }
-  if (const auto cr = c.getOptionalString("copy_rule")) {
-    if (*cr == "paper")
-      s.copy_rule = CopyRule::Paper;
-    else if (*cr == "unless_laser_confirmed")
-      s.copy_rule = CopyRule::UnlessLaserConfirmed;
-    else
-      c.fail("copy_rule", "'" + *cr + "' is neither 'paper' nor 'unless_laser_confirmed'");
-  }
+  p.agm_bearing = c.getChoice("agm_bearing", p.agm_bearing,
+                              {{"axis", AgmBearing::Axis}, {"neighbours", AgmBearing::Neighbours}});
+  p.agm_placement = c.getChoice("agm_placement", p.agm_placement,
+                                {{"estimate", AgmPlacement::Estimate}, {"evidence", AgmPlacement::Evidence}});
+  p.evidence_min_g = c.get("evidence_min_g", p.evidence_min_g, Range::between(1, 1e9));
+  s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
+                                   {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
+  s.copy_rule = c.getChoice("copy_rule", s.copy_rule,
+                            {{"paper", CopyRule::Paper}, {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed}});
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
-  p.evidence_min_g = c.get("evidence_min_g", p.evidence_min_g, Range::between(1, 1e9));
-  if (const auto pl = c.getOptionalString("agm_placement")) {
-    if (*pl == "estimate")
-      p.agm_placement = AgmPlacement::Estimate;
-    else if (*pl == "evidence")
-      p.agm_placement = AgmPlacement::Evidence;
-    else
-      c.fail("agm_placement", "'" + *pl + "' is neither 'estimate' nor 'evidence'");
-  }
-  if (const auto cp = c.getOptionalString("sonar_cell_point")) {
-    if (*cp == "nearest")
-      s.sonar_cell_point = CellPoint::Nearest;
-    else if (*cp == "centre")
-      s.sonar_cell_point = CellPoint::Centre;
-    else
-      c.fail("sonar_cell_point", "'" + *cp + "' is neither 'nearest' nor 'centre'");
-  }
   const Config nb = c.section("neighbour_bearing");
   nb.allowOnly({"beam_deg", "similar", "max_age_s"});
   p.bearing.beam_width =

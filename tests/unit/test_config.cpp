@@ -37,6 +37,15 @@ TEST(Config, ErrorsNameTheKeyPath) {
             std::string::npos);
 }
 
+TEST(Config, ChoiceNamesItsOptions) {
+  const Config c = Config::fromString("pilot: {rule: paper, mode: sideways}\n", "c.yaml");
+  const Config p = c.section("pilot");
+  EXPECT_EQ(p.getChoice("rule", 0, {{"paper", 1}, {"ours", 2}}), 1);
+  EXPECT_EQ(p.getChoice("absent", 7, {{"paper", 1}}), 7);
+  EXPECT_EQ(errorOf([&] { p.getChoice("mode", 0, {{"up", 1}, {"down", 2}}); }),
+            "c.yaml: pilot.mode: must be one of up, down (got \"sideways\")");
+}
+
 TEST(Config, SyntaxAndFileErrors) {
   EXPECT_NE(errorOf([] { Config::fromString("a: [1, 2\n", "bad.yaml"); }).find("bad.yaml: YAML syntax error"),
             std::string::npos);
