@@ -152,6 +152,7 @@ line_map_t radarMapToMessage(const RadarMap& rm) {
     l.npoints = s.npoints;
     l.rms = static_cast<float>(s.rms);
     l.source = line_segment_t::SOURCE_LASER;
+    l.last_supported_utime = rm.utime;
     m.segments.push_back(l);
   }
   m.nsegments = static_cast<int32_t>(m.segments.size());

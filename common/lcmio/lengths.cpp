@@ -43,4 +43,6 @@ void setLengths(process_status_t& m) {
 void setLengths(sim_state_t& m) { m.nmovers = sameSize<int32_t>("sim_state_t", m.movers); }
 void setLengths(sonar_truth_t& m) { m.nreadings = sameSize<int32_t>("sonar_truth_t", m.causes); }
 
+void setLengths(laser_truth_t& m) { m.nranges = sameSize<int32_t>("laser_truth_t", m.obstacle); }
+
 }  // namespace lasonic

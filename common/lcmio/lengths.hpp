@@ -7,6 +7,7 @@
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/hypothetical_scan_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
+#include <lasonic/laser_truth_t.hpp>
 #include <lasonic/line_map_t.hpp>
 #include <lasonic/process_status_t.hpp>
 #include <lasonic/sector_map_t.hpp>
@@ -28,6 +29,7 @@ void setLengths(sector_map_t& m);
 void setLengths(process_status_t& m);
 void setLengths(sim_state_t& m);
 void setLengths(sonar_truth_t& m);
+void setLengths(laser_truth_t& m);
 // Types without arrays.
 template <typename T> void setLengths(T&) {}
 

@@ -27,6 +27,7 @@ inline constexpr const char* SONAR_RING = "SONAR_RING";
 inline constexpr const char* SONAR_GEOMETRY = "SONAR_GEOMETRY";
 inline constexpr const char* SIM_STATE = "SIM_STATE";
 inline constexpr const char* SONAR_TRUTH = "SONAR_TRUTH";
+inline constexpr const char* LASER_TRUTH = "LASER_TRUTH";
 inline constexpr const char* RADAR_MAP = "RADAR_MAP";
 inline constexpr const char* SONAR_HYPOTHESIS = "SONAR_HYPOTHESIS";
 inline constexpr const char* SONAR_COMPLEMENT = "SONAR_COMPLEMENT";

@@ -215,6 +215,13 @@ SonarReading fireSensor(const WorldGeometry& world, const geom::Pose2& sensor, d
       out.truth.cause = sonar_cause_t::CAUSE_SPECULAR_LONG;
     }
   }
+  if (direct.hit) {
+    out.truth.hit_x = direct.hit->point.x();
+    out.truth.hit_y = direct.hit->point.y();
+    out.truth.reflector = direct.hit->primitive->kind == Primitive::Kind::Circle
+                              ? sonar_cause_t::REFLECTOR_CYLINDER
+                              : sonar_cause_t::REFLECTOR_PLANE;
+  }
   if (cause_hit) {
     out.truth.obstacle = cause_hit->obstacle;
     out.truth.laser_visible = cause_hit->primitive->material->laser == LaserBehaviour::Reflect;
