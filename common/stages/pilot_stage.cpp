@@ -11,6 +11,7 @@
 
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
+#include "stages/stage_inputs.hpp"
 
 namespace lasonic {
 
@@ -61,45 +62,19 @@ PilotConfig pilotConfig(const Config& c) {
   return p;
 }
 
-namespace {
-constexpr double kMaxEchoRange = 100.0;  // [m] no sonar hears this far: a malformed reading
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-std::string reading(size_t i, const char* field) {
-  return "SONAR_COMPLEMENT.readings[" + std::to_string(i) + "]." + field;
-}
-}  // namespace
-
 PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
-    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map), bearing_(cfg.bearing) {
+    : node_(node),
+      cfg_(cfg),
+      agm_(cfg.agm),
+      sector_map_(cfg.sector_map),
+      placer_(EchoPlacementConfig{cfg.agm_bearing, cfg.agm_placement, cfg.evidence_min_g, cfg.bearing}) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
 }
 
 void PilotStage::onOdometry(const odometry_t& m) {
-  node_.noteMessageTime(m.utime);
-  const std::pair<const char*, double> fields[] = {
-      {"pose.x", m.pose.x}, {"pose.y", m.pose.y}, {"pose.theta", m.pose.theta}, {"v", m.v}};
-  for (const auto& [name, value] : fields) {
-    if (!std::isfinite(value)) {
-      node_.reportError("rejected.odometry_nan", std::string("ODOMETRY.") + name + " = " + num(value) + " (utime " +
-                                                     std::to_string(m.utime) + "): dropped");
-      return;
-    }
-  }
-  switch (poses_.add(m.utime, {m.pose.x, m.pose.y, m.pose.theta})) {
-    case PoseHistory::AddResult::Ok: speed_ = m.v; break;
-    case PoseHistory::AddResult::Duplicate: node_.count("odometry_duplicates"); break;
-    case PoseHistory::AddResult::WentBackwards:
-      node_.reportError("rejected.odometry_backwards", "ODOMETRY.utime = " + std::to_string(m.utime) +
-                                                           " is older than the newest (" +
-                                                           std::to_string(poses_.newestTime()) + "): dropped");
-      break;
-  }
+  if (acceptOdometry(node_, poses_, m)) speed_ = m.v;
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
@@ -147,53 +122,7 @@ void PilotStage::onComplement(const complement_t& m) {
   }
   last_complement_utime_ = m.utime;
 
-  std::vector<geom::Vec2> hits;
-  // Every reading replaces its sensor's latest echo (after the whole group: the sensors of one
-  // group fire together and never overlap); only a usable complementary one is an echo.
-  std::vector<std::pair<int, std::optional<SonarEcho>>> latest;
-  for (size_t i = 0; i < m.readings.size(); ++i) {
-    const complement_reading_t& r = m.readings[i];
-    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
-      node_.reportError("rejected.complement_class",
-                        reading(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped");
-      continue;
-    }
-    latest.emplace_back(r.sensor_id, std::nullopt);
-    if (r.cls != complement_reading_t::CLASS_COMPLEMENTARY) continue;
-    const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
-    bool ok = true;
-    for (const auto& [name, value] : fields) {
-      if (ok && !std::isfinite(value)) {
-        node_.reportError("rejected.complement_nan", reading(i, name) + " = " + num(value) + ": skipped");
-        ok = false;
-      }
-    }
-    // A negative or absurd "echo" would also shift every neighbour's bearing.
-    if (ok && (r.range < 0 || r.range > kMaxEchoRange)) {
-      node_.reportError("rejected.complement_range", reading(i, "range") + " = " + num(r.range) +
-                                                         " (not in [0, 100] m): skipped");
-      ok = false;
-    }
-    if (!ok) continue;
-    const geom::Vec2 axis_end(r.end_x, r.end_y);
-    const SonarEcho echo{m.utime, r.range, {r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta}};
-    const bool pose_ok =
-        std::isfinite(echo.sensor.x) && std::isfinite(echo.sensor.y) && std::isfinite(echo.sensor.theta);
-    if (pose_ok) latest.back().second = echo;
-    if (pose_ok) {
-      // The paper's axis is the estimate, uncertain by half the beam width.
-      BearingEstimate est{echo.sensor.theta, 0.5 * cfg_.bearing.beam_width};
-      if (cfg_.agm_bearing == AgmBearing::Neighbours) est = bearing_.estimate(r.sensor_id, echo);
-      const double b = cfg_.agm_placement == AgmPlacement::Evidence
-                           ? evidenceBearing(agm_, echo.sensor.position(), echo.range, est, cfg_.evidence_min_g)
-                           : est.bearing;
-      // On the axis: exactly the paper's point (the reading's own end point).
-      hits.push_back(b == echo.sensor.theta ? axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
-    } else {
-      hits.push_back(axis_end);
-    }
-  }
-  for (const auto& [id, echo] : latest) bearing_.record(id, echo);
+  const std::vector<geom::Vec2> hits = placer_.place(complementGroup(node_, m), agm_);
 
   if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
     node_.count("agm.recentred");

@@ -39,6 +39,7 @@
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "operational/agm.hpp"
+#include "operational/echo_placer.hpp"
 #include "operational/evidence_placement.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
@@ -79,7 +80,7 @@ class PilotStage {
   double speed_ = 0;  // [m/s] newest ODOMETRY.v
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
-  SonarBearingTracker bearing_;
+  EchoPlacer placer_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
 };

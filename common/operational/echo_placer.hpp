@@ -1,0 +1,54 @@
+#pragma once
+// EchoPlacer: the ONE cell each complementary echo of a firing group increments (the trivial
+// sensor model of the Accumulative Grid Map, Jörg 1995 sec. 3.2, with this project's bearing and
+// placement refinements). Shared by the operational (pilot) and tactical (navigator) AGMs, so
+// both levels put the same echo in the same place, each against its own grid's evidence.
+//
+// Per firing group: every usable complementary echo gets one point, at its range along
+//  - Axis: the acoustic axis (the paper), or Neighbours: the bearing its overlapping neighbours'
+//    latest echoes suggest (operational/sonar_bearing.hpp);
+//  - Estimate: exactly that bearing, or Evidence: the bearing within its uncertainty whose arc
+//    cell already holds the most weight G (operational/evidence_placement.hpp).
+// Then every reading of the group becomes its sensor's latest (an echo, or none), after the whole
+// group: the sensors of a group fire together and their beams never overlap, so the result does
+// not depend on the readings' order.
+#include <optional>
+#include <vector>
+
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+#include "operational/evidence_placement.hpp"
+#include "operational/sonar_bearing.hpp"
+
+namespace lasonic {
+
+struct EchoPlacementConfig {
+  AgmBearing bearing = AgmBearing::Neighbours;
+  AgmPlacement placement = AgmPlacement::Evidence;
+  int evidence_min_g = 2;  // Evidence: the least G of a cell that attracts an echo
+  SonarBearingParams params;
+};
+
+// One reading of a firing group, as far as the AGM is concerned.
+struct GroupReading {
+  int sensor_id = 0;
+  bool echo = false;         // a usable complementary echo (finite, plausible range and end point)
+  SonarEcho e;               // valid if echo: firing time, range, sensor pose (global frame)
+  geom::Vec2 axis_end = geom::Vec2::Zero();  // the reading's end point on the acoustic axis
+};
+
+class EchoPlacer {
+ public:
+  explicit EchoPlacer(const EchoPlacementConfig& c) : cfg_(c), tracker_(c.params) {}
+  const EchoPlacementConfig& config() const { return cfg_; }
+  // One point per echo of the group (global frame), then records the group's readings as their
+  // sensors' latest. An echo whose sensor pose is not finite is put at its axis end point and is
+  // no neighbour to others.
+  std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, const AccumulativeGridMap& agm);
+
+ private:
+  EchoPlacementConfig cfg_;
+  SonarBearingTracker tracker_;
+};
+
+}  // namespace lasonic
