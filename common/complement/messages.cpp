@@ -184,6 +184,8 @@ complement_t complementToMessage(const GroupComplement& g, const ComplementParam
   m.radar_map_utime = g.radar_map_utime;
   m.radar_map_stale = g.radar_map_stale ? 1 : 0;
   m.tolerance = static_cast<float>(p.tolerance);
+  m.beam_width = static_cast<float>(p.model.beam_width);
+  m.range_limit = static_cast<float>(p.model.range_limit);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const ClassifiedReading& r : g.readings) {
     complement_reading_t c;

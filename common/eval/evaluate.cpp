@@ -41,6 +41,8 @@ RunLog loadRunLog(const std::string& path) {
     else if (ch == channels::SONAR_COMPLEMENT) decodeInto(*r, log.complements, log.undecodable);
     else if (ch == channels::SECTOR_MAP) decodeInto(*r, log.sector_maps, log.undecodable);
     else if (ch == channels::AGM_OPERATIONAL) decodeInto(*r, log.agm_operational, log.undecodable);
+    else if (ch == channels::AGM_TACTICAL) decodeInto(*r, log.agm_tactical, log.undecodable);
+    else if (ch == channels::CURRENT_SENSOR_MAP) decodeInto(*r, log.current_sensor_maps, log.undecodable);
   }
   // Live logs interleave processes: order by message time (stable for equal times).
   std::stable_sort(log.sim_states.begin(), log.sim_states.end(),
@@ -257,17 +259,7 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOp
   sim::WorldGeometry world(sc);
   // Boundary samples of laser-invisible static obstacles: what the complement exists to find.
   std::vector<geom::Vec2> invisible_pts;
-  for (const auto& p : sc.statics) {
-    if (sc.laserVisible(p.obstacle)) continue;
-    if (p.kind == sim::Primitive::Kind::Segment) {
-      const int n = std::max(1, static_cast<int>(std::ceil(p.segment.length() / 0.05)));
-      for (int i = 0; i <= n; ++i) invisible_pts.push_back(p.segment.a + (p.segment.b - p.segment.a) * (double(i) / n));
-    } else {
-      const int n = std::max(8, static_cast<int>(std::ceil(2 * geom::kPi * p.circle.radius / 0.05)));
-      for (int i = 0; i < n; ++i)
-        invisible_pts.push_back(p.circle.center + p.circle.radius * geom::unitVector(2 * geom::kPi * i / n));
-    }
-  }
+  for (const BoundaryPoint& b : laserInvisibleBoundary(sc)) invisible_pts.push_back(b.p);
   Ratio precision, recall;
   for (const auto& g : log.agm_operational) {
     world.setMovers(truth.moversAt(g.utime));
@@ -322,6 +314,8 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
   evalComplement(log, o, m);
   evalSectorMap(log, sc, o, m);
   evalAgmOperational(log, sc, o, m);
+  evalAgmTactical(log, sc, o, m);
+  evalLines(log, sc, o, m);
   return m;
 }
 

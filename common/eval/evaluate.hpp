@@ -9,6 +9,7 @@
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/hypothetical_scan_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
+#include <lasonic/line_map_t.hpp>
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 #include <lasonic/sim_state_t.hpp>
@@ -31,6 +32,8 @@ struct RunLog {
   std::vector<complement_t> complements;
   std::vector<sector_map_t> sector_maps;
   std::vector<grid_map_t> agm_operational;
+  std::vector<grid_map_t> agm_tactical;
+  std::vector<line_map_t> current_sensor_maps;
   int64_t undecodable = 0;  // events on known channels that did not decode
 };
 
@@ -41,6 +44,8 @@ struct EvalOptions {
   double range_limit = 2.20;       // [m] the ideal sonar's limit (overridden by SONAR_HYPOTHESIS)
   double sector_range = 2.0;       // [m] sector map: obstacles this close to the boundary must be seen
   double sector_tolerance = 0.10;  // [m]
+  double located_radius = 0.30;    // [m] a direct echo's hit point this close locates a boundary point
+  double line_tolerance = 0.10;    // [m] lines: within this of a boundary point / a true surface
 };
 
 // The truth at any time, interpolated between SIM_STATE messages.
@@ -64,6 +69,26 @@ std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const g
                                         double robot_radius, int nsectors, double max_range);
 void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+
+// Boundary points (every `spacing` metres) of the scenario's static obstacles that do not reflect
+// the laser, each with its obstacle index and the surface (index into Scenario::statics: one side
+// of a box or polyline, or a circle) it lies on.
+struct BoundaryPoint {
+  geom::Vec2 p;
+  int obstacle = -1;
+  int surface = -1;
+};
+std::vector<BoundaryPoint> laserInvisibleBoundary(const sim::Scenario& sc, double spacing = 0.05);
+// For each point, the earliest firing time of a DIRECT echo whose hit point lies on the point's
+// own surface (within 1 cm of it: a corner lies on both sides) and within `radius` of the point
+// (SONAR_TRUTH), or INT64_MAX if none ever did: when the point was located. An echo locates the
+// surface that answered, not the back of a box behind it.
+std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts,
+                                  double radius);
+
+// Tactical level (AGM_TACTICAL, CURRENT_SENSOR_MAP); definitions in the README.
+void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {});
 

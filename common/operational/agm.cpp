@@ -10,7 +10,7 @@ namespace lasonic {
 
 AgmParams agmParams(const Config& c, AgmParams p) {
   c.allowOnly({"size", "cell_size", "g_max", "h_max", "t", "g_threshold", "recenter_max_cells",
-               "recenter_min_cells", "recenter_lookahead_s"});
+               "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m"});
   p.size = c.get("size", p.size, Range::between(3, 10000));
   p.cell_size = c.get("cell_size", p.cell_size, Range::positive());
   p.g_max = c.get("g_max", p.g_max, Range::between(1, std::numeric_limits<int16_t>::max()));
@@ -20,6 +20,8 @@ AgmParams agmParams(const Config& c, AgmParams p) {
   p.recenter_max_cells = c.get("recenter_max_cells", p.recenter_max_cells, Range::between(0, p.size / 2 - 1));
   p.recenter_min_cells = c.get("recenter_min_cells", p.recenter_min_cells, Range::between(0, p.recenter_max_cells));
   p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::nonNegative());
+  p.hit_centroids = c.get<bool>("hit_centroids", p.hit_centroids);
+  p.h_max_m = c.get("h_max_m", p.h_max_m, Range::nonNegative());
   return p;
 }
 
@@ -32,6 +34,11 @@ AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p) : p_(p), n_(p.size)
   gu_.assign(cells, 0);
   gp_.assign(cells, 0);
   last_hit_.assign(cells, 0);
+  if (p_.hit_centroids) {
+    hx_.assign(cells, 0.f);
+    hy_.assign(cells, 0.f);
+    hn_.assign(cells, 0);
+  }
   ox_ = oy_ = -(n_ / 2);  // centred on the global origin until the robot is known
 }
 
@@ -53,6 +60,9 @@ int AccumulativeGridMap::recenterLimit(double speed) const {
 
 bool AccumulativeGridMap::follow(const geom::Vec2& robot, double speed) {
   if (!std::isfinite(robot.x()) || !std::isfinite(robot.y())) return false;
+  if (have_robot_) odometer_ += std::min((robot - last_robot_).norm(), 1e6);
+  have_robot_ = true;
+  last_robot_ = robot;
   const int64_t rx = globalCell(robot.x()), ry = globalCell(robot.y());
   const int64_t off = std::max(std::abs(rx - (ox_ + n_ / 2)), std::abs(ry - (oy_ + n_ / 2)));
   if (off <= recenterLimit(std::isfinite(speed) ? speed : 0.0)) return false;
@@ -118,6 +128,7 @@ void AccumulativeGridMap::moveTo(int64_t nox, int64_t noy) {
     const size_t s = slotGlobal(x, y);
     gu_[s] = gp_[s] = 0;
     last_hit_[s] = 0;
+    forgetHits(s);
   });
   const int64_t old_x = ox_, old_y = oy_;
   ox_ = nox;
@@ -138,6 +149,11 @@ void AccumulativeGridMap::clearAll() {
   std::fill(gu_.begin(), gu_.end(), 0);
   std::fill(gp_.begin(), gp_.end(), 0);
   std::fill(last_hit_.begin(), last_hit_.end(), 0);
+  if (p_.hit_centroids) {
+    std::fill(hx_.begin(), hx_.end(), 0.f);
+    std::fill(hy_.begin(), hy_.end(), 0.f);
+    std::fill(hn_.begin(), hn_.end(), 0);
+  }
   hits_.clear();
 }
 
@@ -153,16 +169,27 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
     const size_t s = slotGlobal(gx, gy);
     if (g_[s] < p_.g_max) addWeight(gx, gy, +1);
     last_hit_[s] = cycle_;
-    hits_.push_back({gx, gy, cycle_});
+    if (p_.hit_centroids) {
+      hx_[s] += static_cast<float>(p.x() - static_cast<double>(gx) * p_.cell_size);
+      hy_[s] += static_cast<float>(p.y() - static_cast<double>(gy) * p_.cell_size);
+      ++hn_[s];
+    }
+    hits_.push_back({gx, gy, cycle_, odometer_});
   }
-  // Revision: H = cycle_ - last_hit > h_max -> G = 0. Only cells hit h_max+1 cycles ago can
-  // qualify; entries of cells hit again since, or forgotten by re-centring, are skipped.
-  while (!hits_.empty() && cycle_ - hits_.front().cycle > p_.h_max) {
+  // Revision: H = cycle_ - last_hit > h_max -> G = 0 (and, with h_max_m, when the robot has
+  // driven more than h_max_m since). Only cells hit that long ago can qualify (the queue is in
+  // cycle order, hence in odometer order); entries of cells hit again since, or forgotten by
+  // re-centring, are skipped.
+  while (!hits_.empty() && (cycle_ - hits_.front().cycle > p_.h_max ||
+                            (p_.h_max_m > 0 && odometer_ - hits_.front().odometer > p_.h_max_m))) {
     const Hit hit = hits_.front();
     hits_.pop_front();
     if (!inWindow(hit.gx, hit.gy)) continue;
     const size_t s = slotGlobal(hit.gx, hit.gy);
-    if (g_[s] > 0 && last_hit_[s] == hit.cycle) addWeight(hit.gx, hit.gy, -g_[s]);
+    if (g_[s] > 0 && last_hit_[s] == hit.cycle) {
+      addWeight(hit.gx, hit.gy, -g_[s]);
+      forgetHits(s);
+    }
   }
   return inside;
 }
@@ -184,6 +211,19 @@ int AccumulativeGridMap::h(int ix, int iy) const {
   const size_t s = slot(ix, iy);
   if (g_[s] <= 0) return 0;
   return static_cast<int>(std::min<int64_t>(cycle_ - last_hit_[s], std::numeric_limits<int16_t>::max()));
+}
+
+int64_t AccumulativeGridMap::lastHitCycle(int ix, int iy) const {
+  const size_t s = slot(ix, iy);
+  return g_[s] > 0 ? last_hit_[s] : 0;
+}
+
+geom::Vec2 AccumulativeGridMap::evidencePoint(int ix, int iy) const {
+  const size_t s = slot(ix, iy);
+  const geom::Vec2 corner = cellCorner(ix, iy);
+  if (p_.hit_centroids && g_[s] > 0 && hn_[s] > 0)
+    return corner + geom::Vec2(hx_[s] / static_cast<float>(hn_[s]), hy_[s] / static_cast<float>(hn_[s]));
+  return corner + geom::Vec2(0.5 * p_.cell_size, 0.5 * p_.cell_size);
 }
 
 void AccumulativeGridMap::exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h,

@@ -41,6 +41,14 @@ struct AgmParams {
   int recenter_max_cells = 5;         // k at standstill
   int recenter_min_cells = 1;         // k is never below this
   double recenter_lookahead_s = 1.0;  // k shrinks by the whole cells driven in this time
+  // Also keep, per cell, the mean of the points its hits landed on (beyond the paper: the grid's
+  // weights are unchanged; consumers that fit geometry, like line generation, then use where the
+  // echoes were instead of the cell centre, free of the cell's quantisation error).
+  bool hit_centroids = false;
+  // Also forget a cell once the robot has driven this far [m] since its last increment (0: off;
+  // beyond the paper, for long memories: what limits them is the odometry's drift per metre
+  // driven, not time). Distance = the sum of the moves between the positions given to follow().
+  double h_max_m = 0;
 };
 // Reads the keys of an AGM config section over `base` (defaults of the level using it).
 // Throws ConfigError naming the key path.
@@ -68,8 +76,9 @@ class AccumulativeGridMap {
   int recenterLimit(double speed) const;
   // Moves the window (whole cells) so that the robot's cell becomes the centre cell
   // (ix = iy = N/2) when the robot is farther than recenterLimit(speed) from it.
-  // Returns true if the window moved.
+  // Returns true if the window moved. Also advances the odometer (h_max_m).
   bool follow(const geom::Vec2& robot, double speed);
+  double odometer() const { return odometer_; }
   // Centres the window on p unconditionally.
   void centreOn(const geom::Vec2& p);
 
@@ -87,6 +96,11 @@ class AccumulativeGridMap {
   int h(int ix, int iy) const;  // 0 where G == 0
   int gu(int ix, int iy) const { return gu_[slot(ix, iy)]; }
   int gp(int ix, int iy) const { return gp_[slot(ix, iy)]; }
+  // Update cycle (1, 2, ...) of the cell's last increment; 0 where G == 0.
+  int64_t lastHitCycle(int ix, int iy) const;
+  // Global position of the mean of the hits that built the cell's weight (hit_centroids), else
+  // (or for a cell without weight) its centre.
+  geom::Vec2 evidencePoint(int ix, int iy) const;
 
   // Calls f(ix, iy, G, Gp) for every window cell of [ix0, ix1] x [iy0, iy1] (clipped to the
   // window), without a division per cell.
@@ -117,9 +131,20 @@ class AccumulativeGridMap {
   int64_t cycle_ = 0;
   std::vector<int32_t> g_, gu_, gp_;
   std::vector<int64_t> last_hit_;  // cycle of the last increment of G (H = cycle_ - last_hit_)
+  // hit_centroids: sums of the hits' offsets from their cell's lower-left corner, and their count
+  // (reset whenever G falls to 0).
+  std::vector<float> hx_, hy_;
+  std::vector<int32_t> hn_;
+  void forgetHits(size_t s) {
+    if (p_.hit_centroids) hx_[s] = hy_[s] = 0, hn_[s] = 0;
+  }
   struct Hit {
     int64_t gx, gy, cycle;
+    double odometer;
   };
+  double odometer_ = 0;  // [m] driven so far (follow() positions)
+  bool have_robot_ = false;
+  geom::Vec2 last_robot_ = geom::Vec2::Zero();
   std::deque<Hit> hits_;  // increments in cycle order: the revision candidates
 };
 

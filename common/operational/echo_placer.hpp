@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/config.hpp"
 #include "core/geometry.hpp"
 #include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
@@ -29,19 +30,27 @@ struct EchoPlacementConfig {
   SonarBearingParams params;
 };
 
+// Reads the placement keys of a level's config section over `base`: agm_bearing (axis |
+// neighbours), agm_placement (estimate | evidence), evidence_min_g, neighbour_bearing {beam_deg,
+// similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
+EchoPlacementConfig echoPlacementConfig(const Config& section, EchoPlacementConfig base = {});
+
 // One reading of a firing group, as far as the AGM is concerned.
 struct GroupReading {
   int sensor_id = 0;
   bool echo = false;         // a usable complementary echo (finite, plausible range and end point)
   SonarEcho e;               // valid if echo: firing time, range, sensor pose (global frame)
   geom::Vec2 axis_end = geom::Vec2::Zero();  // the reading's end point on the acoustic axis
+  // false: the echo still tells its neighbours where the nearest surface is (bearing), but
+  // increments no cell (e.g. the tactical level found it explained by a later laser scan).
+  bool hit = true;
 };
 
 class EchoPlacer {
  public:
   explicit EchoPlacer(const EchoPlacementConfig& c) : cfg_(c), tracker_(c.params) {}
   const EchoPlacementConfig& config() const { return cfg_; }
-  // One point per echo of the group (global frame), then records the group's readings as their
+  // One point per echo of the group that is a hit (global frame), in the group's order, then records the group's readings as their
   // sensors' latest. An echo whose sensor pose is not finite is put at its axis end point and is
   // no neighbour to others.
   std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, const AccumulativeGridMap& agm);

@@ -12,6 +12,7 @@
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "stages/stage_inputs.hpp"
+#include "stages/stage_messages.hpp"
 
 namespace lasonic {
 
@@ -34,23 +35,13 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
-  p.agm_bearing = c.getChoice("agm_bearing", p.agm_bearing,
-                              {{"axis", AgmBearing::Axis}, {"neighbours", AgmBearing::Neighbours}});
-  p.agm_placement = c.getChoice("agm_placement", p.agm_placement,
-                                {{"estimate", AgmPlacement::Estimate}, {"evidence", AgmPlacement::Evidence}});
-  p.evidence_min_g = c.get("evidence_min_g", p.evidence_min_g, Range::between(1, 1e9));
+  p.placement = echoPlacementConfig(c, p.placement);
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
   s.copy_rule = c.getChoice("copy_rule", s.copy_rule,
                             {{"paper", CopyRule::Paper}, {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed}});
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
-  const Config nb = c.section("neighbour_bearing");
-  nb.allowOnly({"beam_deg", "similar", "max_age_s"});
-  p.bearing.beam_width =
-      geom::deg2rad(nb.get("beam_deg", geom::rad2deg(p.bearing.beam_width), Range::between(1e-3, 180)));
-  p.bearing.similar = nb.get("similar", p.bearing.similar, Range::nonNegative());
-  p.bearing.max_age_s = nb.get("max_age_s", p.bearing.max_age_s, Range::nonNegative());
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
   if (view < s.robot_radius + s.max_range) {
@@ -67,7 +58,7 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       cfg_(cfg),
       agm_(cfg.agm),
       sector_map_(cfg.sector_map),
-      placer_(EchoPlacementConfig{cfg.agm_bearing, cfg.agm_placement, cfg.evidence_min_g, cfg.bearing}) {
+      placer_(cfg.placement) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -164,17 +155,7 @@ void PilotStage::publishSectorMap() {
 }
 
 void PilotStage::publishAgm(int64_t utime) {
-  grid_map_t msg{};
-  msg.utime = utime;
-  const geom::Pose2 pose = poses_.at(utime).value_or(geom::Pose2{});
-  msg.robot_pose = {pose.x, pose.y, pose.theta};
-  const geom::Vec2 origin = agm_.originMetres();
-  msg.origin_x = origin.x();
-  msg.origin_y = origin.y();
-  msg.cell_size = static_cast<float>(agm_.cellSize());
-  msg.width = msg.height = agm_.size();
-  msg.gp_threshold = cfg_.sector_map.gp_threshold;
-  agm_.exportGrids(msg.g, msg.h, msg.gp);
+  grid_map_t msg = gridMapMessage(agm_, utime, poses_.at(utime).value_or(geom::Pose2{}), cfg_.sector_map.gp_threshold);
   node_.publish(channels::AGM_OPERATIONAL, msg);
   last_agm_publish_ = utime;
 }

@@ -16,7 +16,7 @@
 //   arrive, only on their order.
 // - Before a cycle the window follows the robot (pose at the firing time, speed from the newest
 //   ODOMETRY); see AccumulativeGridMap::recenterLimit.
-// - The cell of a complementary reading: cfg.agm_bearing (see PilotConfig). Per sensor id the
+// - The cell of a complementary reading: cfg.placement (operational/echo_placer.hpp). Per sensor id the
 //   stage keeps its latest reading; only a complementary one counts as a neighbour's echo.
 // - The sector map's time is the newest sensor time seen (laser: the scan's last reading;
 //   sonar: the firing time), with the robot pose interpolated from ODOMETRY at that time, so the
@@ -50,15 +50,8 @@ struct PilotConfig {
   AgmParams agm;             // library defaults are the operational ones
   SectorMapParams sector_map;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
-  // The one cell a complementary reading increments: Axis = the paper's (the reading's end
-  // point on the acoustic axis), Neighbours = echoPoint() against the other sensors' latest
-  // complementary readings (operational/sonar_bearing.hpp).
-  AgmBearing agm_bearing = AgmBearing::Neighbours;
-  // Estimate: that bearing's cell; Evidence: the cell of greatest G on the reading's arc within
-  // the bearing's uncertainty (operational/evidence_placement.hpp).
-  AgmPlacement agm_placement = AgmPlacement::Evidence;
-  int evidence_min_g = 2;  // Evidence: the least G of a cell that attracts an echo
-  SonarBearingParams bearing;
+  // The one cell a complementary reading increments (operational/echo_placer.hpp).
+  EchoPlacementConfig placement;
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);

@@ -1,6 +1,6 @@
 // lasonic-replay --in LOG --out LOG [--config FILE]
 //
-// Runs the pipeline stages in one process over a log's raw channels, deterministically: every
+// Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
 // stage has its own Node on one shared memq:// LCM instance; each input event is published into
 // it and the queue drained before the next, so the stages see exactly the log's order. A
 // recorder on ".*" writes every message it sees (inputs and outputs) to the output log; an
@@ -19,6 +19,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "stages/complement_stage.hpp"
+#include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
 
 namespace {
@@ -49,7 +50,9 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   ComplementStage complement_stage(complement_node, complementConfig(root.section("complement")));
   Node pilot_node("lasonic-pilot", lcm, offline);
   PilotStage pilot_stage(pilot_node, pilotConfig(root.section("pilot")));
-  const std::vector<const Node*> nodes = {&complement_node, &pilot_node};
+  Node navigator_node("lasonic-navigator", lcm, offline);
+  NavigatorStage navigator_stage(navigator_node, navigatorConfig(root.section("navigator")));
+  const std::vector<const Node*> nodes = {&complement_node, &pilot_node, &navigator_node};
   // ----
 
   LogWriter out(out_path);

@@ -377,3 +377,53 @@ TEST(Agm, ConfigErrorsNameTheKey) {
   EXPECT_EQ(p.g_threshold, 6);
   EXPECT_EQ(p.size, 100);
 }
+
+TEST(Agm, LastHitCycleAndHitCentroids) {
+  AgmParams p = small();
+  p.hit_centroids = true;
+  AccumulativeGridMap m(p);
+  m.centreOn({0.5, 0.5});
+  m.update({{0.2, 0.3}});
+  m.update({});
+  m.update({{0.4, 0.5}});
+  EXPECT_EQ(m.lastHitCycle(5, 5), 3);
+  EXPECT_EQ(m.lastHitCycle(4, 4), 0);  // never hit
+  // The mean of the two hits, not the cell centre (0.5, 0.5).
+  EXPECT_NEAR(m.evidencePoint(5, 5).x(), 0.3, 1e-6);
+  EXPECT_NEAR(m.evidencePoint(5, 5).y(), 0.4, 1e-6);
+  EXPECT_NEAR(m.evidencePoint(4, 4).x(), -0.5, 1e-12);  // no weight: the centre
+  // Revision forgets where the hits were: a new hit starts a new mean.
+  for (int i = 0; i < 4; ++i) m.update({});
+  EXPECT_EQ(m.g(5, 5), 0);
+  m.update({{0.9, 0.9}});
+  EXPECT_NEAR(m.evidencePoint(5, 5).x(), 0.9, 1e-6);
+  // Without hit_centroids: always the centre.
+  AccumulativeGridMap plain(small());
+  plain.centreOn({0.5, 0.5});
+  plain.update({{0.2, 0.3}});
+  EXPECT_DOUBLE_EQ(plain.evidencePoint(5, 5).x(), 0.5);
+}
+
+TEST(Agm, DistanceRevisionForgetsAfterTheRobotDroveFar) {
+  AgmParams p = small(1, 2, /*h_max=*/1000);
+  p.h_max_m = 2.5;
+  p.recenter_max_cells = 4;  // keep the window still while the robot moves 3 m
+  AccumulativeGridMap m(p);
+  m.centreOn({0.5, 0.5});
+  m.follow({0.5, 0.5}, 0);
+  m.update({at(6, 6)});
+  // Standing still: never forgotten by distance (h_max is 1000 cycles).
+  for (int i = 0; i < 50; ++i) m.update({});
+  EXPECT_EQ(m.g(6, 6), 1);
+  // Driving 1 m per cycle: forgotten once more than 2.5 m from where it was heard.
+  for (int i = 1; i <= 2; ++i) {
+    m.follow({0.5 + i, 0.5}, 0);
+    m.update({});
+    EXPECT_EQ(m.g(6, 6), 1) << i;
+  }
+  m.follow({3.5, 0.5}, 0);
+  m.update({});
+  EXPECT_DOUBLE_EQ(m.odometer(), 3.0);
+  EXPECT_EQ(m.g(6, 6), 0);
+  EXPECT_EQ(m.gp(6, 6), 0);
+}

@@ -228,9 +228,9 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
 
 TEST(PilotConfig, BearingAndCellPointOptions) {
   const PilotConfig d = pilotConfig(Config::fromString("pilot: {}").section("pilot"));
-  EXPECT_EQ(d.agm_bearing, AgmBearing::Neighbours);
-  EXPECT_EQ(d.agm_placement, AgmPlacement::Evidence);
-  EXPECT_EQ(d.evidence_min_g, 2);
+  EXPECT_EQ(d.placement.bearing, AgmBearing::Neighbours);
+  EXPECT_EQ(d.placement.placement, AgmPlacement::Evidence);
+  EXPECT_EQ(d.placement.evidence_min_g, 2);
   EXPECT_EQ(d.sector_map.copy_rule, CopyRule::Paper);
   EXPECT_EQ(d.sector_map.laser_explains_radius, 0.0);
   EXPECT_EQ(d.sector_map.sonar_cell_point, CellPoint::Nearest);
@@ -239,16 +239,16 @@ TEST(PilotConfig, BearingAndCellPointOptions) {
                          "copy_rule: unless_laser_confirmed, copy_confirm_tolerance: 0.2, laser_explains_radius: 0.15, "
                          "neighbour_bearing: {beam_deg: 25, similar: 0.05, max_age_s: 0.3}}")
           .section("pilot"));
-  EXPECT_EQ(c.agm_bearing, AgmBearing::Axis);
-  EXPECT_EQ(c.agm_placement, AgmPlacement::Estimate);
-  EXPECT_EQ(c.evidence_min_g, 3);
+  EXPECT_EQ(c.placement.bearing, AgmBearing::Axis);
+  EXPECT_EQ(c.placement.placement, AgmPlacement::Estimate);
+  EXPECT_EQ(c.placement.evidence_min_g, 3);
   EXPECT_EQ(c.sector_map.copy_rule, CopyRule::UnlessLaserConfirmed);
   EXPECT_DOUBLE_EQ(c.sector_map.copy_confirm_tolerance, 0.2);
   EXPECT_DOUBLE_EQ(c.sector_map.laser_explains_radius, 0.15);
   EXPECT_EQ(c.sector_map.sonar_cell_point, CellPoint::Centre);
-  EXPECT_NEAR(c.bearing.beam_width, geom::deg2rad(25.0), 1e-12);
-  EXPECT_DOUBLE_EQ(c.bearing.similar, 0.05);
-  EXPECT_DOUBLE_EQ(c.bearing.max_age_s, 0.3);
+  EXPECT_NEAR(c.placement.params.beam_width, geom::deg2rad(25.0), 1e-12);
+  EXPECT_DOUBLE_EQ(c.placement.params.similar, 0.05);
+  EXPECT_DOUBLE_EQ(c.placement.params.max_age_s, 0.3);
   for (const char* bad : {"pilot: {agm_bearing: cone}", "pilot: {agm_placement: arc}", "pilot: {evidence_min_g: 0}",
                           "pilot: {copy_rule: never}", "pilot: {laser_explains_radius: -0.1}", "pilot: {sonar_cell_point: far}",
                           "pilot: {neighbour_bearing: {beam: 30}}", "pilot: {neighbour_bearing: {similar: -1}}"}) {
@@ -262,7 +262,7 @@ namespace {
 std::vector<grid_map_t> runTwoSensors(AgmBearing b) {
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotConfig cfg;
-  cfg.agm_bearing = b;
+  cfg.placement.bearing = b;
   cfg.agm_publish_hz = 1000;  // a grid after every cycle
   PilotStage stage{node, cfg};
   std::vector<grid_map_t> grids;

@@ -1,0 +1,184 @@
+#include "stages/navigator_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "stages/stage_inputs.hpp"
+#include "stages/stage_messages.hpp"
+
+namespace lasonic {
+
+AgmParams NavigatorConfig::tacticalAgmDefaults() {
+  AgmParams p;
+  p.size = 100;
+  p.cell_size = 0.10;
+  p.h_max = 2000;
+  p.h_max_m = 15.0;
+  p.t = 1;
+  p.g_threshold = 5;
+  p.hit_centroids = true;
+  return p;
+}
+
+NavigatorConfig navigatorConfig(const Config& c) {
+  c.allowOnly({"agm", "lines", "publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing",
+               "verify_with_next_scan", "verify_max_wait_s"});
+  NavigatorConfig p;
+  p.agm = agmParams(c.section("agm"), p.agm);
+  p.placement = echoPlacementConfig(c, p.placement);
+  // Every propagated cell is a line candidate unless configured otherwise.
+  LineGenerationParams lines = p.lines;
+  lines.gp_threshold = p.agm.g_threshold;
+  p.lines = lineGenerationParams(c.section("lines"), lines);
+  p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
+  p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
+  p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
+  return p;
+}
+
+NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
+    : node_(node),
+      cfg_(cfg),
+      agm_(cfg.agm),
+      placer_(cfg.placement),
+      cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
+  node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
+  node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
+  node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
+}
+
+void NavigatorStage::onOdometry(const odometry_t& m) {
+  if (acceptOdometry(node_, poses_, m)) speed_ = m.v;
+}
+
+void NavigatorStage::onRadarMap(const line_map_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (last_rm_utime_ && m.utime <= *last_rm_utime_) {
+    node_.reportError("rejected.radar_map_backwards", "RADAR_MAP.utime = " + std::to_string(m.utime) +
+                                                          " is not newer than the previous one (" +
+                                                          std::to_string(*last_rm_utime_) + "): dropped");
+    return;
+  }
+  last_rm_utime_ = m.utime;
+  std::vector<CsmLine> lines;
+  lines.reserve(m.segments.size());
+  for (size_t i = 0; i < m.segments.size(); ++i) {
+    const line_segment_t& s = m.segments[i];
+    if (!(std::isfinite(s.x0) && std::isfinite(s.y0) && std::isfinite(s.x1) && std::isfinite(s.y1))) {
+      node_.reportError("rejected.radar_map_segment",
+                        "RADAR_MAP.segments[" + std::to_string(i) + "] has a non-finite end point: skipped");
+      continue;
+    }
+    const int64_t support = s.last_supported_utime > 0 ? std::min(s.last_supported_utime, m.utime) : m.utime;
+    lines.push_back({{{s.x0, s.y0}, {s.x1, s.y1}}, LineSource::Laser, s.npoints, s.rms, support});
+  }
+  csm_.setRadarMap(lines, m.utime);
+  rm_.clear();
+  for (const CsmLine& l : lines) rm_.push_back({l.seg, l.npoints, l.rms});
+  rm_source_utime_ = m.source_utime;
+  flushPending();
+  advance(m.utime);
+}
+
+void NavigatorStage::onComplement(const complement_t& m) {
+  node_.noteMessageTime(m.utime);
+  if (last_complement_utime_ && m.utime <= *last_complement_utime_) {
+    node_.reportError("rejected.complement_backwards", "SONAR_COMPLEMENT.utime = " + std::to_string(m.utime) +
+                                                           " is not newer than the previous group (" +
+                                                           std::to_string(*last_complement_utime_) + "): dropped");
+    return;
+  }
+  last_complement_utime_ = m.utime;
+
+  std::vector<GroupReading> group = complementGroup(node_, m);
+  if (!cfg_.verify_with_next_scan) {
+    integrate(std::move(group), m.utime);
+  } else {
+    PendingGroup p;
+    p.utime = m.utime;
+    p.readings = std::move(group);
+    // The hypothesis model the complement stage used (a malformed one: the paper's).
+    if (std::isfinite(m.beam_width) && m.beam_width > 0 && m.beam_width < geom::kPi) p.model.beam_width = m.beam_width;
+    else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.beam_width = " + std::to_string(m.beam_width) +
+                                                             ": the paper's 30 deg used");
+    if (std::isfinite(m.range_limit) && m.range_limit > 0) p.model.range_limit = m.range_limit;
+    else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.range_limit = " + std::to_string(m.range_limit) +
+                                                             ": the paper's 2.20 m used");
+    if (std::isfinite(m.tolerance) && m.tolerance >= 0) p.tolerance = m.tolerance;
+    else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.tolerance = " + std::to_string(m.tolerance) +
+                                                             ": 0.10 m used");
+    if (!(std::isfinite(m.tolerance) && m.tolerance >= 0)) p.tolerance = 0.10;
+    pending_.push_back(std::move(p));
+    flushPending();
+  }
+  advance(m.utime);
+}
+
+void NavigatorStage::flushPending() {
+  const auto wait_us = static_cast<int64_t>(cfg_.verify_max_wait_s * 1e6);
+  const int64_t newest = std::max({now_, last_complement_utime_.value_or(0), last_rm_utime_.value_or(0)});
+  while (!pending_.empty()) {
+    PendingGroup& g = pending_.front();
+    if (rm_source_utime_ && *rm_source_utime_ >= g.utime) {
+      for (GroupReading& r : g.readings) {
+        if (!r.echo) continue;
+        const double h = complement::hypotheticalRange(r.e.sensor, rm_, g.model);
+        r.hit = r.e.range < h - g.tolerance;
+        node_.count(r.hit ? "verify.kept" : "verify.explained");
+      }
+    } else if (newest - g.utime > wait_us) {
+      node_.count("verify.timed_out");
+    } else {
+      break;
+    }
+    integrate(std::move(g.readings), g.utime);
+    pending_.pop_front();
+  }
+}
+
+void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
+  const std::vector<geom::Vec2> hits = placer_.place(group, agm_);
+  if (const auto pose = poses_.at(utime); pose && agm_.follow(pose->position(), speed_))
+    node_.count("agm.recentred");
+  const int inside = agm_.update(hits);
+  cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;
+  node_.count("agm.cycles");
+  node_.count("agm.hits", inside);
+  if (inside < static_cast<int>(hits.size()))
+    node_.count("agm.hits_outside_window", static_cast<int64_t>(hits.size()) - inside);
+}
+
+int64_t NavigatorStage::cycleUtime(int64_t cycle) const {
+  // Cells with G > 0 were hit within the last h_max cycles, all still in the ring.
+  if (cycle <= 0 || agm_.cycle() - cycle >= static_cast<int64_t>(cycle_utime_.size())) return 0;
+  return cycle_utime_[static_cast<size_t>(cycle) % cycle_utime_.size()];
+}
+
+void NavigatorStage::advance(int64_t utime) {
+  now_ = std::max(now_, utime);
+  const auto period_us = static_cast<int64_t>(1e6 / cfg_.publish_hz);
+  if (!last_publish_ || now_ - *last_publish_ >= period_us) publish();
+}
+
+void NavigatorStage::publish() {
+  const auto pose = poses_.at(now_);
+  if (!pose) {
+    node_.count("publish.no_odometry");
+    return;
+  }
+  last_publish_ = now_;
+  grid_map_t grid = gridMapMessage(agm_, now_, *pose, cfg_.lines.gp_threshold);
+  node_.publish(channels::AGM_TACTICAL, grid);
+
+  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, [this](int64_t c) { return cycleUtime(c); });
+  csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), cfg_.lines));
+  const int64_t agm_utime = last_complement_utime_.value_or(0);
+  line_map_t agm_lines = lineMapMessage(csm_.sonarLines(), now_, agm_utime, *pose);
+  node_.publish(channels::AGM_LINES, agm_lines);
+  line_map_t csm = lineMapMessage(csm_.lines(), now_, csm_.radarMapUtime(), *pose);
+  node_.publish(channels::CURRENT_SENSOR_MAP, csm);
+  node_.count("lines.published", static_cast<int64_t>(csm_.sonarLines().size()));
+}
+
+}  // namespace lasonic

@@ -1,0 +1,112 @@
+#pragma once
+// NavigatorStage: the tactical level (Jörg 1995 sec. 3.4, "Tactical abstraction level") on a
+// lasonic::Node.
+//
+// In:  ODOMETRY (pose history, speed), SONAR_COMPLEMENT (one firing group), RADAR_MAP.
+// Out, at publish_hz of message time (independent of the pilot's rate):
+//      AGM_TACTICAL        the tactical Accumulative Grid Map (grid_map_t)
+//      AGM_LINES           the lines generated from it (line_map_t, source SONAR)
+//      CURRENT_SENSOR_MAP  the Radar Map's lines and the AGM's lines, tagged by source, each with
+//                          the time it was last supported (line_map_t)
+// Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
+// lines.published, publish.no_odometry, rejected.* for every kind of bad input.
+//
+// Definitions:
+// - The tactical AGM is a second AccumulativeGridMap with its own parameters (high G_T, large
+//   h_max: stable, moving obstacles suppressed), fed by the same complementary readings as the
+//   operational one: one update cycle = one SONAR_COMPLEMENT message; the one cell of each echo
+//   is chosen by EchoPlacer against the tactical grid's own evidence. It stays in the odometry
+//   frame and follows the robot's translation (pose at the firing time) like the operational AGM.
+// - Verification by the next scan (verify_with_next_scan): the complement stage compares a
+//   reading with the Radar Map of the scan BEFORE the firing (up to 0.2-0.4 s old). A person
+//   walking towards the robot, or into a beam, is then shorter than that map: complementary,
+//   rightly for the pilot, but a ghost in a long-memory map. The tactical level is not in a
+//   hurry, so it waits for the first scan that started after the firing and keeps only the
+//   readings still shorter than the ideal sonar's hypothesis on that map (same beam, limit and
+//   tolerance as the complement stage used, from SONAR_COMPLEMENT): what the laser still cannot
+//   see (glass, mesh, black surfaces, thin poles). Readings the next scan explains still help
+//   their neighbours' bearings. Counted: verify.kept, verify.explained, verify.timed_out.
+// - The navigator's clock is the newest SONAR_COMPLEMENT / RADAR_MAP time it has processed; it
+//   publishes when that clock has advanced 1/publish_hz since the last publication, with the
+//   robot pose interpolated from ODOMETRY at that time (no pose: nothing published, counted).
+//   Lines are generated from the robot's position then.
+//
+// Time comes only from the messages, so a replay is deterministic. Bad input is reported
+// (node.reportError, naming the field) and never stops the stage: ODOMETRY and SONAR_COMPLEMENT
+// as the pilot checks them (stages/stage_inputs.hpp); a RADAR_MAP not newer than the previous
+// one is dropped; a Radar Map segment with a non-finite coordinate is skipped.
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include <lasonic/complement_t.hpp>
+#include <lasonic/line_map_t.hpp>
+#include <lasonic/odometry_t.hpp>
+
+#include "complement/hypothetical_scan.hpp"
+#include "core/config.hpp"
+#include "core/pose_history.hpp"
+#include "lcmio/node.hpp"
+#include "operational/agm.hpp"
+#include "operational/echo_placer.hpp"
+#include "tactical/current_sensor_map.hpp"
+#include "tactical/line_generation.hpp"
+
+namespace lasonic {
+
+struct NavigatorConfig {
+  AgmParams agm = tacticalAgmDefaults();
+  EchoPlacementConfig placement;
+  LineGenerationParams lines;
+  double publish_hz = 2.0;  // AGM_TACTICAL, AGM_LINES, CURRENT_SENSOR_MAP (message time)
+  // A complementary reading enters the tactical AGM only if it is still shorter than the ideal
+  // sonar's hypothesis on the first Radar Map whose scan started after the firing (false: as
+  // classified, against the scan before it). Groups wait at most verify_max_wait_s of message
+  // time for that scan; then they go in as classified (the laser is gone).
+  bool verify_with_next_scan = true;
+  double verify_max_wait_s = 0.5;
+
+  // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
+  static AgmParams tacticalAgmDefaults();
+};
+// Reads the `navigator:` section. Throws ConfigError naming the key path.
+NavigatorConfig navigatorConfig(const Config& navigator_section);
+
+class NavigatorStage {
+ public:
+  NavigatorStage(Node& node, const NavigatorConfig& cfg);
+  const AccumulativeGridMap& agm() const { return agm_; }
+
+ private:
+  void onOdometry(const odometry_t& m);
+  void onRadarMap(const line_map_t& m);
+  void onComplement(const complement_t& m);
+  void integrate(std::vector<GroupReading> group, int64_t utime);
+  void flushPending();
+  void advance(int64_t utime);
+  void publish();
+  int64_t cycleUtime(int64_t cycle) const;
+
+  Node& node_;
+  NavigatorConfig cfg_;
+  PoseHistory poses_;
+  double speed_ = 0;  // [m/s] newest ODOMETRY.v
+  AccumulativeGridMap agm_;
+  EchoPlacer placer_;
+  CurrentSensorMap csm_;
+  struct PendingGroup {
+    int64_t utime = 0;
+    std::vector<GroupReading> readings;
+    complement::IdealSonarModel model;
+    double tolerance = 0;
+  };
+  std::deque<PendingGroup> pending_;  // firing groups waiting for the next scan's Radar Map
+  std::vector<complement::RmSegment> rm_;  // the newest Radar Map
+  std::optional<int64_t> rm_source_utime_;  // its scan's start
+  std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
+  std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
+  int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed
+};
+
+}  // namespace lasonic

@@ -1,0 +1,43 @@
+#include "stages/stage_messages.hpp"
+
+namespace lasonic {
+
+grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold) {
+  grid_map_t msg{};
+  msg.utime = utime;
+  msg.robot_pose = {robot.x, robot.y, robot.theta};
+  const geom::Vec2 origin = agm.originMetres();
+  msg.origin_x = origin.x();
+  msg.origin_y = origin.y();
+  msg.cell_size = static_cast<float>(agm.cellSize());
+  msg.width = msg.height = agm.size();
+  msg.gp_threshold = gp_threshold;
+  agm.exportGrids(msg.g, msg.h, msg.gp);
+  msg.ncells = static_cast<int32_t>(msg.g.size());
+  return msg;
+}
+
+line_map_t lineMapMessage(const std::vector<CsmLine>& lines, int64_t utime, int64_t source_utime,
+                          const geom::Pose2& robot) {
+  line_map_t m{};
+  m.utime = utime;
+  m.source_utime = source_utime;
+  m.robot_pose = {robot.x, robot.y, robot.theta};
+  m.segments.reserve(lines.size());
+  for (const CsmLine& l : lines) {
+    line_segment_t s{};
+    s.x0 = l.seg.a.x();
+    s.y0 = l.seg.a.y();
+    s.x1 = l.seg.b.x();
+    s.y1 = l.seg.b.y();
+    s.npoints = l.npoints;
+    s.rms = static_cast<float>(l.rms);
+    s.source = l.source == LineSource::Laser ? line_segment_t::SOURCE_LASER : line_segment_t::SOURCE_SONAR;
+    s.last_supported_utime = l.last_supported_utime;
+    m.segments.push_back(s);
+  }
+  m.nsegments = static_cast<int32_t>(m.segments.size());
+  return m;
+}
+
+}  // namespace lasonic

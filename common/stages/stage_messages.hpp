@@ -1,0 +1,22 @@
+#pragma once
+// Output messages shared by the stages: an AGM window as grid_map_t, lines as line_map_t.
+#include <cstdint>
+#include <vector>
+
+#include <lasonic/grid_map_t.hpp>
+#include <lasonic/line_map_t.hpp>
+
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+#include "tactical/current_sensor_map.hpp"
+
+namespace lasonic {
+
+// AGM_OPERATIONAL / AGM_TACTICAL: the window's G, H and Gp, its origin and the robot pose.
+grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold);
+
+// AGM_LINES / CURRENT_SENSOR_MAP.
+line_map_t lineMapMessage(const std::vector<CsmLine>& lines, int64_t utime, int64_t source_utime,
+                          const geom::Pose2& robot);
+
+}  // namespace lasonic

@@ -1,0 +1,184 @@
+#include "tactical/line_generation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "complement/radar_map.hpp"
+
+namespace lasonic {
+
+LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "refit", "occlusion"});
+  p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
+  p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
+  p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
+  p.split_threshold = c.get("split_threshold", p.split_threshold, Range::positive());
+  p.min_cells = c.get("min_cells", p.min_cells, Range::between(2, 1e6));
+  p.refit = c.get<bool>("refit", p.refit);
+  p.occlusion = c.getChoice("occlusion", p.occlusion,
+                            {{"global", LineGenerationParams::Occlusion::Global},
+                             {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
+  return p;
+}
+
+std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold,
+                                          const std::function<int64_t(int64_t)>& support_of) {
+  std::vector<CandidateCell> out;
+  const int n = agm.size();
+  agm.forEachCell(0, 0, n - 1, n - 1, [&](int ix, int iy, int g, int gp) {
+    if (g <= 0 || gp < gp_threshold) return;
+    const int64_t cycle = agm.lastHitCycle(ix, iy);
+    out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle});
+  });
+  return out;
+}
+
+std::vector<PolarCell> toPolar(const std::vector<CandidateCell>& cells, const geom::Pose2& robot) {
+  std::vector<PolarCell> out;
+  out.reserve(cells.size());
+  for (const CandidateCell& c : cells) {
+    const geom::Vec2 local = robot.inverseTransform(c.centre);
+    out.push_back({c, std::atan2(local.y(), local.x()), local.norm()});
+  }
+  return out;
+}
+
+std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, double bin_rad, double cell_size) {
+  if (cells.empty() || !(bin_rad > 0)) return {};
+  const int nbins = std::max(1, static_cast<int>(std::ceil(2 * geom::kPi / bin_rad)));
+  constexpr size_t kNone = std::numeric_limits<size_t>::max();
+  std::vector<size_t> nearest(static_cast<size_t>(nbins), kNone);
+  auto binOf = [&](double a) {  // a in any range
+    const double u = (a + geom::kPi) / (2 * geom::kPi);
+    const double f = u - std::floor(u);
+    return std::min(nbins - 1, static_cast<int>(f * nbins));
+  };
+  for (size_t i = 0; i < cells.size(); ++i) {
+    const PolarCell& pc = cells[i];
+    const double half = pc.range > 0.5 * cell_size ? std::atan2(0.5 * cell_size, pc.range) : 0.5 * geom::kPi;
+    const int b0 = binOf(pc.bearing - half);
+    const int span = std::min(nbins, static_cast<int>(std::ceil(2 * half / bin_rad)) + 1);
+    for (int k = 0; k < span; ++k) {
+      const size_t b = static_cast<size_t>((b0 + k) % nbins);
+      // Bins are visited only while they overlap the cell's bearings.
+      const double bin_lo = -geom::kPi + static_cast<double>(b) * bin_rad;
+      if (std::abs(geom::angleDiff(bin_lo + 0.5 * bin_rad, pc.bearing)) > half + 0.5 * bin_rad) continue;
+      size_t& cur = nearest[b];
+      if (cur == kNone || pc.range < cells[cur].range ||
+          (pc.range == cells[cur].range && pc.bearing < cells[cur].bearing))
+        cur = i;
+    }
+  }
+  std::vector<char> keep(cells.size(), 0);
+  for (size_t b : nearest)
+    if (b != kNone) keep[b] = 1;
+  std::vector<PolarCell> out;
+  for (size_t i = 0; i < cells.size(); ++i)
+    if (keep[i]) out.push_back(cells[i]);
+  std::sort(out.begin(), out.end(), [](const PolarCell& a, const PolarCell& b) {
+    return a.bearing != b.bearing ? a.bearing < b.bearing : a.range < b.range;
+  });
+  return out;
+}
+
+std::vector<std::vector<PolarCell>> splitAtGaps(const std::vector<PolarCell>& ordered, double max_gap) {
+  std::vector<std::vector<PolarCell>> runs;
+  const size_t n = ordered.size();
+  if (n == 0) return runs;
+  auto gap = [&](size_t i) {  // between i and its successor (circular)
+    return (ordered[(i + 1) % n].cell.centre - ordered[i].cell.centre).norm();
+  };
+  size_t widest = n - 1;
+  for (size_t i = 0; i < n; ++i)
+    if (gap(i) > gap(widest)) widest = i;
+  std::vector<PolarCell> cur;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = (widest + 1 + k) % n;
+    cur.push_back(ordered[i]);
+    if (k + 1 == n || gap(i) > max_gap) {
+      runs.push_back(std::move(cur));
+      cur.clear();
+    }
+  }
+  return runs;
+}
+
+std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size) {
+  std::vector<AgmLine> out;
+  if (run.size() < static_cast<size_t>(p.min_cells) || run.size() < 2) return out;
+  std::vector<geom::Vec2> pts;
+  pts.reserve(run.size());
+  for (const PolarCell& c : run) pts.push_back(c.cell.centre);
+  for (const complement::IndexRange& r : complement::iterativeEndPointFit(pts, {0, pts.size() - 1}, p.split_threshold)) {
+    if (r.size() < static_cast<size_t>(p.min_cells)) continue;
+    AgmLine l;
+    if (p.refit) {
+      const complement::RmSegment s = complement::fitLine(pts, r);
+      l.seg = s.seg;
+      l.rms = s.rms;
+    } else {
+      l.seg = {pts[r.first], pts[r.last]};
+      double ss = 0;
+      for (size_t k = r.first; k <= r.last; ++k) ss += std::pow(geom::distance(l.seg, pts[k]), 2);
+      l.rms = std::sqrt(ss / static_cast<double>(r.size()));
+    }
+    const double len = l.seg.length();
+    if (len > 0) {
+      const geom::Vec2 dir = (l.seg.b - l.seg.a) / len;
+      l.seg.a -= 0.5 * cell_size * dir;
+      l.seg.b += 0.5 * cell_size * dir;
+    }
+    l.ncells = static_cast<int>(r.size());
+    for (size_t k = r.first; k <= r.last; ++k) l.support = std::max(l.support, run[k].cell.support);
+    out.push_back(l);
+  }
+  return out;
+}
+
+std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<CandidateCell>& cells, double max_gap) {
+  const size_t n = cells.size();
+  std::vector<size_t> parent(n);
+  for (size_t i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  // Sorted by x, so each cell is compared only with those within max_gap in x.
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cells[a].centre.x() < cells[b].centre.x(); });
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n && cells[order[b]].centre.x() - cells[order[a]].centre.x() <= max_gap; ++b)
+      if ((cells[order[a]].centre - cells[order[b]].centre).norm() <= max_gap) {
+        const size_t ra = find(order[a]), rb = find(order[b]);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+  std::vector<std::vector<CandidateCell>> out;
+  std::vector<size_t> index(n, n);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t r = find(i);
+    if (index[r] == n) {
+      index[r] = out.size();
+      out.emplace_back();
+    }
+    out[index[r]].push_back(cells[i]);
+  }
+  return out;
+}
+
+std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, const geom::Pose2& robot,
+                                   double cell_size, const LineGenerationParams& p) {
+  std::vector<AgmLine> out;
+  const double bin = geom::deg2rad(p.angle_bin_deg);
+  auto lines = [&](const std::vector<CandidateCell>& group) {
+    for (const auto& run : splitAtGaps(nearestPerAngle(toPolar(group, robot), bin, cell_size), p.max_gap))
+      for (const AgmLine& l : fitRun(run, p, cell_size)) out.push_back(l);
+  };
+  if (p.occlusion == LineGenerationParams::Occlusion::Global) lines(cells);
+  else
+    for (const auto& cluster : clusterCells(cells, p.max_gap)) lines(cluster);
+  return out;
+}
+
+}  // namespace lasonic

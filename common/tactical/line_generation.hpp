@@ -1,0 +1,91 @@
+#pragma once
+// Line generation: the tactical AGM turned into lines (Jörg 1995, sec. 3.4, "Tactical
+// abstraction level"). The paper's steps, each a small pure function:
+//
+//   candidateCells   cells whose propagated weight Gp reaches a threshold
+//   toPolar          their polar coordinates in the robot's frame
+//   nearestPerAngle  ordered by angle; per angle only the cells nearest to the robot (a cell
+//                    covers the bearings of its width as seen from the robot, so a cell hidden
+//                    behind a nearer one is dropped: the lines describe what the robot faces)
+//   splitAtGaps      the ordered (circular) list cut where neighbouring cells are farther apart
+//                    than max_gap, so a gap between two obstacles never becomes a line (beyond
+//                    the paper's text, which leaves this to the end-point fit)
+//   fitRun           iterative end-point fit along each run (the Radar Map's own
+//                    iterativeEndPointFit); runs of fewer than min_cells cells dropped (isolated
+//                    cells: noise); optional total-least-squares refit; each end extended by half
+//                    a cell, since a cell stands for the square around its centre
+//   generateLines    all of the above
+// Everything is in the global (odometry) frame except the polar coordinates.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+
+namespace lasonic {
+
+struct LineGenerationParams {
+  int gp_threshold = 5;           // candidate cells: Gp >= this (the tactical G_T: every propagated cell)
+  double angle_bin_deg = 1.0;     // [deg] angular resolution of "nearest per angle"
+  double max_gap = 0.5;           // [m] neighbouring candidates farther apart start a new line
+  double split_threshold = 0.10;  // [m] end-point fit: split while a cell centre is farther from the chord
+  int min_cells = 3;              // lines fitted to fewer cells are dropped
+  bool refit = true;              // total-least-squares refit of each line's cells
+  // Global: the paper's rule, a cell hidden behind any nearer cell is dropped. PerCluster: only
+  // behind a nearer cell of its own cluster (cells connected within max_gap), so a remembered
+  // obstacle is not dropped because another one now stands in front of it.
+  enum class Occlusion { Global, PerCluster } occlusion = Occlusion::Global;
+};
+// Reads a `lines:` section over `base`. Throws ConfigError naming the key path.
+LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams base = {});
+
+struct CandidateCell {
+  geom::Vec2 centre = geom::Vec2::Zero();  // global (odometry) frame: where the cell's evidence is
+  int gp = 0;
+  int64_t support = 0;  // when the cell was last hit (the caller's time unit, e.g. utime)
+};
+
+struct PolarCell {
+  CandidateCell cell;
+  double bearing = 0;  // [rad] robot frame, (-pi, pi]
+  double range = 0;    // [m] from the robot's reference point
+};
+
+struct AgmLine {
+  geom::Segment seg{geom::Vec2::Zero(), geom::Vec2::Zero()};  // global frame
+  int ncells = 0;
+  double rms = 0;       // [m] RMS distance of its cell centres from the line
+  int64_t support = 0;  // newest support among its cells
+};
+
+// Cells with Gp >= threshold, at AccumulativeGridMap::evidencePoint (the mean of their hits with
+// hit_centroids, else their centres). support_of(cycle) converts a cell's last-hit
+// update cycle into the support time (identity if null).
+std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold,
+                                          const std::function<int64_t(int64_t cycle)>& support_of = nullptr);
+
+std::vector<PolarCell> toPolar(const std::vector<CandidateCell>& cells, const geom::Pose2& robot);
+
+// The cells nearest to the robot in at least one angle bin (bin_rad wide), each cell covering
+// the bearings within atan((cell_size/2) / range) of its own; sorted by bearing.
+std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, double bin_rad, double cell_size);
+
+// Cuts the bearing-ordered circular list into runs at every gap wider than max_gap (distance
+// between consecutive cell centres). The list is rotated to start after its widest gap, so an
+// obstacle behind the robot is not cut at the bearing seam.
+std::vector<std::vector<PolarCell>> splitAtGaps(const std::vector<PolarCell>& ordered, double max_gap);
+
+// Groups cells into clusters: cells whose centres are at most max_gap apart are in one cluster
+// (single linkage). Clusters in order of their first cell.
+std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<CandidateCell>& cells, double max_gap);
+
+// The lines of one run: iterative end-point fit, min_cells, optional refit, ends extended by
+// cell_size/2.
+std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size);
+
+std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, const geom::Pose2& robot,
+                                   double cell_size, const LineGenerationParams& p);
+
+}  // namespace lasonic

@@ -1,0 +1,228 @@
+// Line generation (Jörg 1995 sec. 3.4) on synthetic grids, and the Current Sensor Map.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tactical/current_sensor_map.hpp"
+#include "tactical/line_generation.hpp"
+
+using namespace lasonic;
+using geom::Vec2;
+
+namespace {
+
+constexpr double kCell = 0.10;
+
+LineGenerationParams params() {
+  LineGenerationParams p;
+  p.gp_threshold = 1;
+  return p;
+}
+
+// Cells along a straight segment from a to b, one per `step` metres (cell centres).
+std::vector<CandidateCell> along(Vec2 a, Vec2 b, double step = kCell, int64_t support = 1) {
+  std::vector<CandidateCell> out;
+  const int n = static_cast<int>(std::lround((b - a).norm() / step));
+  for (int i = 0; i <= n; ++i) out.push_back({a + (b - a) * (double(i) / n), 10, support});
+  return out;
+}
+
+std::vector<CandidateCell> join(std::vector<CandidateCell> a, const std::vector<CandidateCell>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+double angleOf(const AgmLine& l) { return std::atan2(l.seg.b.y() - l.seg.a.y(), l.seg.b.x() - l.seg.a.x()); }
+
+// Distance of p from the infinite line through l.
+double offLine(const AgmLine& l, const Vec2& p) {
+  const Vec2 d = (l.seg.b - l.seg.a).normalized();
+  const Vec2 q = p - l.seg.a;
+  return std::abs(d.x() * q.y() - d.y() * q.x());
+}
+
+}  // namespace
+
+TEST(LineGeneration, EmptyGridGivesNoLines) {
+  EXPECT_TRUE(generateLines({}, {}, kCell, params()).empty());
+  AccumulativeGridMap agm(AgmParams{});
+  EXPECT_TRUE(candidateCells(agm, 1).empty());
+  EXPECT_TRUE(splitAtGaps({}, 0.5).empty());
+  EXPECT_TRUE(nearestPerAngle({}, 0.01, kCell).empty());
+}
+
+TEST(LineGeneration, StraightWallIsOneLineReachingTheOuterCellEdges) {
+  // A wall 1 m in front of the robot (at the origin, facing +y), cells from x = -1 to 1.
+  const auto lines = generateLines(along({-1, 1}, {1, 1}), {0, 0, geom::kPi / 2}, kCell, params());
+  ASSERT_EQ(lines.size(), 1u);
+  const AgmLine& l = lines[0];
+  EXPECT_EQ(l.ncells, 21);
+  EXPECT_NEAR(l.rms, 0.0, 1e-9);
+  // Ends extended by half a cell beyond the outer cell centres.
+  EXPECT_NEAR(std::min(l.seg.a.x(), l.seg.b.x()), -1.05, 1e-9);
+  EXPECT_NEAR(std::max(l.seg.a.x(), l.seg.b.x()), 1.05, 1e-9);
+  EXPECT_NEAR(l.seg.a.y(), 1.0, 1e-9);
+  EXPECT_NEAR(l.seg.b.y(), 1.0, 1e-9);
+}
+
+TEST(LineGeneration, LCornerGivesTwoLinesMeetingAtTheCorner) {
+  const auto cells = join(along({-1, 1}, {1, 1}), along({1, 0.9}, {1, -0.5}));
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, params());
+  ASSERT_EQ(lines.size(), 2u);
+  int horizontal = 0, vertical = 0;
+  for (const auto& l : lines) {
+    const double a = std::abs(std::sin(angleOf(l)));
+    if (a < 0.05) {
+      ++horizontal;
+      EXPECT_LT(offLine(l, {0, 1}), 0.02);
+    } else if (a > 0.99) {
+      ++vertical;
+      EXPECT_LT(offLine(l, {1, 0}), 0.02);
+    }
+    // Both lines reach the corner (within the half-cell extension).
+    EXPECT_LT(std::min((l.seg.a - Vec2(1, 1)).norm(), (l.seg.b - Vec2(1, 1)).norm()), 0.08);
+  }
+  EXPECT_EQ(horizontal, 1);
+  EXPECT_EQ(vertical, 1);
+}
+
+TEST(LineGeneration, GapBetweenTwoObstaclesNeverBecomesALine) {
+  // Two obstacles at the same distance, 0.6 m apart (wider than max_gap 0.5): two lines, and
+  // no line point in the gap.
+  const auto cells = join(along({-1.5, 1}, {-0.3, 1}), along({0.3, 1}, {1.5, 1}));
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, params());
+  ASSERT_EQ(lines.size(), 2u);
+  for (const auto& l : lines) {
+    const double lo = std::min(l.seg.a.x(), l.seg.b.x()), hi = std::max(l.seg.a.x(), l.seg.b.x());
+    EXPECT_TRUE(hi <= -0.2 || lo >= 0.2) << lo << " .. " << hi;
+  }
+  // A missing cell or two on one surface (0.3 m) is bridged.
+  auto holey = along({-1.5, 1}, {1.5, 1});
+  holey.erase(holey.begin() + 14, holey.begin() + 16);
+  EXPECT_EQ(generateLines(holey, {0, 0, 0}, kCell, params()).size(), 1u);
+}
+
+TEST(LineGeneration, DiagonalWallOfQuantisedCellsKeepsItsDirection) {
+  // A 45 deg wall y = x + 1 as the cells of a 0.1 m grid hold it (centres, staircase).
+  std::vector<CandidateCell> cells;
+  for (int i = -15; i <= 5; ++i) {
+    const double x = i * kCell + 0.05;
+    const double y = std::floor((x + 1.0) / kCell) * kCell + 0.05;
+    cells.push_back({{x, y}, 10, 1});
+  }
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, params());
+  ASSERT_EQ(lines.size(), 1u);
+  const double a = angleOf(lines[0]);
+  EXPECT_NEAR(std::abs(std::cos(a)), std::sqrt(0.5), 0.02);
+  EXPECT_NEAR(std::abs(std::sin(a)), std::sqrt(0.5), 0.02);
+  EXPECT_LT(offLine(lines[0], {-0.5, 0.5}), 0.06);
+}
+
+TEST(LineGeneration, IsolatedNoiseCellsGiveNoLines) {
+  // Cells scattered at least 0.6 m apart (crosstalk hits): each alone, below min_cells.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-4, 4);
+  std::vector<CandidateCell> cells;
+  while (cells.size() < 25) {
+    const Vec2 p(u(rng), u(rng));
+    bool far = p.norm() > 0.5;
+    for (const auto& c : cells) far = far && (c.centre - p).norm() > 0.6;
+    if (far) cells.push_back({p, 10, 1});
+  }
+  EXPECT_TRUE(generateLines(cells, {0, 0, 0}, kCell, params()).empty());
+  // The same cells plus a real wall: only the wall.
+  const auto lines = generateLines(join(cells, along({-0.4, -1.0}, {0.4, -1.0})), {0, 0, 0}, kCell, params());
+  ASSERT_GE(lines.size(), 1u);
+  for (const auto& l : lines) EXPECT_LT(offLine(l, {0, -1}), 0.02);
+}
+
+TEST(LineGeneration, OnlyTheNearestCellsPerAngleUnlessPerCluster) {
+  // A near wall (y = 1) hides a far one (y = 3) behind it, at the same bearings.
+  const auto cells = join(along({-0.5, 1}, {0.5, 1}), along({-0.5, 3}, {0.5, 3}));
+  const auto global = generateLines(cells, {0, 0, 0}, kCell, params());
+  ASSERT_EQ(global.size(), 1u);
+  EXPECT_LT(offLine(global[0], {0, 1}), 0.02);
+  LineGenerationParams p = params();
+  p.occlusion = LineGenerationParams::Occlusion::PerCluster;
+  EXPECT_EQ(generateLines(cells, {0, 0, 0}, kCell, p).size(), 2u);
+  // Two rows of one surface (quantisation): only the nearer row is a line candidate.
+  const auto visible = nearestPerAngle(toPolar(join(along({-1, 1}, {1, 1}), along({-1, 1.1}, {1, 1.1})), {0, 0, 0}),
+                                       geom::deg2rad(1.0), kCell);
+  for (const auto& c : visible) EXPECT_NEAR(c.cell.centre.y(), 1.0, 1e-9);
+}
+
+TEST(LineGeneration, WallBehindTheRobotIsNotCutAtTheBearingSeam) {
+  // The robot faces +x; a wall behind it spans bearings across +-pi.
+  const auto lines = generateLines(along({-1, -1}, {-1, 1}), {0, 0, 0}, kCell, params());
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0].ncells, 21);
+}
+
+TEST(LineGeneration, LineSupportIsItsNewestCell) {
+  auto cells = along({-1, 1}, {1, 1}, kCell, 100);
+  cells[7].support = 250;
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, params());
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0].support, 250);
+}
+
+TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
+  AgmParams ap;
+  ap.g_threshold = 3;
+  ap.hit_centroids = true;
+  AccumulativeGridMap agm(ap);
+  agm.centreOn({0, 0});
+  // Three hits in one cell at (1.02, 1.03): Gp 3; a single hit elsewhere stays below G_T.
+  for (int i = 0; i < 3; ++i) agm.update({{1.02, 1.03}});
+  agm.update({{-2.05, 0.5}});
+  const auto cells = candidateCells(agm, 3, [](int64_t cycle) { return cycle * 1000; });
+  ASSERT_EQ(cells.size(), 1u);
+  // The evidence point is where the hits landed, not the cell centre (1.05, 1.05).
+  EXPECT_NEAR(cells[0].centre.x(), 1.02, 1e-6);
+  EXPECT_NEAR(cells[0].centre.y(), 1.03, 1e-6);
+  EXPECT_EQ(cells[0].gp, 3);
+  EXPECT_EQ(cells[0].support, 3000);  // last hit in cycle 3
+}
+
+TEST(LineGeneration, ConfigKeysAndErrors) {
+  const auto p = lineGenerationParams(Config::fromString(
+      "lines: {gp_threshold: 7, angle_bin_deg: 2, max_gap: 0.3, split_threshold: 0.05, min_cells: 4, refit: false, "
+      "occlusion: per_cluster}").section("lines"));
+  EXPECT_EQ(p.gp_threshold, 7);
+  EXPECT_DOUBLE_EQ(p.angle_bin_deg, 2);
+  EXPECT_DOUBLE_EQ(p.max_gap, 0.3);
+  EXPECT_DOUBLE_EQ(p.split_threshold, 0.05);
+  EXPECT_EQ(p.min_cells, 4);
+  EXPECT_FALSE(p.refit);
+  EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::PerCluster);
+  for (const char* bad : {"lines: {max_gap: 0}", "lines: {min_cells: 1}", "lines: {angle_bin_deg: -1}",
+                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {colour: red}"})
+    EXPECT_THROW(lineGenerationParams(Config::fromString(bad).section("lines")), ConfigError) << bad;
+}
+
+TEST(CurrentSensorMap, TagsEachLineWithItsSourceAndSupport) {
+  CurrentSensorMap csm;
+  csm.setRadarMap({{{{0, 0}, {1, 0}}, LineSource::Sonar, 12, 0.01, 0}, {{{1, 0}, {1, 1}}, LineSource::Laser, 8, 0.01, 400}},
+                  500);
+  AgmLine a;
+  a.seg = {{2, 2}, {3, 2}};
+  a.ncells = 5;
+  a.support = 450;
+  csm.setAgmLines({a});
+  const auto lines = csm.lines();
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0].source, LineSource::Laser);  // whatever the caller said: RM lines are laser lines
+  EXPECT_EQ(lines[0].last_supported_utime, 500);  // none given: the map's time
+  EXPECT_EQ(lines[1].last_supported_utime, 400);
+  EXPECT_EQ(lines[2].source, LineSource::Sonar);
+  EXPECT_EQ(lines[2].last_supported_utime, 450);
+  EXPECT_EQ(lines[2].npoints, 5);
+  EXPECT_EQ(csm.radarMapUtime(), 500);
+  // A new Radar Map replaces the laser lines only; new AGM lines replace the sonar lines only.
+  csm.setRadarMap({}, 700);
+  EXPECT_EQ(csm.laserLines().size(), 0u);
+  EXPECT_EQ(csm.sonarLines().size(), 1u);
+  csm.setAgmLines({});
+  EXPECT_TRUE(csm.lines().empty());
+}
