@@ -42,6 +42,9 @@ fi
 if [[ -x $bin/lasonic-pilot ]]; then
   expect+=(SECTOR_MAP AGM_OPERATIONAL); procs+=(lasonic-pilot)
 fi
+if [[ -x $bin/lasonic-navigator ]]; then
+  expect+=(AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP); procs+=(lasonic-navigator)
+fi
 for ch in "${expect[@]}"; do
   [[ -n $(stat live "$ch") ]] || die "the demo's log has no $ch"
 done

@@ -1,0 +1,1 @@
+set(bench_tactical_LIBS lasonic_stages lasonic_sim)

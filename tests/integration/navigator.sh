@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# navigator.sh: integration test of lasonic-navigator over real LCM. Run it inside a private
+# network namespace (tests/netns/in-netns.sh; ctest does). Env: LASONIC_BIN (build/bin),
+# LASONIC_SOURCE (repository root).
+#  1. --help works; a bad config exits 2 naming the key; the shipped config starts cleanly;
+#  2. lasonic-complement, lasonic-pilot and lasonic-navigator run live while lcm-logplayer plays a
+#     5 s lasonic-sim log of fig7_lab into them and lcm-logger records: AGM_TACTICAL, AGM_LINES
+#     and CURRENT_SENSOR_MAP come at the navigator's 2 Hz (of message time, so also of wall time
+#     here), independent of the pilot's SECTOR_MAP (one per firing group and scan); the
+#     navigator's PROCESS_STATUS shows its AGM cycles and no errors; it exits 0 on SIGTERM;
+#  3. with the navigator killed (SIGKILL), the same log played again into a fresh complement and
+#     pilot: the pilot's SECTOR_MAP count is unchanged (nothing but LCM connects the two levels).
+set -euo pipefail
+
+source "$(dirname "$0")/lib.sh"
+url+='&recv_buf_size=4194304'
+command -v lcm-logplayer >/dev/null 2>&1 || { echo "$test_name: SKIP: lcm-logplayer not found (liblcm-bin)"; exit 77; }
+
+# 1. Command line and configuration.
+"$bin/lasonic-navigator" --help >"$tmp/help.out" || die "--help failed"
+grep -q -- '--lcm-url' "$tmp/help.out" || die "--help does not mention --lcm-url"
+printf 'navigator:\n  agm: {t: -1}\n' >"$tmp/bad.yaml"
+expect_bad_config navigator.agm.t navigator.agm.t "$bin/lasonic-navigator" --config "$tmp/bad.yaml"
+printf 'navigator:\n  lines: {max_gap: 0}\n' >"$tmp/bad.yaml"
+expect_bad_config navigator.lines.max_gap navigator.lines.max_gap "$bin/lasonic-navigator" --config "$tmp/bad.yaml"
+rc=0
+timeout --preserve-status -s TERM 1 "$bin/lasonic-navigator" --config "$config" \
+  --lcm-url "$url" 2>"$tmp/shipped.err" >&2 || rc=$?
+[[ $rc -eq 0 ]] || die "the shipped config: exit status $rc, expected 0 after SIGTERM"
+
+# 2. Live: complement, pilot, navigator; a 5 s log played in.
+"$bin/lasonic-sim" --scenario "$scenario" --config "$config" --duration 5 --out "$tmp/raw.lcmlog" >/dev/null ||
+  die "lasonic-sim failed"
+start complement "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
+complement=$!
+start pilot "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
+pilot=$!
+start navigator "$bin/lasonic-navigator" --config "$config" --lcm-url "$url"
+navigator=$!
+start_logger run1.lcmlog logger1.err
+sleep 1  # subscriptions up
+lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+sleep 1.5  # the last outputs and a heartbeat
+kill -0 "$navigator" 2>/dev/null || die "the navigator died during the run"
+stop_logger
+"$bin/lasonic-log-stats" "$tmp/run1.lcmlog" >"$tmp/stats" || die "cannot read the log"
+cat "$tmp/stats" >"$tmp/run1.stats"
+for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP SECTOR_MAP; do
+  [[ -n $(stat "$ch") ]] || die "no $ch in the log"
+done
+# 5 s of message time at 2 Hz: 10 (+1 for the first cycle); the pilot: ~38 per second.
+for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP; do
+  n=$(stat "$ch")
+  ((n >= 9 && n <= 12)) || die "$n $ch messages in 5 s, expected 10-11 (2 Hz)"
+done
+sectors=$(stat SECTOR_MAP)
+((sectors >= 150)) || die "only $sectors SECTOR_MAP messages in 5 s"
+cycles=$(stat lasonic-navigator.agm.cycles)
+[[ -n $cycles ]] || die "no PROCESS_STATUS of lasonic-navigator with agm.cycles"
+((cycles >= 150)) || die "the navigator ran only $cycles AGM cycles for ~165 firing groups"
+[[ $(stat lasonic-navigator.errors) == 0 ]] || die "the navigator reported $(stat lasonic-navigator.errors) errors"
+echo "$test_name: (2) ok: AGM_TACTICAL $(stat AGM_TACTICAL), CURRENT_SENSOR_MAP $(stat CURRENT_SENSOR_MAP), SECTOR_MAP $sectors, navigator cycles $cycles"
+
+# 3. The navigator killed: the pilot's output is the same. Fresh complement and pilot (the old
+# ones would reject the log's times as going backwards).
+kill -KILL "$navigator"
+wait "$navigator" 2>/dev/null || true
+expect_term_exit "$complement" lasonic-complement
+expect_term_exit "$pilot" lasonic-pilot
+start complement2 "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
+start pilot2 "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
+start_logger run2.lcmlog logger2.err
+sleep 1
+lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+sleep 1.5
+stop_logger
+"$bin/lasonic-log-stats" "$tmp/run2.lcmlog" >"$tmp/stats" || die "cannot read the second log"
+[[ -z $(stat AGM_TACTICAL) ]] || die "AGM_TACTICAL after the navigator was killed"
+sectors2=$(stat SECTOR_MAP)
+((sectors2 >= sectors - 2 && sectors2 <= sectors + 2)) ||
+  die "SECTOR_MAP: $sectors2 messages without the navigator, $sectors with it"
+echo "$test_name: (3) ok: SECTOR_MAP $sectors2 without the navigator"
+echo "$test_name: PASS"
