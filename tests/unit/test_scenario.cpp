@@ -188,7 +188,8 @@ class ShippedScenario : public ::testing::TestWithParam<const char*> {};
 TEST_P(ShippedScenario, LoadsAndKeepsClear) {
   const std::string path = std::string(LASONIC_SOURCE_DIR) + "/deploy/scenarios/" + GetParam() + ".yaml";
   const Scenario s = loadScenario(path);
-  EXPECT_EQ(s.name, GetParam());
+  const std::string param = GetParam();
+  EXPECT_EQ(s.name, param.substr(param.rfind('/') + 1));
   EXPECT_NO_THROW(laserConfig(s.laser));
   EXPECT_NO_THROW(odometryConfig(s.odometry));
   EXPECT_NO_THROW(sonarConfig(s.sonar));
@@ -221,3 +222,9 @@ TEST_P(ShippedScenario, LoadsAndKeepsClear) {
 
 INSTANTIATE_TEST_SUITE_P(Deploy, ShippedScenario,
                          ::testing::Values("fig4_room", "fig7_lab", "corridor_people", "office_glass"));
+// The scene suite (README "Results"): the same checks.
+INSTANTIATE_TEST_SUITE_P(Suite, ShippedScenario,
+                         ::testing::Values("suite/glass_corridor", "suite/glass_door_edge", "suite/mesh_railings",
+                                           "suite/black_boxes", "suite/thin_pipes", "suite/metal_angled",
+                                           "suite/people_crossing", "suite/narrow_passage", "suite/laser_clutter",
+                                           "suite/pioneer_lab", "suite/pioneer_office"));
