@@ -544,8 +544,11 @@ void drawPanelFrame(cairo_t* cr, const Panel& p) {
   if (!p.status.drawn) {
     font(cr, 13);
     set(cr, colour::kNote);
-    const double w = textWidth(cr, p.status.note);
-    text(cr, v.x0 + std::max(8.0, 0.5 * (v.size - w)), v.y0 + 0.5 * v.size + 40, p.status.note);
+    double y = v.y0 + 0.5 * v.size + 40;
+    for (const auto& l : wrap(cr, p.status.note, v.size - 16)) {
+      text(cr, v.x0 + std::max(8.0, 0.5 * (v.size - textWidth(cr, l))), y, l);
+      y += 17;
+    }
   }
   double fy = v.y0 + 38 + 14 * static_cast<double>(sub.size());
   for (const auto& f : p.flags) {
@@ -586,9 +589,13 @@ void drawHeader(cairo_t* cr, const Snapshot& s, const sim::Scenario* sc, const R
   if (!s.odomFromTrue()) truth = "truth: none (no SIM_STATE or ODOMETRY)";
   else if (!sc) truth = "truth: movers only (no --scenario)";
   else truth = "truth: scenario " + sc->name + " (faint)";
-  text(cr, x, 20, r + "     " + truth);
+  // What does not fit is left out, the citation first.
   const std::string cite = "panels as Jörg 1995, Fig. 8";
-  text(cr, size.width - 10 - textWidth(cr, cite), 20, cite);
+  std::string info = r + "     " + truth;
+  if (x + textWidth(cr, info) > size.width - 10) info = r;
+  text(cr, x, 20, info);
+  x += textWidth(cr, info) + 30;
+  if (x + textWidth(cr, cite) < size.width - 10) text(cr, size.width - 10 - textWidth(cr, cite), 20, cite);
   cairo_restore(cr);
 }
 
@@ -684,9 +691,8 @@ cairo_status_t writeToStream(void* closure, const unsigned char* data, unsigned 
 ImageSize fig8Size(const RenderOptions& o) { return {4 * o.panel_px, kHeaderPx + 2 * o.panel_px + kLegendPx}; }
 
 void checkOptions(const RenderOptions& o) {
-  // Below 250 px the panel's title and legend text no longer fit; above 2000 px an image is
-  // 8000 px wide.
-  if (o.panel_px < 250 || o.panel_px > 2000) throw RenderError("--panel: must be 250 .. 2000 px");
+  // Below 300 px the legend no longer fits; above 2000 px an image is 8000 px wide.
+  if (o.panel_px < 300 || o.panel_px > 2000) throw RenderError("--panel: must be 300 .. 2000 px");
   if (!std::isfinite(o.view_m) || o.view_m < 0.5 || o.view_m > 200) throw RenderError("--view: must be 0.5 .. 200 m");
 }
 
