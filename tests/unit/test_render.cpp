@@ -340,7 +340,7 @@ TEST(Fig8, SectorMapColouredBySourceInTheRobotFrame) {
   m.max_range = 3.0f;
   m.nsectors = 48;
   m.distance.assign(48, -1.0f);
-  m.source.assign(48, sector_map_t::SOURCE_NONE);
+  m.source.assign(48, static_cast<int8_t>(sector_map_t::SOURCE_NONE));  // a copy: the constant has no definition to bind to
   m.laser_distance.assign(48, -1.0f);
   m.sonar_distance.assign(48, -1.0f);
   m.distance[24] = 1.0f;  // straight ahead: laser
