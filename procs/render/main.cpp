@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   std::optional<double> time_s, every_s;
   RenderOptions ro;
   app.add_option("--log", log_path, "LCM log (lasonic-replay output, or recorded live with lcm-logger)")->required();
-  app.add_option("--out", out_path, "PNG to write; with --every, frame k goes to OUT-0000k.png")->required();
+  app.add_option("--out", out_path, "PNG to write; with --every, frames go to OUT with -00000, -00001, ... before its .png")->required();
   app.add_option("--time", time_s,
                  "moment to draw [s of message time from the log's start]; default: the end (with --every: the start)");
   app.add_option("--every", every_s, "write a frame every S seconds of message time, from --time to the end");

@@ -8,8 +8,9 @@
 //  2. Waits (at most 60 s) until every channel of CHANNELS (comma-separated) is listed, then
 //     double-clicks each one's row (a MouseEvent to lcm-spy's table: lcm-spy opens the first
 //     plugin that handles the channel's type, else its own object viewer) and tiles the windows.
-//  3. After DELAY_MS more: each channel must have a window holding a lasonic.spy.MapViewer that
-//     has taken at least two messages (it follows the stream) and whose status is not an error;
+//  3. After DELAY_MS, and once every viewer has taken two messages or the replay has ended (DONE):
+//     each channel must have a window holding a lasonic.spy.MapViewer that has taken at least two
+//     messages (it follows the stream) and whose status is not an error;
 //     prints "plugin CHANNEL ok|FAIL <viewer> <messages> <status>". With PNG: a screenshot of the
 //     whole screen (java.awt.Robot) is written to PNG.
 //  4. Waits (at most 120 s) for the file DONE, exits 0 if every channel passed, else 1.
@@ -126,8 +127,24 @@ public class SpyPluginProbe {
       });
     }
 
-    // 3. Let them follow the stream, then check (and take the picture).
+    // 3. Let them follow the stream: DELAY_MS, then until every viewer has taken two messages or
+    // the replay has ended (a loaded machine may open the windows late in the log).
     Thread.sleep(delay);
+    long ended = -1;
+    while (true) {
+      final AtomicReference<Boolean> all = new AtomicReference<>(true);
+      SwingUtilities.invokeAndWait(() -> {
+        for (JFrame f : opened) {
+          MapViewer v = f == null ? null : findViewer(f);
+          if (v == null || v.messages() < 2) all.set(false);
+        }
+      });
+      if (all.get()) break;
+      if (ended < 0 && done.exists()) ended = System.currentTimeMillis();
+      if (ended >= 0 && System.currentTimeMillis() - ended > 1000) break;
+      if (System.currentTimeMillis() > deadline + 120_000) break;
+      Thread.sleep(100);
+    }
     int failed = 0;
     for (int i = 0; i < channels.size(); i++) {
       final JFrame f = opened.get(i);

@@ -2,7 +2,7 @@
 # spy_plugins_live.sh BUILD_DIR
 #
 # lasonic's lcm-spy plugins in the real lcm-spy, as a user meets them: a lasonic-sim -> lasonic-
-# replay log of fig7_lab (3 s) is played with lcm-logplayer into lcm-spy (lcm.spy.Spy, driven by
+# replay log of fig7_lab (4 s) is played with lcm-logplayer into lcm-spy (lcm.spy.Spy, driven by
 # tests/integration/SpyPluginProbe.java) under a virtual X server inside a private network
 # namespace; the probe double-clicks SECTOR_MAP, AGM_OPERATIONAL and RADAR_MAP (and AGM_TACTICAL,
 # CURRENT_SENSOR_MAP when the log has them) in lcm-spy's channel table, and each must open a
@@ -10,8 +10,8 @@
 #
 # Exit status: 0 pass, 1 fail, 77 skip (java, javac, xvfb-run, xauth, lcm.jar, jchart2d.jar or
 # lcm-logplayer missing, or no private network namespace).
-# Env: SPY_PLUGINS_LOG=LOG plays LOG instead of the 3 s log; SPY_PLUGINS_DELAY_MS (default 1200)
-#      how long the viewers follow the stream before the check; SPY_PLUGINS_PNG=FILE also saves a
+# Env: SPY_PLUGINS_LOG=LOG plays LOG instead of the 4 s log; SPY_PLUGINS_DELAY_MS (default 0)
+#      how long the viewers follow the stream at least before the check (and the screenshot); SPY_PLUGINS_PNG=FILE also saves a
 #      screenshot of the screen (lcm-spy and the viewers) to FILE; SPY_PLUGINS_CHANNELS=A,B,C
 #      the channels to open (default: as above).
 set -euo pipefail
@@ -85,7 +85,7 @@ log=${SPY_PLUGINS_LOG:-}
 if [[ -z $log ]]; then
   bin=$build/bin
   [[ -x $bin/lasonic-sim && -x $bin/lasonic-replay ]] || fail "lasonic-sim / lasonic-replay were not built"
-  "$bin/lasonic-sim" --scenario "$root/deploy/scenarios/fig7_lab.yaml" --duration 3 \
+  "$bin/lasonic-sim" --scenario "$root/deploy/scenarios/fig7_lab.yaml" --duration 4 \
     --out "$tmp/sim.lcmlog" >/dev/null || fail "lasonic-sim failed"
   "$bin/lasonic-replay" --in "$tmp/sim.lcmlog" --out "$tmp/replay.lcmlog" \
     --config "$root/deploy/config/lasonic.yaml" >/dev/null 2>&1 || fail "lasonic-replay failed"
@@ -107,7 +107,7 @@ fi
 out=$tmp/probe.txt
 rc=0
 "$root/tests/netns/in-netns.sh" xvfb-run -a -s '-screen 0 1280x800x24' "$0" --inner "$out" \
-  "$cp:$tmp" "$LCM_URL" "$log" "$channels" "${SPY_PLUGINS_DELAY_MS:-1200}" "${SPY_PLUGINS_PNG:-}" || rc=$?
+  "$cp:$tmp" "$LCM_URL" "$log" "$channels" "${SPY_PLUGINS_DELAY_MS:-0}" "${SPY_PLUGINS_PNG:-}" || rc=$?
 echo "---- lcm-spy + probe output ----"
 cat "$out"
 echo "--------------------------------"
