@@ -1,5 +1,7 @@
 #include "render/fig8.hpp"
 
+#include <fontconfig/fontconfig.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -782,6 +784,11 @@ std::vector<PanelStatus> writeFig8Png(const std::string& path, const Snapshot& s
   if (st != CAIRO_STATUS_SUCCESS || !out)
     throw RenderError(path + ": writing the PNG failed: " + cairo_status_to_string(st));
   return status;
+}
+
+void releaseStaticData() {
+  cairo_debug_reset_static_data();
+  FcFini();
 }
 
 }  // namespace lasonic::render

@@ -10,7 +10,6 @@
 // Exit status: 0 ok; 1 a picture could not be drawn or written; 2 bad arguments, an unreadable
 // log or scenario, or a time outside the log.
 #include <CLI/CLI.hpp>
-#include <cairo.h>
 
 #include <cmath>
 #include <cstdio>
@@ -59,6 +58,10 @@ int fail(int code, const std::string& msg) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // On every way out, after all drawing: Cairo's and fontconfig's caches freed.
+  struct ReleaseAtExit {
+    ~ReleaseAtExit() { releaseStaticData(); }
+  } release_at_exit;
   CLI::App app{"lasonic-render: the paper's Fig. 8 panels (Radar Map, hypothetical and real sonar scan, "
                "complementary readings, operational and tactical AGM, Current Sensor Map, Sector Map) "
                "for one moment of an LCM log, as a PNG"};
@@ -180,6 +183,5 @@ int main(int argc, char** argv) {
     return fail(1, std::string("failed: ") + e.what());
   }
   if (every_s) std::printf("%s: %lld frames\n", kName, static_cast<long long>(written));
-  cairo_debug_reset_static_data();  // frees Cairo's caches (a clean leak check)
   return 0;
 }

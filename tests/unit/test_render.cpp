@@ -123,6 +123,13 @@ const PanelStatus& panel(const std::vector<PanelStatus>& st, const std::string& 
 
 }  // namespace
 
+// Cairo's and fontconfig's caches are freed after the last test (a clean leak check).
+class ReleaseCairo : public ::testing::Environment {
+ public:
+  void TearDown() override { releaseStaticData(); }
+};
+const auto* const kReleaseCairo = ::testing::AddGlobalTestEnvironment(new ReleaseCairo);
+
 // ------------------------------------------------------------------------------ snapshot
 
 TEST(SnapshotCollector, NewestAtOrBeforeEvenOutOfOrder) {
