@@ -29,6 +29,9 @@ LASONIC_BUILD_DIR=$(dirname "$bin") LASONIC_DEMO_DURATION=5 \
 cat "$tmp/demo.err" "$tmp/demo.txt"
 ((rc == 0)) || die "the demo exited with status $rc"
 grep -q 'sensors.sonar_causes.direct' "$tmp/demo.txt" || die "the demo printed no evaluation table"
+if [[ -x $bin/lasonic-render ]]; then
+  grep -q "^picture: *$tmp/live.png" "$tmp/demo.txt" && [[ -s $tmp/live.png ]] || die "the demo wrote no Fig. 8 picture"
+fi
 if grep -E 'exited with status|stopped during the run|ignored SIGINT' "$tmp/demo.err"; then
   die "a process of the demo failed (see above)"
 fi

@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# render.sh: smoke test of lasonic-render on the real pipeline's output (no network).
+#  1. lasonic-sim (fig7_lab, 3 s) -> lasonic-replay -> lasonic-render at t = 2.5 s with the
+#     scenario: exit 0, a PNG of the expected size that is not blank (read back with Cairo by
+#     lasonic-render-check), and every panel whose channel the log lacks says so.
+#  2. --every 1: one frame per second of the log, each a valid PNG.
+#  3. The raw simulator log (no pipeline channels): still a picture, the panels say what is missing.
+#  4. Bad input: missing, random and empty logs, a time outside the log, a bad scenario, bad
+#     numbers (exit 2); an unwritable output (exit 1); a log with undecodable, truncated and
+#     invalid messages at the moment drawn (exit 0, warned, the invalid panels say so).
+set -euo pipefail
+source "$(dirname "$0")/lib.sh"
+die_globs+=('*.txt')
+
+render=$bin/lasonic-render
+check=$bin/lasonic-render-check
+[[ -x $render ]] || die "$render was not built"
+[[ -x $check ]] || die "$check was not built"
+
+"$bin/lasonic-sim" --scenario "$scenario" --duration 3 --out "$tmp/sim.lcmlog" >"$tmp/sim.txt" 2>&1 ||
+  die "lasonic-sim failed"
+"$bin/lasonic-replay" --in "$tmp/sim.lcmlog" --out "$tmp/out.lcmlog" --config "$config" >"$tmp/replay.txt" 2>&1 ||
+  die "lasonic-replay failed"
+
+# Default panel 400 px: 4 x 400 wide, 30 (header) + 2 x 400 + 48 (legend) high.
+W=1600 H=878
+
+# ---- 1. one picture
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/a.png" --time 2.5 --scenario "$scenario" >"$tmp/a.txt" 2>&1 ||
+  die "lasonic-render exited $? on the replayed log"
+grep -q "wrote $tmp/a.png (1600 x 878 px, t = 2.50 s)" "$tmp/a.txt" || die "no 'wrote' line for t = 2.50 s"
+"$check" png "$tmp/a.png" $W $H >"$tmp/a-check.txt" 2>&1 || die "a.png: $(cat "$tmp/a-check.txt")"
+"$bin/lasonic-log-stats" "$tmp/out.lcmlog" >"$tmp/stats"
+for ch in RADAR_MAP SONAR_HYPOTHESIS SONAR_RING SONAR_COMPLEMENT AGM_OPERATIONAL AGM_TACTICAL CURRENT_SENSOR_MAP SECTOR_MAP; do
+  if [[ -z $(stat "$ch") ]]; then
+    grep -q "no $ch in log" "$tmp/a.txt" || die "the log has no $ch, but no panel says so"
+  else
+    ! grep -q "no $ch" "$tmp/a.txt" || die "the log has $ch, but a panel says it has not"
+  fi
+done
+
+# ---- 2. a frame sequence
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/seq/f.png" --every 1 >"$tmp/seq.txt" 2>&1 &&
+  die "--every into a missing directory succeeded"
+mkdir -p "$tmp/seq"
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/seq/f.png" --every 1 >"$tmp/seq.txt" 2>&1 || die "--every 1 failed"
+n=$(find "$tmp/seq" -name 'f-*.png' | wc -l)
+grep -q "lasonic-render: $n frames" "$tmp/seq.txt" || die "--every 1: $n files, but the tool says otherwise"
+((n >= 3 && n <= 4)) || die "--every 1 over a 3 s log wrote $n frames"
+for f in "$tmp"/seq/f-0000{0,1,2}.png; do
+  "$check" png "$f" $W $H >"$tmp/seq-check.txt" 2>&1 || die "$f: $(cat "$tmp/seq-check.txt")"
+done
+
+# ---- 3. the raw simulator log
+"$render" --log "$tmp/sim.lcmlog" --out "$tmp/raw.png" --scenario "$scenario" >"$tmp/raw.txt" 2>&1 ||
+  die "lasonic-render failed on the raw simulator log"
+grep -q "no RADAR_MAP in log" "$tmp/raw.txt" || die "raw log: the Radar Map panel does not say it is missing"
+"$check" png "$tmp/raw.png" $W $H >"$tmp/raw-check.txt" 2>&1 || die "raw.png: $(cat "$tmp/raw-check.txt")"
+
+# ---- 4. bad input
+expect_exit() {  # CODE NAME PATTERN ARGS...: lasonic-render ARGS exits CODE, its stderr matches PATTERN
+  local code=$1 name=$2 pattern=$3 rc=0
+  shift 3
+  "$render" "$@" >"$tmp/$name.txt" 2>&1 || rc=$?
+  [[ $rc -eq $code ]] || die "$name: exit status $rc, expected $code"
+  grep -q -- "$pattern" "$tmp/$name.txt" || die "$name: the message does not say '$pattern'"
+}
+head -c 20000 /dev/urandom >"$tmp/random.lcmlog"
+: >"$tmp/empty.lcmlog"
+printf 'name: x\nobstacles: 3\n' >"$tmp/bad.yaml"
+expect_exit 2 missing "cannot open" --log "$tmp/nonexistent.lcmlog" --out "$tmp/x.png"
+expect_exit 2 random "no lasonic message" --log "$tmp/random.lcmlog" --out "$tmp/x.png"
+expect_exit 2 empty "no lasonic message" --log "$tmp/empty.lcmlog" --out "$tmp/x.png"
+expect_exit 2 late "outside the log" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --time 99
+expect_exit 2 negative "--time" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --time -1
+expect_exit 2 notnumber "time" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --time abc
+expect_exit 2 every0 "--every" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --every 0
+expect_exit 2 view "--view" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --view nan
+expect_exit 2 scenario "bad scenario" --log "$tmp/out.lcmlog" --out "$tmp/x.png" --scenario "$tmp/bad.yaml"
+expect_exit 1 unwritable "cannot open for writing" --log "$tmp/out.lcmlog" --out "$tmp/nodir/x.png"
+[[ ! -e $tmp/x.png ]] || die "a failed run left $tmp/x.png"
+
+"$check" corrupt "$tmp/out.lcmlog" "$tmp/bad.lcmlog" >"$tmp/corrupt.txt" 2>&1 || die "could not write the corrupt log"
+"$render" --log "$tmp/bad.lcmlog" --out "$tmp/bad.png" --scenario "$scenario" >"$tmp/bad.txt" 2>&1 ||
+  die "lasonic-render exited $? on a log with bad messages"
+grep -q "warning: .* events did not decode" "$tmp/bad.txt" || die "bad log: undecodable events not reported"
+grep -q "invalid AGM_OPERATIONAL message: ncells 10 != width\*height" "$tmp/bad.txt" ||
+  die "bad log: the invalid AGM_OPERATIONAL is not reported"
+grep -q "invalid SECTOR_MAP message: robot_pose not finite" "$tmp/bad.txt" ||
+  die "bad log: the invalid SECTOR_MAP is not reported"
+"$check" png "$tmp/bad.png" $W $H >"$tmp/bad-check.txt" 2>&1 || die "bad.png: $(cat "$tmp/bad-check.txt")"
+
+echo "$test_name: PASS ($(cat "$tmp/a-check.txt"); $n frames)"
