@@ -9,13 +9,15 @@
 namespace lasonic {
 
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
-  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "refit", "occlusion"});
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge"});
   p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
   p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
   p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
   p.split_threshold = c.get("split_threshold", p.split_threshold, Range::positive());
   p.min_cells = c.get("min_cells", p.min_cells, Range::between(2, 1e6));
+  p.min_length = c.get("min_length", p.min_length, Range::nonNegative());
   p.refit = c.get<bool>("refit", p.refit);
+  p.merge = c.get<bool>("merge", p.merge);
   p.occlusion = c.getChoice("occlusion", p.occlusion,
                             {{"global", LineGenerationParams::Occlusion::Global},
                              {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
@@ -104,13 +106,50 @@ std::vector<std::vector<PolarCell>> splitAtGaps(const std::vector<PolarCell>& or
   return runs;
 }
 
+namespace {
+// Largest distance of points[r] from their total-least-squares line.
+double maxResidual(const std::vector<geom::Vec2>& pts, complement::IndexRange r) {
+  const complement::RmSegment s = complement::fitLine(pts, r);
+  const geom::Vec2 d = s.seg.b - s.seg.a;
+  const double len = d.norm();
+  if (len <= 0) return 0;
+  const geom::Vec2 n(-d.y() / len, d.x() / len);
+  double worst = 0;
+  for (size_t k = r.first; k <= r.last; ++k) worst = std::max(worst, std::abs((pts[k] - s.seg.a).dot(n)));
+  return worst;
+}
+
+// Merges neighbouring pieces (they share their corner point) while the merged points fit one line
+// within threshold; the pair whose merged fit is best goes first.
+std::vector<complement::IndexRange> mergePieces(const std::vector<geom::Vec2>& pts,
+                                                std::vector<complement::IndexRange> pieces, double threshold) {
+  while (pieces.size() > 1) {
+    size_t best = pieces.size();
+    double best_res = threshold;
+    for (size_t i = 0; i + 1 < pieces.size(); ++i) {
+      const double res = maxResidual(pts, {pieces[i].first, pieces[i + 1].last});
+      if (res <= best_res) {
+        best_res = res;
+        best = i;
+      }
+    }
+    if (best == pieces.size()) break;
+    pieces[best].last = pieces[best + 1].last;
+    pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(best) + 1);
+  }
+  return pieces;
+}
+}  // namespace
+
 std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size) {
   std::vector<AgmLine> out;
   if (run.size() < static_cast<size_t>(p.min_cells) || run.size() < 2) return out;
   std::vector<geom::Vec2> pts;
   pts.reserve(run.size());
   for (const PolarCell& c : run) pts.push_back(c.cell.centre);
-  for (const complement::IndexRange& r : complement::iterativeEndPointFit(pts, {0, pts.size() - 1}, p.split_threshold)) {
+  std::vector<complement::IndexRange> pieces = complement::iterativeEndPointFit(pts, {0, pts.size() - 1}, p.split_threshold);
+  if (p.merge) pieces = mergePieces(pts, std::move(pieces), p.split_threshold);
+  for (const complement::IndexRange& r : pieces) {
     if (r.size() < static_cast<size_t>(p.min_cells)) continue;
     AgmLine l;
     if (p.refit) {
@@ -129,6 +168,7 @@ std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerat
       l.seg.a -= 0.5 * cell_size * dir;
       l.seg.b += 0.5 * cell_size * dir;
     }
+    if (l.seg.length() < p.min_length) continue;
     l.ncells = static_cast<int>(r.size());
     for (size_t k = r.first; k <= r.last; ++k) l.support = std::max(l.support, run[k].cell.support);
     out.push_back(l);

@@ -11,9 +11,10 @@
 //                    than max_gap, so a gap between two obstacles never becomes a line (beyond
 //                    the paper's text, which leaves this to the end-point fit)
 //   fitRun           iterative end-point fit along each run (the Radar Map's own
-//                    iterativeEndPointFit); runs of fewer than min_cells cells dropped (isolated
-//                    cells: noise); optional total-least-squares refit; each end extended by half
-//                    a cell, since a cell stands for the square around its centre
+//                    iterativeEndPointFit), neighbouring pieces merged again while one line fits
+//                    them (split-and-merge; beyond the paper); runs of fewer than min_cells cells
+//                    dropped (isolated cells: noise); optional total-least-squares refit; each end
+//                    extended by half a cell, since a cell stands for the square around its centre
 //   generateLines    all of the above
 // Everything is in the global (odometry) frame except the polar coordinates.
 #include <cstdint>
@@ -32,7 +33,12 @@ struct LineGenerationParams {
   double max_gap = 0.5;           // [m] neighbouring candidates farther apart start a new line
   double split_threshold = 0.10;  // [m] end-point fit: split while a cell centre is farther from the chord
   int min_cells = 3;              // lines fitted to fewer cells are dropped
+  double min_length = 0.0;        // [m] shorter lines (after the half-cell extension) are dropped
   bool refit = true;              // total-least-squares refit of each line's cells
+  // Split-and-merge: neighbouring pieces of a run are merged again while one line fits all their
+  // cells within split_threshold (a band of cells two deep, seen at an angle, zigzags in the
+  // angle order and would otherwise be split into slanted pieces).
+  bool merge = true;
   // Global: the paper's rule, a cell hidden behind any nearer cell is dropped. PerCluster: only
   // behind a nearer cell of its own cluster (cells connected within max_gap), so a remembered
   // obstacle is not dropped because another one now stands in front of it.

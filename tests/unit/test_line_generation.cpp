@@ -119,6 +119,20 @@ TEST(LineGeneration, DiagonalWallOfQuantisedCellsKeepsItsDirection) {
   EXPECT_LT(offLine(lines[0], {-0.5, 0.5}), 0.06);
 }
 
+TEST(LineGeneration, TwoDeepBandSeenAtAnAngleIsOneStraightLine) {
+  // A surface at y = 1 whose cells (evidence points) lie in two rows, 1 and 1.12, as the angle
+  // order visits them when the band is seen at an angle: zigzagging between the rows.
+  std::vector<PolarCell> run;
+  for (int i = 0; i <= 20; ++i) run.push_back({{{1.0 + 0.1 * i, i % 3 == 0 ? 1.12 : 1.0}, 10, 1}, 0.0, 0.0});
+  LineGenerationParams p = params();
+  const auto merged = fitRun(run, p, kCell);
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_LT(std::abs(std::sin(angleOf(merged[0]))), 0.03);
+  EXPECT_EQ(merged[0].ncells, 21);
+  p.merge = false;  // the end-point fit alone splits the band into slanted pieces
+  EXPECT_GT(fitRun(run, p, kCell).size(), 1u);
+}
+
 TEST(LineGeneration, IsolatedNoiseCellsGiveNoLines) {
   // Cells scattered at least 0.6 m apart (crosstalk hits): each alone, below min_cells.
   std::mt19937 rng(3);
@@ -188,7 +202,7 @@ TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
 TEST(LineGeneration, ConfigKeysAndErrors) {
   const auto p = lineGenerationParams(Config::fromString(
       "lines: {gp_threshold: 7, angle_bin_deg: 2, max_gap: 0.3, split_threshold: 0.05, min_cells: 4, refit: false, "
-      "occlusion: per_cluster}").section("lines"));
+      "occlusion: per_cluster, merge: false, min_length: 0.3}").section("lines"));
   EXPECT_EQ(p.gp_threshold, 7);
   EXPECT_DOUBLE_EQ(p.angle_bin_deg, 2);
   EXPECT_DOUBLE_EQ(p.max_gap, 0.3);
@@ -196,6 +210,8 @@ TEST(LineGeneration, ConfigKeysAndErrors) {
   EXPECT_EQ(p.min_cells, 4);
   EXPECT_FALSE(p.refit);
   EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::PerCluster);
+  EXPECT_FALSE(p.merge);
+  EXPECT_DOUBLE_EQ(p.min_length, 0.3);
   for (const char* bad : {"lines: {max_gap: 0}", "lines: {min_cells: 1}", "lines: {angle_bin_deg: -1}",
                           "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {colour: red}"})
     EXPECT_THROW(lineGenerationParams(Config::fromString(bad).section("lines")), ConfigError) << bad;
