@@ -41,7 +41,11 @@ struct EvalOptions {
   double range_limit = 2.20;       // [m] the ideal sonar's limit (overridden by SONAR_HYPOTHESIS)
   double sector_range = 2.0;       // [m] sector map: obstacles this close to the boundary must be seen
   double sector_tolerance = 0.10;  // [m]
+  double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
 };
+
+struct SectorTruthTable;  // eval/observability.hpp
+struct BaselinesConfig;   // eval/baselines.hpp
 
 // The truth at any time, interpolated between SIM_STATE messages.
 class TruthTrack {
@@ -63,8 +67,12 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m);
 std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,
                                         double robot_radius, int nsectors, double max_range);
 void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+// The same with the truth computed once (eval/observability.hpp).
+void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m);
 void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 
-Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {});
+// baselines: the baseline mappers' configuration (nullptr: the code's defaults).
+Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {},
+                 const BaselinesConfig* baselines = nullptr);
 
 }  // namespace lasonic::eval
