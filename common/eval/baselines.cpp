@@ -6,7 +6,6 @@
 #include <sstream>
 
 #include "complement/messages.hpp"
-#include "core/pose_history.hpp"
 #include "stages/pilot_stage.hpp"
 
 namespace lasonic::eval {
@@ -45,38 +44,65 @@ BaselinesConfig baselinesConfig(const Config& root) {
   return b;
 }
 
-void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const BaselinesConfig& cfg,
-                   const EvalOptions& o, Metrics& m) {
-  if (!cfg.enabled || truth.maps.empty() || log.odometry.empty() || log.sonar_rings.empty()) return;
-
-  // The raw channels in time order (a scan at the time of its last reading, when it is
-  // complete); at equal times odometry first, so a sensor is placed with the newest pose.
-  enum Kind { kOdometry = 0, kLaser = 1, kSonar = 2 };
-  struct Event {
-    int64_t t;
-    int kind;
-    size_t i;
-  };
-  std::vector<Event> events;
-  events.reserve(log.odometry.size() + log.laser_scans.size() + log.sonar_rings.size());
-  for (size_t i = 0; i < log.odometry.size(); ++i) events.push_back({log.odometry[i].utime, kOdometry, i});
+RawChannelReplay::RawChannelReplay(const RunLog& log) : log_(&log) {
+  events_.reserve(log.odometry.size() + log.laser_scans.size() + log.sonar_rings.size());
+  for (size_t i = 0; i < log.odometry.size(); ++i) events_.push_back({log.odometry[i].utime, 0, i});
   for (size_t i = 0; i < log.laser_scans.size(); ++i) {
     const laser_scan_t& s = log.laser_scans[i];
     int64_t last = 0;
     for (const int32_t off : s.offset_us) last = std::max<int64_t>(last, off);
-    events.push_back({s.utime + last, kLaser, i});
+    events_.push_back({s.utime + last, 1, i});
   }
-  for (size_t i = 0; i < log.sonar_rings.size(); ++i) events.push_back({log.sonar_rings[i].utime, kSonar, i});
-  std::stable_sort(events.begin(), events.end(),
+  for (size_t i = 0; i < log.sonar_rings.size(); ++i) events_.push_back({log.sonar_rings[i].utime, 2, i});
+  std::stable_sort(events_.begin(), events_.end(),
                    [](const Event& a, const Event& b) { return a.t < b.t || (a.t == b.t && a.kind < b.kind); });
+}
 
-  // Read out at the pilot's map times, in time order.
+void RawChannelReplay::advanceTo(int64_t utime, const Handlers& h) {
+  std::vector<complement::InputProblem> problems;  // bad input is the pipeline's to report
+  const auto pose_at = [this](int64_t t) { return poses_.at(t); };
+  for (; next_ < events_.size() && events_[next_].t <= utime; ++next_) {
+    const Event& ev = events_[next_];
+    problems.clear();
+    if (ev.kind == 0) {
+      const odometry_t& od = log_->odometry[ev.i];
+      if (!std::isfinite(od.pose.x) || !std::isfinite(od.pose.y) || !std::isfinite(od.pose.theta) ||
+          !std::isfinite(od.v))
+        continue;
+      if (poses_.add(od.utime, {od.pose.x, od.pose.y, od.pose.theta}) == PoseHistory::AddResult::Ok) speed_ = od.v;
+    } else if (ev.kind == 1) {
+      const laser_scan_t& msg = log_->laser_scans[ev.i];
+      if (last_scan_ && msg.utime <= *last_scan_) continue;
+      const auto scan = complement::laserScanFromMessage(msg, problems);
+      if (!scan) continue;
+      last_scan_ = msg.utime;
+      const auto placed = complement::placeReadings(*scan, pose_at);
+      if (h.laser) h.laser(msg, *scan, placed, ev.t);
+    } else {
+      const sonar_ring_t& msg = log_->sonar_rings[ev.i];
+      if (last_ring_ && msg.utime <= *last_ring_) continue;
+      last_ring_ = msg.utime;
+      const complement::SonarGroup g = complement::sonarGroupFromMessage(msg, problems);
+      if (h.sonar) h.sonar(msg, g, poses_.at(msg.utime));
+    }
+  }
+}
+
+std::vector<size_t> mapsInTimeOrder(const RunLog& log, const SectorTruthTable& truth) {
   std::vector<size_t> order(truth.maps.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return log.sector_maps[truth.maps[a]].utime < log.sector_maps[truth.maps[b]].utime;
   });
-  // The pilot's read-out, for the robot and sector layout its maps describe.
+  return order;
+}
+
+void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const BaselinesConfig& cfg,
+                   const EvalOptions& o, Metrics& m) {
+  if (!cfg.enabled || truth.maps.empty() || log.odometry.empty() || log.sonar_rings.empty()) return;
+  // Read out at the pilot's map times, in time order, with the pilot's read-out for the robot and
+  // sector layout its maps describe.
+  const std::vector<size_t> order = mapsInTimeOrder(log, truth);
   SectorMapParams rp = cfg.readout;
   const sector_map_t& first = log.sector_maps[truth.maps[order.front()]];
   rp.sectors = first.nsectors;
@@ -88,79 +114,52 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
   baselines::LogOddsGrid log_odds(cfg.log_odds);
   SectorMap himm_map(rp), naive_map(rp), log_odds_map(rp);
   SectorScore himm_score, naive_score, log_odds_score;
+  RawChannelReplay replay(log);
 
-  PoseHistory poses;
-  double speed = 0;
-  int64_t last_scan = 0, last_ring = 0;
-  bool have_scan = false, have_ring = false;
-  const auto pose_at = [&poses](int64_t t) { return poses.at(t); };
-  std::vector<complement::InputProblem> problems;  // bad input is the pipeline's to report
-
-  const auto onOdometry = [&](const odometry_t& od) {
-    if (!std::isfinite(od.pose.x) || !std::isfinite(od.pose.y) || !std::isfinite(od.pose.theta) || !std::isfinite(od.v))
-      return;
-    if (poses.add(od.utime, {od.pose.x, od.pose.y, od.pose.theta}) == PoseHistory::AddResult::Ok) speed = od.v;
-  };
-  const auto onLaser = [&](const laser_scan_t& msg, int64_t newest) {
-    if (have_scan && msg.utime <= last_scan) return;
-    problems.clear();
-    const auto scan = complement::laserScanFromMessage(msg, problems);
-    if (!scan) return;
-    have_scan = true;
-    last_scan = msg.utime;
-    const auto placed = complement::placeReadings(*scan, pose_at);
+  RawChannelReplay::Handlers h;
+  h.laser = [&](const laser_scan_t&, const complement::LaserScan& scan, const std::vector<complement::ScanPoint>& placed,
+                int64_t newest) {
     std::vector<geom::Vec2> points;
-    if (const auto robot = poses.at(newest)) log_odds.follow(robot->position());
+    if (const auto robot = replay.poses().at(newest)) log_odds.follow(robot->position());
     for (size_t i = 0; i < placed.size(); ++i) {
       if (!placed[i].valid) continue;
       points.push_back(placed[i].p);
-      if (const auto robot = poses.at(scan->readings[i].utime))
-        log_odds.insertLaser(robot->transform(scan->mount.position()), placed[i].p);
+      if (const auto robot = replay.poses().at(scan.readings[i].utime))
+        log_odds.insertLaser(robot->transform(scan.mount.position()), placed[i].p);
     }
     if (points.empty()) return;
     naive_map.setLaserPoints(newest, points);
     log_odds_map.setLaserPoints(newest, std::move(points));
   };
-  const auto onSonar = [&](const sonar_ring_t& msg) {
-    if (have_ring && msg.utime <= last_ring) return;
-    have_ring = true;
-    last_ring = msg.utime;
-    problems.clear();
-    const complement::SonarGroup g = complement::sonarGroupFromMessage(msg, problems);
-    const auto robot = poses.at(msg.utime);
+  h.sonar = [&](const sonar_ring_t& msg, const complement::SonarGroup& g, const std::optional<geom::Pose2>& robot) {
     const double range_max = std::isfinite(msg.range_max) && msg.range_max > 0 ? msg.range_max : 0.0;
     std::vector<baselines::NaiveFusion::Reading> readings;
     if (robot) {
       himm.follow(robot->position());
       log_odds.follow(robot->position());
+      for (size_t i = 0; i < g.readings.size(); ++i) {
+        const complement::SonarReading& r = g.readings[i];
+        if (!r.valid) continue;
+        const geom::Pose2 sensor = robot->compose(r.mount);
+        readings.push_back({r.sensor_id, sensor, r.range, !r.no_echo});
+        himm.insert(sensor, r.range, r.no_echo, range_max);
+        const double beam = i < msg.beam_width.size() ? msg.beam_width[i] : cfg.naive_fusion.bearing_params.beam_width;
+        log_odds.insertSonar(sensor, r.range, r.no_echo, beam, range_max);
+      }
     }
-    for (size_t i = 0; i < g.readings.size(); ++i) {
-      const complement::SonarReading& r = g.readings[i];
-      if (!r.valid || !robot) continue;
-      const geom::Pose2 sensor = robot->compose(r.mount);
-      readings.push_back({r.sensor_id, sensor, r.range, !r.no_echo});
-      himm.insert(sensor, r.range, r.no_echo, range_max);
-      const double beam = i < msg.beam_width.size() ? msg.beam_width[i] : cfg.naive_fusion.bearing_params.beam_width;
-      log_odds.insertSonar(sensor, r.range, r.no_echo, beam, range_max);
-    }
-    naive.insertGroup(msg.utime, readings, robot ? std::optional<geom::Vec2>(robot->position()) : std::nullopt, speed);
+    naive.insertGroup(msg.utime, readings, robot ? std::optional<geom::Vec2>(robot->position()) : std::nullopt,
+                      replay.speed());
     himm_map.setSonarTime(msg.utime);
     naive_map.setSonarTime(msg.utime);
     log_odds_map.setSonarTime(msg.utime);
   };
 
-  size_t e = 0;
   for (const size_t j : order) {
     const sector_map_t& sm = log.sector_maps[truth.maps[j]];
-    for (; e < events.size() && events[e].t <= sm.utime; ++e) {
-      const Event& ev = events[e];
-      if (ev.kind == kOdometry) onOdometry(log.odometry[ev.i]);
-      else if (ev.kind == kLaser) onLaser(log.laser_scans[ev.i], ev.t);
-      else onSonar(log.sonar_rings[ev.i]);
-    }
+    replay.advanceTo(sm.utime, h);
     if (truth.sectors(j) != rp.sectors) continue;  // a map of another layout: not comparable
     const SectorSample* s = truth.mapSamples(j);
-    const auto pose = poses.at(sm.utime);
+    const auto pose = replay.poses().at(sm.utime);
     const auto score = [&](SectorMap& map, const auto& grid, SectorScore& sc) {
       if (!pose) {  // no pose, no map: nothing reported
         for (int k = 0; k < rp.sectors; ++k) sc.add(-1, s[k], o);

@@ -166,9 +166,9 @@ void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
   setRatio(m, prefix + ".false_alarm_rate", false_alarm_);
   setRatio(m, prefix + ".false_alarm_share_of_reports", false_of_reports_);
   if (err_n_ > 0) m.set(prefix + ".mae_m", abs_err_ / static_cast<double>(err_n_));
-  if (!details) return;
   for (size_t i = 0; i < missed_by_material_.size() && i < materials.size(); ++i)
     setRatio(m, prefix + ".missed_by_material." + materials[i], missed_by_material_[i]);
+  if (!details) return;
   if (false_alarm_.num > 0) {
     static const char* kNames[4] = {"none", "laser", "sonar", "sonar_copied"};
     for (int s = 1; s < 4; ++s)

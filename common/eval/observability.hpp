@@ -92,8 +92,8 @@ class SectorScore {
   // reported: [m], < 0 = nothing reported; source: sector_map_t::SOURCE_*, -1 unknown.
   void add(double reported, const SectorSample& s, const EvalOptions& o, int source = -1);
   // Writes prefix.{missed_rate, observable_missed_rate, false_alarm_rate,
-  // false_alarm_share_of_reports, mae_m}; with `details` also unobservable_share,
-  // missed_by_material.*, false_alarms_by_source.* and samples.*.
+  // false_alarm_share_of_reports, mae_m, missed_by_material.*}; with `details` also
+  // unobservable_share, false_alarms_by_source.* and samples.*.
   void write(Metrics& m, const std::string& prefix, bool details, const std::vector<std::string>& materials) const;
 
  private:
