@@ -38,13 +38,15 @@ void HimmGrid::insert(const geom::Pose2& sensor, double range, bool no_echo, dou
   const geom::Vec2 from = sensor.position();
   const geom::Vec2 to = from + range * geom::unitVector(sensor.theta);
   const int64_t hx = w_.globalCell(to.x()), hy = w_.globalCell(to.y());
-  // I- along the axis in front of the hit cell (the whole axis without an echo).
+  // I- along the axis in front of the hit cell (the whole axis without an echo). Once the axis
+  // has left the window nothing more of it is inside (a huge range costs nothing).
+  bool entered = false;
   forEachCellOnSegment(from, to, w_.cellSize(), [&](int64_t gx, int64_t gy) {
     if (!no_echo && gx == hx && gy == hy) return false;
-    if (w_.inWindow(gx, gy)) {
-      const size_t i = w_.index(gx, gy);
-      set(i, w_.value(i) - p_.decrement);
-    }
+    if (!w_.inWindow(gx, gy)) return !entered;
+    entered = true;
+    const size_t i = w_.index(gx, gy);
+    set(i, w_.value(i) - p_.decrement);
     return true;
   });
   if (no_echo || !w_.inWindow(hx, hy)) return;

@@ -92,10 +92,12 @@ void LogOddsGrid::insertSonar(const geom::Pose2& sensor, double range, bool no_e
   }
   const geom::Vec2 axis = geom::unitVector(sensor.theta);
   const double cos_h = std::cos(h);
-  const int64_t gx0 = w_.globalCell(x0), gx1 = w_.globalCell(x1), gy0 = w_.globalCell(y0), gy1 = w_.globalCell(y1);
+  // Only the part inside the window (a huge range_max costs nothing).
+  const OccupancyWindow& win = w_.occupancy();
+  const int64_t gx0 = std::max(w_.globalCell(x0), win.origin_x), gx1 = std::min(w_.globalCell(x1), win.origin_x + win.size - 1);
+  const int64_t gy0 = std::max(w_.globalCell(y0), win.origin_y), gy1 = std::min(w_.globalCell(y1), win.origin_y + win.size - 1);
   for (int64_t gy = gy0; gy <= gy1; ++gy)
     for (int64_t gx = gx0; gx <= gx1; ++gx) {
-      if (!w_.inWindow(gx, gy)) continue;
       const geom::Vec2 d = w_.cellCentre(gx, gy) - apex;
       const double r = d.norm();
       if (r > outer) continue;

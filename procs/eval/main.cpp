@@ -55,6 +55,9 @@ int main(int argc, char** argv) {
   } catch (const lasonic::LogError& e) {
     std::cerr << "lasonic-eval: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {  // e.g. a log whose SIM_STATE does not match the scenario
+    std::cerr << "lasonic-eval: " << e.what() << "\n";
+    return 1;
   }
   return 0;
 }

@@ -143,6 +143,27 @@ TEST(Himm, NoEchoClearsTheWholeAxisOnlyWhenConfigured) {
   EXPECT_EQ(keep.cv({2.05, 0.05}), 3);
 }
 
+TEST(Baselines, HugeRangesTouchOnlyTheWindow) {
+  // A malformed range_max or reading (finite but absurd) must cost the window, not the range.
+  HimmGrid h(himmTestParams());
+  LogOddsGrid l(LogOddsParams{});
+  const Pose2 s{0.05, 0.05, 0.3};
+  h.follow(s.position());
+  l.follow(s.position());
+  h.insert(s, 2.0, false, 3.0);
+  h.insert(s, 2.0, false, 3.0);
+  const Vec2 hit = s.transform({2.0, 0.0});
+  ASSERT_EQ(h.cv(hit), 6);
+  h.insert(s, 0.0, true, 1e12);
+  EXPECT_EQ(h.cv(hit), 5);
+  h.insert(s, 1e12, false, 1e12);
+  EXPECT_EQ(h.cv(hit), 4);
+  l.insertSonar(s, 0.0, true, kBeam, 1e12);
+  EXPECT_LT(l.probability(hit), 0.5);
+  l.insertLaser(s.position(), s.transform({1e12, 0.0}));
+  EXPECT_LT(l.probability(s.transform({3.0, 0.0})), 0.5);
+}
+
 TEST(Himm, ConfigKeysAndErrors) {
   const auto p = himmParams(Config::fromString("{increment: 2, threshold: 5, cell_size: 0.05}"));
   EXPECT_EQ(p.increment, 2);
