@@ -149,4 +149,32 @@ std::optional<double> nearestInSector(const Sector& sec, const Circle& c) {
   return best;
 }
 
+std::optional<Vec2> nearestPointInSector(const Sector& sec, const Segment& s) {
+  const auto c = clipToWedge(sec, s);
+  if (!c) return std::nullopt;
+  const Vec2 p = closestPoint(*c, sec.apex);
+  if ((p - sec.apex).norm() > sec.radius) return std::nullopt;
+  return p;
+}
+
+std::optional<Vec2> nearestPointInSector(const Sector& sec, const Circle& c) {
+  const Vec2 d = c.center - sec.apex;
+  const double dist = d.norm();
+  if (dist <= c.radius) return sec.apex;  // apex inside the disc
+  if (std::abs(angleDiff(std::atan2(d.y(), d.x()), sec.heading)) <= 0.5 * sec.opening) {
+    if (dist - c.radius > sec.radius) return std::nullopt;
+    return Vec2(sec.apex + d * ((dist - c.radius) / dist));
+  }
+  std::optional<Vec2> best;
+  double best_t = 0;
+  for (double side : {-1.0, 1.0}) {
+    const Ray edge{sec.apex, unitVector(sec.heading + side * 0.5 * sec.opening)};
+    if (auto t = intersect(edge, c); t && *t <= sec.radius && (!best || *t < best_t)) {
+      best_t = *t;
+      best = Vec2(edge.origin + *t * edge.dir);
+    }
+  }
+  return best;
+}
+
 }  // namespace lasonic::geom

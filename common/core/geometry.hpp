@@ -80,6 +80,10 @@ struct Sector {
 std::optional<double> nearestInSector(const Sector& sec, const Segment& s);
 // Same for a circle's boundary (a solid disc: the nearest boundary point inside the sector).
 std::optional<double> nearestInSector(const Sector& sec, const Circle& c);
+// The nearest point itself (same rules; the evaluation needs to know which surface point
+// defines a sector's truth).
+std::optional<Vec2> nearestPointInSector(const Sector& sec, const Segment& s);
+std::optional<Vec2> nearestPointInSector(const Sector& sec, const Circle& c);
 
 // Clip a segment to the infinite wedge of the sector (ignoring the radius). Empty if outside.
 std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s);

@@ -6,6 +6,8 @@
 #include <map>
 
 #include "core/geometry.hpp"
+#include "eval/baselines.hpp"
+#include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 
@@ -169,86 +171,32 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
 
 std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,
                                         double robot_radius, int nsectors, double max_range) {
-  std::vector<double> out(static_cast<size_t>(nsectors), kInf);
-  const double width = 2.0 * geom::kPi / nsectors;
-  for (int k = 0; k < nsectors; ++k) {
-    const geom::Sector sec{robot.position(), robot.theta - geom::kPi + (k + 0.5) * width, width,
-                           robot_radius + max_range};
-    double best = kInf;
-    for (const auto& p : world.primitives()) {
-      const auto d = p.kind == sim::Primitive::Kind::Segment ? geom::nearestInSector(sec, p.segment)
-                                                             : geom::nearestInSector(sec, p.circle);
-      if (d) best = std::min(best, *d);
-    }
-    if (std::isfinite(best)) out[static_cast<size_t>(k)] = std::max(0.0, best - robot_radius);
-  }
+  std::vector<double> out;
+  for (const SectorTruth& t : trueSectorHits(world, robot, robot_radius, nsectors, max_range))
+    out.push_back(t.distance);
   return out;
 }
 
-namespace {
-struct SectorScore {
-  Ratio missed, false_alarm, false_of_reports;
-  double abs_err = 0;
-  int64_t err_n = 0;
-  // False alarms by the sector's source (sector_map_t::SOURCE_*), to tell whose they are.
-  int64_t false_by_source[4] = {0, 0, 0, 0};
-  void add(double reported, double truth, const EvalOptions& o, int source = -1) {
-    const bool has = reported >= 0;
-    if (truth <= o.sector_range) {
-      missed.add(!has || reported > truth + o.sector_tolerance);
-      if (has) {
-        abs_err += std::abs(reported - truth);
-        ++err_n;
-      }
-    }
-    // Every sector of every map is an opportunity for a false alarm (like missed_rate's
-    // denominator is every sector that holds a true obstacle); the share among the sectors
-    // that report something within range is kept too, as the stricter view.
-    const bool fa = has && reported <= o.sector_range && reported < truth - o.sector_tolerance;
-    false_alarm.add(fa);
-    if (has && reported <= o.sector_range) false_of_reports.add(fa);
-    if (fa && source >= 0 && source < 4) ++false_by_source[source];
-  }
-  void write(Metrics& m, const std::string& prefix, bool by_source) const {
-    setRatio(m, prefix + ".missed_rate", missed);
-    setRatio(m, prefix + ".false_alarm_rate", false_alarm);
-    setRatio(m, prefix + ".false_alarm_share_of_reports", false_of_reports);
-    if (err_n > 0) m.set(prefix + ".mae_m", abs_err / static_cast<double>(err_n));
-    if (!by_source || false_alarm.num == 0) return;
-    static const char* kNames[4] = {"none", "laser", "sonar", "sonar_copied"};
-    for (int s = 1; s < 4; ++s)
-      m.set(prefix + ".false_alarms_by_source." + kNames[s],
-            static_cast<double>(false_by_source[s]) / static_cast<double>(false_alarm.num));
-  }
-};
-}  // namespace
-
 void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
-  TruthTrack truth(log.sim_states);
-  sim::WorldGeometry world(sc);
+  evalSectorMap(log, sectorTruthTable(log, sc, o), o, m);
+}
+
+void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m) {
+  if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
   SectorScore fused, laser_only;
-  int64_t scored = 0, warmup = 0;
-  for (const auto& sm : log.sector_maps) {
-    // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,
-    // before the first scan or firing group) declares itself blind there: counted, not scored.
-    if (sm.laser_age_s < 0 || sm.sonar_age_s < 0) {
-      ++warmup;
-      continue;
-    }
-    ++scored;
-    world.setMovers(truth.moversAt(sm.utime));
-    const auto t = trueSectorDistances(world, truth.robotAt(sm.utime), sm.robot_radius,
-                                       sm.nsectors, o.sector_range + 1.0);
-    for (size_t k = 0; k < t.size(); ++k) {
-      fused.add(sm.distance[k], t[k], o, sm.source[k]);
-      laser_only.add(sm.laser_distance[k], t[k], o);
+  for (size_t i = 0; i < truth.maps.size(); ++i) {
+    const sector_map_t& sm = log.sector_maps[truth.maps[i]];
+    const SectorSample* s = truth.mapSamples(i);
+    for (size_t k = 0; k < static_cast<size_t>(truth.sectors(i)); ++k) {
+      fused.add(sm.distance[k], s[k], o, sm.source[k]);
+      laser_only.add(sm.laser_distance[k], s[k], o);
     }
   }
-  m.set("sector_map.maps", scored);
-  m.set("sector_map.maps_before_first_data", warmup);
-  fused.write(m, "sector_map", true);
-  laser_only.write(m, "baselines.laser_only.sector_map", false);
+  m.set("sector_map.maps", static_cast<int64_t>(truth.maps.size()));
+  m.set("sector_map.maps_before_first_data", truth.warmup);
+  fused.write(m, "sector_map", true, truth.materials);
+  laser_only.write(m, "baselines.laser_only.sector_map", false, truth.materials);
 }
 
 // ------------------------------------------------------------------------------ AGM
@@ -303,7 +251,7 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOp
   setRatio(m, "agm_operational.recall", recall);
 }
 
-Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o) {
+Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, const BaselinesConfig* baselines) {
   Metrics m;
   m.set("scenario", sc.name);
   double duration = 0;
@@ -312,7 +260,11 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
   m.set("duration_s", duration);
   evalSensors(log, m);
   evalComplement(log, o, m);
-  evalSectorMap(log, sc, o, m);
+  if (!log.sector_maps.empty() && log.sim_states.size() >= 2) {
+    const SectorTruthTable truth = sectorTruthTable(log, sc, o);
+    evalSectorMap(log, truth, o, m);
+    evalBaselines(log, truth, baselines ? *baselines : baselinesConfig(Config{}), o, m);
+  }
   evalAgmOperational(log, sc, o, m);
   evalAgmTactical(log, sc, o, m);
   evalLines(log, sc, o, m);

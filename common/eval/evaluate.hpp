@@ -46,7 +46,11 @@ struct EvalOptions {
   double sector_tolerance = 0.10;  // [m]
   double located_radius = 0.30;    // [m] a direct echo's hit point this close locates a boundary point
   double line_tolerance = 0.10;    // [m] lines: within this of a boundary point / a true surface
+  double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
 };
+
+struct SectorTruthTable;  // eval/observability.hpp
+struct BaselinesConfig;   // eval/baselines.hpp
 
 // The truth at any time, interpolated between SIM_STATE messages.
 class TruthTrack {
@@ -68,6 +72,8 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m);
 std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,
                                         double robot_radius, int nsectors, double max_range);
 void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+// The same with the truth computed once (eval/observability.hpp).
+void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m);
 void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 
 // Boundary points (every `spacing` metres) of the scenario's static obstacles that do not reflect
@@ -90,6 +96,8 @@ std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, co
 void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 
-Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {});
+// baselines: the baseline mappers' configuration (nullptr: the code's defaults).
+Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {},
+                 const BaselinesConfig* baselines = nullptr);
 
 }  // namespace lasonic::eval

@@ -81,7 +81,8 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   }
 }
 
-void SectorMap::sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, bool use_explained,
+template <typename Grid>
+void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained,
                             std::vector<Value>& out) const {
   std::fill(out.begin(), out.end(), Value{});
   const bool check = use_explained && !explained_.empty();
@@ -119,6 +120,18 @@ void SectorMap::hold(bool stale, std::vector<Value>& now, std::vector<Value>& he
 }
 
 const SectorMapState& SectorMap::update(int64_t utime, const geom::Pose2& pose, const AccumulativeGridMap& agm) {
+  return updateWith(utime, pose, agm);
+}
+
+const SectorMapState& SectorMap::update(int64_t utime, const geom::Pose2& pose, const OccupancyWindow& grid) {
+  if (grid.size < 0 || grid.occupied.size() != static_cast<size_t>(grid.size) * static_cast<size_t>(grid.size) ||
+      !(grid.cell_size > 0))
+    throw std::invalid_argument("SectorMap: OccupancyWindow of inconsistent size");
+  return updateWith(utime, pose, grid);
+}
+
+template <typename Grid>
+const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm) {
   const size_t n = static_cast<size_t>(p_.sectors);
   s_.utime = utime;
   s_.pose = pose;

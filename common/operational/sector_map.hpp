@@ -28,7 +28,9 @@
 // stale; its values are then held: each sector takes the min of the newly computed value and
 // the held one, and the held values only ever get shorter, so stale data never makes a sector
 // look freer than the last fresh data did. A sensor never heard from is stale with age -1.
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -58,6 +60,37 @@ struct SectorMapParams {
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
 };
 
+// Any grid of obstacle cells laid out like the AGM -- global cell (gx, gy) covers
+// [gx*c, (gx+1)*c) x [gy*c, (gy+1)*c), the window holds gx in [origin_x, origin_x + size), gy
+// likewise -- so that other mappers (the evaluation's baselines) are read out by the same
+// SectorMap as the operational AGM. An occupied cell counts as above any gp_threshold.
+struct OccupancyWindow {
+  int64_t origin_x = 0, origin_y = 0;
+  int size = 0;
+  double cell_size = 0.10;
+  std::vector<uint8_t> occupied;  // row-major, iy * size + ix; nonzero: an obstacle
+
+  // The AccumulativeGridMap interface that SectorMap reads.
+  int64_t originX() const { return origin_x; }
+  int64_t originY() const { return origin_y; }
+  double cellSize() const { return cell_size; }
+  geom::Vec2 originMetres() const {
+    return {static_cast<double>(origin_x) * cell_size, static_cast<double>(origin_y) * cell_size};
+  }
+  template <typename F>
+  void forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+    ix0 = std::max(ix0, 0);
+    iy0 = std::max(iy0, 0);
+    ix1 = std::min(ix1, size - 1);
+    iy1 = std::min(iy1, size - 1);
+    for (int iy = iy0; iy <= iy1; ++iy)
+      for (int ix = ix0; ix <= ix1; ++ix) {
+        const bool occ = occupied[static_cast<size_t>(iy) * static_cast<size_t>(size) + static_cast<size_t>(ix)] != 0;
+        f(ix, iy, occ ? 1 : 0, occ ? std::numeric_limits<int>::max() : 0);
+      }
+  }
+};
+
 struct SectorMapState {
   int64_t utime = 0;
   geom::Pose2 pose;
@@ -83,6 +116,8 @@ class SectorMap {
 
   // Computes the map at utime with the robot at `pose` (odometry frame).
   const SectorMapState& update(int64_t utime, const geom::Pose2& pose, const AccumulativeGridMap& agm);
+  // The same with another mapper's obstacle cells in place of the AGM's.
+  const SectorMapState& update(int64_t utime, const geom::Pose2& pose, const OccupancyWindow& grid);
   const SectorMapState& state() const { return s_; }
 
  private:
@@ -92,8 +127,10 @@ class SectorMap {
   };
   int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
-  void sonarValues(const geom::Pose2& pose, const AccumulativeGridMap& agm, bool use_explained,
-                   std::vector<Value>& out) const;
+  template <typename Grid>
+  void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out) const;
+  template <typename Grid>
+  const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);
   // Staleness: fresh -> remember; stale -> min with what is held (which only shrinks).
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);

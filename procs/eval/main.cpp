@@ -1,20 +1,33 @@
-// lasonic-eval: scores a log against the simulator's truth (DESIGN.md "Evaluation").
+// lasonic-eval: scores a log against the simulator's truth (README "Evaluation"), lasonic's maps
+// and the baselines' (computed here from the log's raw channels, configured by --config).
 #include <CLI/CLI.hpp>
 
 #include <fstream>
 #include <iostream>
 
 #include "core/config.hpp"
+#include "eval/baselines.hpp"
 #include "eval/evaluate.hpp"
 #include "lcmio/eventlog.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-eval: score an LCM log against the simulator's ground truth"};
-  std::string log_path, scenario_path, json_path;
+  std::string log_path, scenario_path, json_path, config_path;
   app.add_option("--log", log_path, "LCM log (from lasonic-sim, lasonic-replay or lcm-logger)")->required();
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from")->required();
   app.add_option("--json", json_path, "also write the metrics as JSON to FILE ('-' = standard output)");
+  app.add_option("--config", config_path,
+                 "YAML configuration the log was replayed with (sections pilot and baselines: the baselines' "
+                 "parameters and read-out); without it the code's defaults");
   CLI11_PARSE(app, argc, argv);
+  lasonic::eval::BaselinesConfig baselines;
+  try {
+    baselines = lasonic::eval::baselinesConfig(config_path.empty() ? lasonic::Config{}
+                                                                   : lasonic::Config::loadFile(config_path));
+  } catch (const lasonic::ConfigError& e) {
+    std::cerr << "lasonic-eval: bad config: " << e.what() << "\n";
+    return 2;
+  }
   try {
     const auto scenario = lasonic::sim::loadScenario(scenario_path);
     const auto log = lasonic::eval::loadRunLog(log_path);
@@ -22,7 +35,7 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
-    const auto metrics = lasonic::eval::evaluate(log, scenario);
+    const auto metrics = lasonic::eval::evaluate(log, scenario, {}, &baselines);
     if (json_path == "-") {
       std::cout << metrics.toJson();
       return 0;
@@ -42,6 +55,9 @@ int main(int argc, char** argv) {
   } catch (const lasonic::LogError& e) {
     std::cerr << "lasonic-eval: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {  // e.g. a log whose SIM_STATE does not match the scenario
+    std::cerr << "lasonic-eval: " << e.what() << "\n";
+    return 1;
   }
   return 0;
 }

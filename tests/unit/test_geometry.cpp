@@ -109,6 +109,29 @@ TEST(Geometry, NearestInSectorCircle) {
   EXPECT_GT(*d, 1.4);
 }
 
+TEST(Geometry, NearestPointInSectorAgreesWithDistance) {
+  const Sector s{{0, 0}, 0.0, deg2rad(30), 2.2};
+  // Oblique wall: the point lies on the beam's lower edge, at the distance nearestInSector gives.
+  const Segment wall{{1, -1}, {3, 1}};
+  const auto p = nearestPointInSector(s, wall);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->norm(), *nearestInSector(s, wall), 1e-9);
+  EXPECT_NEAR(std::atan2(p->y(), p->x()), deg2rad(-15), 1e-9);
+  EXPECT_NEAR(p->y(), p->x() - 2.0, 1e-9);  // on the wall
+  // Circle straight ahead: the point facing the apex; centre beside the wedge: on an edge.
+  const auto c = nearestPointInSector(s, Circle{{1.5, 0}, 0.1});
+  ASSERT_TRUE(c);
+  EXPECT_NEAR((*c - Vec2(1.4, 0)).norm(), 0.0, 1e-12);
+  const Circle side{{1.5, 0.5}, 0.2};
+  const auto e = nearestPointInSector(s, side);
+  ASSERT_TRUE(e);
+  EXPECT_NEAR(e->norm(), *nearestInSector(s, side), 1e-9);
+  EXPECT_NEAR(std::atan2(e->y(), e->x()), deg2rad(15), 1e-9);
+  EXPECT_NEAR((*e - side.center).norm(), side.radius, 1e-9);
+  EXPECT_FALSE(nearestPointInSector(s, Segment{{2.5, -1}, {2.5, 1}}));  // beyond the radius
+  EXPECT_FALSE(nearestPointInSector(s, Circle{{-1.5, 0}, 0.1}));        // behind
+}
+
 #include "core/pose_history.hpp"
 
 TEST(PoseHistory, InterpolatesAndRefusesGoingBackwards) {

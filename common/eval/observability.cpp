@@ -1,0 +1,185 @@
+#include "eval/observability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <lasonic/sector_map_t.hpp>
+
+namespace lasonic::eval {
+
+std::vector<SectorTruth> trueSectorHits(const sim::WorldGeometry& world, const geom::Pose2& robot,
+                                        double robot_radius, int nsectors, double max_range) {
+  std::vector<SectorTruth> out(static_cast<size_t>(std::max(nsectors, 0)));
+  const double width = 2.0 * geom::kPi / nsectors;
+  for (int k = 0; k < nsectors; ++k) {
+    const geom::Sector sec{robot.position(), robot.theta - geom::kPi + (k + 0.5) * width, width,
+                           robot_radius + max_range};
+    SectorTruth& best = out[static_cast<size_t>(k)];
+    double best_r = std::numeric_limits<double>::infinity();
+    for (const auto& p : world.primitives()) {
+      const auto q = p.kind == sim::Primitive::Kind::Segment ? geom::nearestPointInSector(sec, p.segment)
+                                                             : geom::nearestPointInSector(sec, p.circle);
+      if (!q) continue;
+      const double r = (*q - sec.apex).norm();
+      if (r < best_r) {
+        best_r = r;
+        best.point = *q;
+        best.primitive = &p;
+      }
+    }
+    if (best.primitive) best.distance = std::max(0.0, best_r - robot_radius);
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------------------ located points
+
+LocatedPoints::LocatedPoints(double radius) : radius_(radius > 0 ? radius : 0.30) {}
+
+size_t LocatedPoints::KeyHash::operator()(const Key& k) const {
+  const uint64_t h = static_cast<uint64_t>(k.cx) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(k.cy) * 0xC2B2AE3D27D4EB4Full ^
+                     static_cast<uint64_t>(static_cast<int64_t>(k.obstacle)) * 0x165667B19E3779F9ull;
+  return static_cast<size_t>(h ^ (h >> 29));
+}
+
+int64_t LocatedPoints::cell(double v) const {
+  return static_cast<int64_t>(std::clamp(std::floor(v / radius_), -1e15, 1e15));
+}
+
+void LocatedPoints::add(int obstacle, int64_t utime, const geom::Vec2& p) {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return;
+  auto& v = buckets_[Key{obstacle, cell(p.x()), cell(p.y())}];
+  v.push_back({utime, p});
+  // Keep time order (SONAR_TRUTH comes in time order, so this rarely moves anything).
+  for (size_t i = v.size() - 1; i > 0 && v[i - 1].utime > v[i].utime; --i) std::swap(v[i - 1], v[i]);
+  ++n_;
+}
+
+void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths) {
+  for (const auto& t : truths)
+    for (const auto& c : t.causes)
+      if (c.cause == sonar_cause_t::CAUSE_DIRECT && c.true_range >= 0 && c.obstacle != -1)
+        add(c.obstacle, t.utime, {c.hit_x, c.hit_y});
+}
+
+bool LocatedPoints::located(int obstacle, const geom::Vec2& p, int64_t utime) const {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
+  const int64_t cx = cell(p.x()), cy = cell(p.y());
+  const double r2 = radius_ * radius_;
+  for (int64_t y = cy - 1; y <= cy + 1; ++y)
+    for (int64_t x = cx - 1; x <= cx + 1; ++x) {
+      const auto it = buckets_.find(Key{obstacle, x, y});
+      if (it == buckets_.end()) continue;
+      for (const Entry& e : it->second) {
+        if (e.utime > utime) break;
+        if ((e.p - p).squaredNorm() <= r2) return true;
+      }
+    }
+  return false;
+}
+
+// ------------------------------------------------------------------------------ truth table
+
+SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o) {
+  SectorTruthTable table;
+  table.offset.push_back(0);
+  if (log.sector_maps.empty() || log.sim_states.size() < 2) return table;
+  TruthTrack truth(log.sim_states);
+  sim::WorldGeometry world(sc);
+  LocatedPoints located(o.observe_radius);
+  located.addDirectEchoes(log.sonar_truths);
+  std::map<std::string, int16_t> material_index;
+  for (size_t i = 0; i < log.sector_maps.size(); ++i) {
+    const sector_map_t& sm = log.sector_maps[i];
+    // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,
+    // before the first scan or firing group) declares itself blind there: counted, not scored.
+    if (sm.laser_age_s < 0 || sm.sonar_age_s < 0) {
+      ++table.warmup;
+      continue;
+    }
+    if (sm.nsectors < 3 || sm.nsectors > 3600 || sm.distance.size() != static_cast<size_t>(sm.nsectors) ||
+        sm.laser_distance.size() != sm.distance.size() || sm.source.size() != sm.distance.size())
+      continue;  // malformed: nothing to score
+    world.setMovers(truth.moversAt(sm.utime));
+    const auto hits = trueSectorHits(world, truth.robotAt(sm.utime), sm.robot_radius, sm.nsectors,
+                                     o.sector_range + 1.0);
+    table.maps.push_back(i);
+    for (const SectorTruth& h : hits) {
+      SectorSample s;
+      s.truth = static_cast<float>(h.distance);
+      if (h.primitive) {
+        const sim::Material& mat = *h.primitive->material;
+        auto [it, fresh] = material_index.emplace(mat.name, static_cast<int16_t>(table.materials.size()));
+        if (fresh) table.materials.push_back(mat.name);
+        s.material = it->second;
+        s.observable = h.distance <= o.sector_range &&
+                       (mat.laser == sim::LaserBehaviour::Reflect || located.located(h.primitive->obstacle, h.point, sm.utime));
+      }
+      table.samples.push_back(s);
+    }
+    table.offset.push_back(table.samples.size());
+  }
+  return table;
+}
+
+// ------------------------------------------------------------------------------ scores
+
+namespace {
+void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
+  if (r.valid()) m.set(key, r.value());
+}
+}  // namespace
+
+void SectorScore::add(double reported, const SectorSample& s, const EvalOptions& o, int source) {
+  const bool has = reported >= 0;
+  const double truth = s.truth;
+  if (truth <= o.sector_range) {
+    const bool miss = !has || reported > truth + o.sector_tolerance;
+    missed_.add(miss);
+    unobservable_.add(!s.observable);
+    if (s.observable) observable_missed_.add(miss);
+    if (s.material >= 0) {
+      if (missed_by_material_.size() <= static_cast<size_t>(s.material))
+        missed_by_material_.resize(static_cast<size_t>(s.material) + 1);
+      missed_by_material_[static_cast<size_t>(s.material)].add(miss);
+    }
+    if (has) {
+      abs_err_ += std::abs(reported - truth);
+      ++err_n_;
+    }
+  }
+  // Every sector of every map is an opportunity for a false alarm (like missed_rate's
+  // denominator is every sector that holds a true obstacle); the share among the sectors
+  // that report something within range is kept too, as the stricter view.
+  const bool fa = has && reported <= o.sector_range && reported < truth - o.sector_tolerance;
+  false_alarm_.add(fa);
+  if (has && reported <= o.sector_range) false_of_reports_.add(fa);
+  if (fa && source >= 0 && source < 4) ++false_by_source_[source];
+}
+
+void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
+                        const std::vector<std::string>& materials) const {
+  setRatio(m, prefix + ".missed_rate", missed_);
+  setRatio(m, prefix + ".observable_missed_rate", observable_missed_);
+  if (details) setRatio(m, prefix + ".unobservable_share", unobservable_);
+  setRatio(m, prefix + ".false_alarm_rate", false_alarm_);
+  setRatio(m, prefix + ".false_alarm_share_of_reports", false_of_reports_);
+  if (err_n_ > 0) m.set(prefix + ".mae_m", abs_err_ / static_cast<double>(err_n_));
+  for (size_t i = 0; i < missed_by_material_.size() && i < materials.size(); ++i)
+    setRatio(m, prefix + ".missed_by_material." + materials[i], missed_by_material_[i]);
+  if (!details) return;
+  if (false_alarm_.num > 0) {
+    static const char* kNames[4] = {"none", "laser", "sonar", "sonar_copied"};
+    for (int s = 1; s < 4; ++s)
+      m.set(prefix + ".false_alarms_by_source." + kNames[s],
+            static_cast<double>(false_by_source_[s]) / static_cast<double>(false_alarm_.num));
+  }
+  m.set(prefix + ".samples.within_range", missed_.den);
+  m.set(prefix + ".samples.observable", observable_missed_.den);
+  for (size_t i = 0; i < missed_by_material_.size() && i < materials.size(); ++i)
+    if (missed_by_material_[i].den > 0)
+      m.set(prefix + ".samples.by_material." + materials[i], missed_by_material_[i].den);
+}
+
+}  // namespace lasonic::eval

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# eval_baselines.sh: lasonic-eval with --config on a short offline run (no network). Env:
+# LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
+#  1. lasonic-sim -> lasonic-replay -> lasonic-eval --config (the shipped file): exit 0, the
+#     observability keys and every baseline's keys are in the JSON, all rates in [0, 1];
+#  2. the same twice gives identical JSON (deterministic);
+#  3. a missing config file and a bad baselines value exit 2 and name the file and key path.
+set -euo pipefail
+
+source "$(dirname "$0")/lib.sh"
+
+"$bin/lasonic-sim" --scenario "$scenario" --out "$tmp/raw.lcmlog" --duration 6 >"$tmp/sim.err" 2>&1 ||
+  die "lasonic-sim failed"
+"$bin/lasonic-replay" --in "$tmp/raw.lcmlog" --out "$tmp/out.lcmlog" --config "$config" >"$tmp/replay.err" 2>&1 ||
+  die "lasonic-replay failed"
+for i in 1 2; do
+  "$bin/lasonic-eval" --log "$tmp/out.lcmlog" --scenario "$scenario" --config "$config" --json "$tmp/eval$i.json" \
+    >"$tmp/table$i.txt" 2>"$tmp/eval.err" || die "lasonic-eval failed"
+done
+# The table has one "dotted.key value" line per metric.
+value() { awk -v k="$1" '$1 == k {print $2}' "$tmp/table1.txt"; }
+check() {  # KEY MAX: present, in [0, MAX]
+  local v
+  v=$(value "$1")
+  [[ -n $v ]] || die "no $1 in the table"
+  awk -v v="$v" -v max="$2" 'BEGIN {exit !(v >= 0 && v <= max)}' || die "$1 = $v not in [0, $2]"
+}
+for k in missed_rate observable_missed_rate unobservable_share false_alarm_rate false_alarm_share_of_reports; do
+  check "sector_map.$k" 1
+done
+check sector_map.mae_m 10
+grep -q '^ *sector_map\.missed_by_material\.' "$tmp/table1.txt" || die "no sector_map.missed_by_material.*"
+for name in laser_only sonar_himm naive_fusion log_odds; do
+  for k in missed_rate observable_missed_rate false_alarm_rate false_alarm_share_of_reports; do
+    check "baselines.$name.sector_map.$k" 1
+  done
+  echo "  $name: missed $(value "baselines.$name.sector_map.missed_rate")," \
+    "false alarms $(value "baselines.$name.sector_map.false_alarm_rate")"
+done
+cmp -s "$tmp/eval1.json" "$tmp/eval2.json" || die "two evaluations of the same log differ"
+echo "$test_name: (1, 2) ok: observability and baseline keys present, deterministic"
+
+expect_error() {  # CASE WANT ARGS...
+  local case=$1 want=$2 rc=0
+  shift 2
+  "$bin/lasonic-eval" --log "$tmp/out.lcmlog" --scenario "$scenario" "$@" >"$tmp/$case.err" 2>&1 || rc=$?
+  [[ $rc -eq 2 ]] || die "$case: exit status $rc, expected 2"
+  grep -qF -- "$want" "$tmp/$case.err" || die "$case: the message does not say '$want'"
+  echo "  ($case) $(head -n 1 "$tmp/$case.err")"
+}
+expect_error missing_config "$tmp/none.yaml: cannot open file" --config "$tmp/none.yaml"
+printf 'baselines:\n  sonar_himm:\n    threshold: 99\n' >"$tmp/bad.yaml"
+expect_error bad_value "bad.yaml: baselines.sonar_himm.threshold" --config "$tmp/bad.yaml"
+printf 'baselines:\n  log_odds:\n    size: 40\n' >"$tmp/small.yaml"
+expect_error small_window "small.yaml: baselines.log_odds.size" --config "$tmp/small.yaml"
+echo "$test_name: (3) ok: bad configuration exits 2 naming the file and key"
