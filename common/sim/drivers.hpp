@@ -122,6 +122,11 @@ class LaserDriverCore {
   // One reading of the physical model: range (or < 0: no return) and the obstacle (-1: none or
   // a mixed pixel).
   std::pair<double, int> physicalReading(const geom::Vec2& origin, double angle);
+  // Static primitives by the direction they lie in from the sensor during one scan (bins of
+  // kBinWidth), so that a reading tests only those its footprint can meet.
+  void binStatics(const geom::Vec2& from, double motion);
+  static constexpr int kBins = 720;
+  std::vector<std::vector<uint32_t>> bins_;
 
   std::unique_ptr<const Scenario> scenario_;  // heap: world_ points into it, cores stay movable
   WorldGeometry world_;

@@ -78,6 +78,49 @@ void LaserDriverCore::truthAt(int64_t utime, geom::Pose2& robot, std::vector<Mov
   }
 }
 
+void LaserDriverCore::binStatics(const geom::Vec2& from, double motion) {
+  bins_.assign(kBins, {});
+  const double bin = 2 * geom::kPi / kBins;
+  const auto& prims = world_.primitives();
+  auto binOf = [&](double a) {
+    double f = std::fmod(a + geom::kPi, 2 * geom::kPi);
+    if (f < 0) f += 2 * geom::kPi;
+    return std::min(kBins - 1, static_cast<int>(f / bin));
+  };
+  for (size_t i = 0; i < world_.staticCount(); ++i) {
+    const Primitive& p = prims[i];
+    double lo = 0, span = 2 * geom::kPi, dist;
+    if (p.kind == Primitive::Kind::Segment) {
+      dist = geom::distance(p.segment, from);
+      const geom::Vec2 da = p.segment.a - from, db = p.segment.b - from;
+      const double aa = std::atan2(da.y(), da.x()), ab = std::atan2(db.y(), db.x());
+      double ccw = std::fmod(ab - aa, 2 * geom::kPi);
+      if (ccw < 0) ccw += 2 * geom::kPi;
+      lo = ccw <= geom::kPi ? aa : ab;
+      span = ccw <= geom::kPi ? ccw : 2 * geom::kPi - ccw;
+    } else {
+      const geom::Vec2 d = p.circle.center - from;
+      dist = d.norm() - p.circle.radius;
+      const double half = d.norm() > p.circle.radius ? std::asin(p.circle.radius / d.norm()) : geom::kPi;
+      lo = std::atan2(d.y(), d.x()) - half;
+      span = 2 * half;
+    }
+    // Widen by what the sensor's motion during the scan, the beam's width and a bin can shift it.
+    const double reach = motion + cfg_.beam_diameter + 0.02;
+    if (dist <= reach + 1e-3) {
+      lo = 0;
+      span = 2 * geom::kPi;
+    } else {
+      const double m = std::asin(std::min(1.0, reach / dist)) + 0.5 * cfg_.beam_divergence + bin;
+      lo -= m;
+      span += 2 * m;
+    }
+    const int n = std::min(kBins, static_cast<int>(std::ceil(span / bin)) + 1);
+    const int first = binOf(lo);
+    for (int k = 0; k < n; ++k) bins_[static_cast<size_t>((first + k) % kBins)].push_back(static_cast<uint32_t>(i));
+  }
+}
+
 std::pair<double, int> LaserDriverCore::physicalReading(const geom::Vec2& origin, double angle) {
   // The beam's footprint, sampled by footprint_rays sub-rays spread over the exit aperture and
   // the divergence. Each sub-ray passes transparent surfaces, except that one met within its
@@ -94,24 +137,29 @@ std::pair<double, int> LaserDriverCore::physicalReading(const geom::Vec2& origin
   Part parts[100];
   int nparts = 0;
   double total = 0;
-  const geom::Vec2 across = geom::unitVector(angle + geom::kPi / 2);
+  double f = std::fmod(angle + geom::kPi, 2 * geom::kPi);
+  if (f < 0) f += 2 * geom::kPi;
+  const std::vector<uint32_t>& candidates = bins_[static_cast<size_t>(std::min(kBins - 1, static_cast<int>(f / (2 * geom::kPi / kBins))))];
+  const geom::Vec2 axis = geom::unitVector(angle);
+  const geom::Vec2 across(-axis.y(), axis.x());
   for (int j = 0; j < n; ++j) {
-    const double f = n == 1 ? 0.0 : static_cast<double>(j) / (n - 1) - 0.5;
-    const geom::Vec2 dir = geom::unitVector(angle + f * cfg_.beam_divergence);
-    geom::Vec2 o = origin + f * cfg_.beam_diameter * across;
+    const double fj = n == 1 ? 0.0 : static_cast<double>(j) / (n - 1) - 0.5;
+    const double da = fj * cfg_.beam_divergence;  // small: first order is exact to 1e-6
+    const geom::Vec2 dir = (axis + da * across).normalized();
+    geom::Vec2 o = origin + fj * cfg_.beam_diameter * across;
     double travelled = 0;
     for (int k = 0; k < 8; ++k) {
-      const std::optional<Hit> h = world_.castRay({o, dir}, cfg_.range_max - travelled);
+      const std::optional<Hit> h = world_.castRayAmong({o, dir}, cfg_.range_max - travelled, candidates);
       if (!h) break;
       const Material& m = *h->primitive->material;
       const double r = travelled + h->range;
-      const double beta = geom::incidenceAngle(dir, h->normal);
-      if (m.laser == LaserBehaviour::Transparent && beta > m.laser_specular) {
+      const double cos_beta = std::abs(dir.dot(h->normal));
+      if (m.laser == LaserBehaviour::Transparent && cos_beta < std::cos(m.laser_specular)) {
         travelled = r;
         o = h->point + 1e-6 * dir;  // through the pane (or the mesh) to what lies behind
         continue;
       }
-      const double rho = m.laser == LaserBehaviour::Transparent ? kSpecularRemission : m.laser_remission * std::cos(beta);
+      const double rho = m.laser == LaserBehaviour::Transparent ? kSpecularRemission : m.laser_remission * cos_beta;
       const double power = rho / std::max(r * r, 1e-6) / n;
       if (power > 0) {
         parts[nparts++] = {r, power, h->obstacle};
@@ -188,6 +236,13 @@ LaserDriverCore::Output LaserDriverCore::makeScan(int64_t start_utime) {
   const auto transparent = [](const Material& m) { return m.laser == LaserBehaviour::Transparent; };
   geom::Pose2 robot;
   std::vector<MoverPose> movers;
+  if (cfg_.profile == SensorProfile::Physical) {
+    geom::Pose2 end;
+    truthAt(start_utime, robot, movers);
+    truthAt(start_utime + offset_us_.back(), end, movers);
+    const geom::Vec2 p0 = robot.compose(cfg_.mount).position(), p1 = end.compose(cfg_.mount).position();
+    binStatics(p0, (p1 - p0).norm() + std::hypot(cfg_.mount.x, cfg_.mount.y) * std::abs(geom::angleDiff(end.theta, robot.theta)));
+  }
   for (size_t i = 0; i < offset_us_.size(); ++i) {
     truthAt(start_utime + offset_us_[i], robot, movers);
     if (!movers.empty()) world_.setMovers(movers);

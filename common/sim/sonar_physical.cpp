@@ -141,9 +141,27 @@ PhysicalSonar::PhysicalSonar(const Scenario& s, const SonarConfig& c, uint64_t s
       tx_(c.frequency_hz, c.transducer_radius, c.pulse_cycles, c.side_lobes, c.beam_scale),
       budget_(c.plane_range, absorptionOf(c), c.tvg_range),
       refl_(findReflectors(s.statics, geom::deg2rad(5.0))) {
-  // Widest the beam can reach: the strongest echo (a near mirror) plus a margin for a rough
-  // patch's specular lobe, which can exceed a mirror's level over the beam's footprint.
-  fan_ = tx_.reach(budget_.planeMargin(std::max(c.range_min, 1e-3)) + 10.0);
+  // The strongest a ray's echo can be: a rough patch met head-on (its specular lobe over the
+  // beam's footprint can exceed a mirror's level), or a mirror at the end of a multipath (0 dB),
+  // plus a fluctuating material at three standard deviations. The ray fan reaches as far as
+  // that can be heard, and a ray stops where nothing farther along can be.
+  max_incoherent_ = -300;
+  double fluct = 0;
+  std::vector<const Material*> used;
+  for (const ObstacleSpec& o : s.obstacles) used.push_back(&s.material(o.material));
+  for (const MoverSpec& m : s.movers) used.push_back(&s.material(m.material));
+  for (const Material* mp : used) {
+    const Material& m = *mp;
+    const double share = 1.0 - acoustics::coherentShare(tx_.wavenumber(), m.sonar_roughness);
+    const double s0 = m.sonar_diffuse * 4.0 +
+                      (m.sonar_diffuse < 1 && m.sonar_lobe > 0 ? (1 - m.sonar_diffuse) / (2 * std::pow(std::tan(m.sonar_lobe), 2)) : 0.0);
+    const double w = tx_.effectiveWidth();
+    if (share > 1e-12 && s0 > 0)
+      max_incoherent_ = std::max(max_incoherent_, m.sonar_reflect_db + 10 * std::log10(share * s0 * w * w / geom::kPi));
+    fluct = std::max(fluct, 3 * m.sonar_fluct_db);
+  }
+  ray_bound_ = std::max(max_incoherent_, 0.0) + fluct;
+  fan_ = tx_.reach(budget_.planeMargin(std::max(c.range_min, 1e-3)) + ray_bound_);
   mover_velocity_.assign(s.movers.size(), geom::Vec2::Zero());
   // Fluctuating echo levels: one slowly varying state per (obstacle, sensor), each with its own
   // random stream, so that they do not depend on which echoes a firing happened to compute.
@@ -240,7 +258,7 @@ void PhysicalSonar::rayEchoes(const std::vector<const Primitive*>& prims, const 
                               std::vector<Echo>& out) const {
   const double step = cfg_.ray_step;
   const int n = static_cast<int>(std::floor(fan_ / step));
-  const double best = budget_.planeMargin(std::max(cfg_.range_min, 1e-3)) + 10.0;
+  const double best = budget_.planeMargin(std::max(cfg_.range_min, 1e-3)) + ray_bound_;
   for (int i = -n; i <= n; ++i) {
     const double alpha = i * step;
     const double d = tx_.oneWayDb(alpha);
@@ -255,12 +273,13 @@ void PhysicalSonar::rayEchoes(const std::vector<const Primitive*>& prims, const 
       const auto h = cast(prims, {origin, dir}, cfg_.range_max - path, last);
       if (!h) break;
       const double range = path + h->t;
+      const double reach = budget_.planeMargin(range) + 2 * d + 2 * trans + 2 * mirrors;
+      if (reach + ray_bound_ < 0) break;  // nothing here or farther along can be heard
       const Material& m = *h->prim->material;
       const double beta = geom::incidenceAngle(dir, h->normal);
-      const double base = budget_.planeMargin(range) + 2 * d + 2 * trans + 2 * mirrors +
-                          fluctuation(h->prim->obstacle, sensor_id) + aspectDb(*h->prim, origin);
+      const double base = reach + fluctuation(h->prim->obstacle, sensor_id) + aspectDb(*h->prim, origin);
       // This patch's incoherent backscatter, back along the ray.
-      const double inc = base + incoherentDb(m, beta, range);
+      const double inc = base + max_incoherent_ >= 0 ? base + incoherentDb(m, beta, range) : -1.0;
       const bool direct = bounces == 0;
       if (inc >= 0)
         out.push_back({range, inc, direct ? sonar_cause_t::CAUSE_DIRECT : sonar_cause_t::CAUSE_SPECULAR_LONG,
@@ -279,7 +298,7 @@ void PhysicalSonar::rayEchoes(const std::vector<const Primitive*>& prims, const 
         const double coh = m.sonar_reflect_db + coherentDb(m);
         if (bounces >= cfg_.multipath_bounces || coh < -20.0) break;
         mirrors += coh;
-        if (budget_.planeMargin(range) + 2 * d + 2 * trans + 2 * mirrors + 10.0 < 0) break;
+        if (budget_.planeMargin(range) + 2 * d + 2 * trans + 2 * mirrors + ray_bound_ < 0) break;
         if (!first_mirror) first_mirror = h->prim;
         dir = mirror(dir, h->normal);
         ++bounces;

@@ -133,6 +133,9 @@ class PhysicalSonar {
   acoustics::EchoBudget budget_;
   Reflectors refl_;
   double fan_;                         // half-width of the ray fan [rad]
+  // Upper bounds over the scenario's materials [dB, relative to a mirror at the same range]: of
+  // a rough patch's backscatter, and of anything a ray can bring back (incl. fluctuation).
+  double max_incoherent_ = 0, ray_bound_ = 0;
   std::vector<geom::Vec2> mover_velocity_;
   std::map<std::pair<int, int>, Fluct> fluct_;  // (obstacle, sensor) for fluctuating materials
   std::deque<Ping> history_;           // recent pings, oldest first
