@@ -190,8 +190,9 @@ void parseFrame(const Config& o, ObstacleSpec& spec, const std::map<std::string,
   if (first <= need || last <= need)
     f.fail("width", "leaves nothing of the " + std::string(p.size() == 2 ? "segment" : "end segments") +
                         " it frames (" + std::to_string(std::min(first, last)) + " m)");
-  p.front() += spec.frame_width * (p[1] - p[0]) / first;
-  p.back() += spec.frame_width * (p[p.size() - 2] - p.back()) / last;
+  const geom::Vec2 in_front = (p[1] - p[0]) / first, in_back = (p[p.size() - 2] - p.back()) / last;
+  p.front() += spec.frame_width * in_front;
+  p.back() += spec.frame_width * in_back;
 }
 
 // The two jambs of a framed obstacle, as boxes: `width` along its end segment (ending where the

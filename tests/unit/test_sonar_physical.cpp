@@ -536,7 +536,7 @@ TEST(SonarPhysical, ConfigKeysAndErrors) {
     return std::string();
   };
   EXPECT_NE(err("sonar: {profile: real}").find("c.yaml: sonar.profile: must be one of physical, ideal"), std::string::npos);
-  EXPECT_NE(err("sonar: {beam_scale: 0}").find("sonar.beam_scale: must be"), std::string::npos);
+  EXPECT_NE(err("sonar: {beam_scale: 0}").find("sonar.beam_scale: must be in (0, 5]"), std::string::npos);
   EXPECT_NE(err("sonar: {crosstalk: sometimes}").find("sonar.crosstalk: must be one of geometric, random"),
             std::string::npos);
   EXPECT_NE(err("sonar: {plane_range_m: 2}").find("sonar.plane_range_m: plane_range_m"), std::string::npos);
