@@ -154,7 +154,7 @@ std::pair<double, int> LaserDriverCore::physicalReading(const geom::Vec2& origin
       const Material& m = *h->primitive->material;
       const double r = travelled + h->range;
       const double cos_beta = std::abs(dir.dot(h->normal));
-      if (m.laser == LaserBehaviour::Transparent && cos_beta < std::cos(m.laser_specular)) {
+      if (m.laser == LaserBehaviour::Transparent && (m.laser_specular <= 0 || cos_beta < std::cos(m.laser_specular))) {
         travelled = r;
         o = h->point + 1e-6 * dir;  // through the pane (or the mesh) to what lies behind
         continue;

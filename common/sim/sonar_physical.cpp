@@ -162,6 +162,11 @@ PhysicalSonar::PhysicalSonar(const Scenario& s, const SonarConfig& c, uint64_t s
   }
   ray_bound_ = std::max(max_incoherent_, 0.0) + fluct;
   fan_ = tx_.reach(budget_.planeMargin(std::max(c.range_min, 1e-3)) + ray_bound_);
+  const int n = static_cast<int>(std::floor(fan_ / c.ray_step));
+  for (int i = -n; i <= n; ++i) {
+    ray_cos_.push_back(std::cos(i * c.ray_step));
+    ray_sin_.push_back(std::sin(i * c.ray_step));
+  }
   mover_velocity_.assign(s.movers.size(), geom::Vec2::Zero());
   // Fluctuating echo levels: one slowly varying state per (obstacle, sensor), each with its own
   // random stream, so that they do not depend on which echoes a firing happened to compute.
@@ -259,12 +264,14 @@ void PhysicalSonar::rayEchoes(const std::vector<const Primitive*>& prims, const 
   const double step = cfg_.ray_step;
   const int n = static_cast<int>(std::floor(fan_ / step));
   const double best = budget_.planeMargin(std::max(cfg_.range_min, 1e-3)) + ray_bound_;
+  const double ct = std::cos(sensor.theta), st = std::sin(sensor.theta);
   for (int i = -n; i <= n; ++i) {
     const double alpha = i * step;
     const double d = tx_.oneWayDb(alpha);
     if (best + 2 * d < 0) continue;
     geom::Vec2 origin = sensor.position();
-    geom::Vec2 dir = geom::unitVector(sensor.theta + alpha);
+    const double ca = ray_cos_[static_cast<size_t>(i + n)], sa = ray_sin_[static_cast<size_t>(i + n)];
+    geom::Vec2 dir(ct * ca - st * sa, st * ca + ct * sa);
     double path = 0, trans = 0, mirrors = 0;  // one-way: distance, transmission and mirror losses [dB]
     int bounces = 0;
     const Primitive* first_mirror = nullptr;

@@ -133,6 +133,7 @@ class PhysicalSonar {
   acoustics::EchoBudget budget_;
   Reflectors refl_;
   double fan_;                         // half-width of the ray fan [rad]
+  std::vector<double> ray_cos_, ray_sin_;  // the rays' directions off the axis, -fan_ .. fan_
   // Upper bounds over the scenario's materials [dB, relative to a mirror at the same range]: of
   // a rough patch's backscatter, and of anything a ray can bring back (incl. fluctuation).
   double max_incoherent_ = 0, ray_bound_ = 0;

@@ -421,3 +421,19 @@ TEST(LaserPhysical, ProfileAndKeysFromConfig) {
   EXPECT_NE(message("  range_10pct_m: 0\n").find("laser.range_10pct_m: must be > 0"), std::string::npos);
   EXPECT_NE(message("  footprint_rays: 0\n").find("laser.footprint_rays: must be in [1, 100]"), std::string::npos);
 }
+
+TEST(LaserPhysical, MeshStaysTransparentEvenHeadOn) {
+  // A transparent material without a specular cone (a mesh) never returns the beam, not even
+  // exactly at normal incidence.
+  const Scenario sc = world(
+      "  - {shape: segment, material: wall, from: [3, -10], to: [3, 10]}\n"
+      "  - {shape: segment, material: mesh, from: [1, -1], to: [1, 1]}\n");
+  LaserConfig c = physical();
+  c.footprint_rays = 1;
+  c.beam_diameter = 0;
+  LaserDriverCore laser(sc, c, 1);
+  const auto out = scanAndTruthFrom(laser, {0, 0, 0});
+  const size_t ahead = indexOf(out.scan, 0);
+  EXPECT_NEAR(out.scan.ranges[ahead], 3.0, 1e-5);
+  EXPECT_EQ(out.truth.obstacle[ahead], 0);
+}

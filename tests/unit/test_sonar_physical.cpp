@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <string>
 #include <vector>
@@ -573,4 +574,68 @@ TEST(SonarPhysical, FindsCornersAndEdges) {
   count("  - {shape: segment, material: wall, from: [0, 0], to: [2, 0]}\n"
         "  - {shape: segment, material: glass, from: [2, 0], to: [3, 0]}\n",
         0, 2);
+}
+
+TEST(SonarPhysical, EffectiveBeamDependsOnTheReflectorAndItsRange) {
+  // The widest bearing off the axis at which a reflector is still heard (the README's effective
+  // beam table, printed here): a near wall through the side lobes, far beyond the method's
+  // assumed 15° half-beam; weak reflectors only near the axis, narrower with range.
+  const SonarConfig c = clean();
+  struct Kind {
+    const char* name;
+    std::function<std::string(double range, double bearing_deg)> world;
+    int8_t reflector;
+  };
+  auto rotated = [](double range, double bearing_deg, double x, double y) {
+    const double a = deg2rad(bearing_deg);
+    return geom::Vec2(range * (x * std::cos(a) - y * std::sin(a)), range * (x * std::sin(a) + y * std::cos(a)));
+  };
+  auto wall = [&](const std::string& material) {
+    return [=](double r, double b) {
+      const geom::Vec2 p = rotated(r, b, 1, -6 / r), q = rotated(r, b, 1, 6 / r);
+      return "  - {shape: segment, material: " + material + ", from: " + pt(p.x(), p.y()) + ", to: " + pt(q.x(), q.y()) + "}\n";
+    };
+  };
+  const std::vector<Kind> kinds = {
+      {"metal wall (plane)", wall("metal"), kPlane},
+      {"plaster wall (plane)", wall("wall"), kPlane},
+      {"metal corner", [&](double r, double b) {
+         const geom::Vec2 v = rotated(r, b, 1, 0), p = v + rotated(1, b + 135, 1, 0) * 2, q = v + rotated(1, b - 135, 1, 0) * 2;
+         return "  - {shape: polyline, material: metal, points: [" + pt(p.x(), p.y()) + ", " + pt(v.x(), v.y()) + ", " +
+                pt(q.x(), q.y()) + "]}\n";
+       }, kCorner},
+      {"bin r 0.2 m (black cardboard)", [&](double r, double b) { return pipeAt(r, b, "black_cardboard", 0.2); }, kCylinder},
+      {"pipe r 1 cm (plastic)", [&](double r, double b) { return pipeAt(r, b); }, kCylinder},
+      {"pane end (glass edge)", [&](double r, double b) {
+         const geom::Vec2 e = rotated(r, b, 1, 0), f = e + rotated(1, b + 90, 1, 0) * 3;
+         return "  - {shape: segment, material: glass, from: " + pt(e.x(), e.y()) + ", to: " + pt(f.x(), f.y()) + "}\n";
+       }, kEdge},
+  };
+  const std::vector<double> ranges = {0.5, 1.0, 2.0, 2.9};
+  std::map<std::string, std::vector<double>> widest;
+  std::string table = "effective half-beam [deg] at range";
+  for (double r : ranges) table += " | " + num(r).substr(0, 3) + " m";
+  table += "\n";
+  for (const Kind& k : kinds) {
+    table += k.name;
+    for (double r : ranges) {
+      double best = -1;
+      for (double b = 0; b <= 45; b += 0.5) {
+        const SonarReading s = fire(scenario("obstacles:\n" + k.world(r, b)), c, {0, 0, 0});
+        if (s.truth.cause == kDirect && s.truth.reflector == k.reflector && std::abs(s.truth.true_range - r) < 0.02) best = b;
+      }
+      widest[k.name].push_back(best);
+      table += " | " + (best < 0 ? std::string("-") : num(best).substr(0, 4));
+    }
+    table += "\n";
+  }
+  std::cout << table;
+  // Strong near reflectors are heard beyond the nominal 15° (side lobes), weak ones not.
+  EXPECT_GT(widest["metal wall (plane)"][0], 25.0);
+  EXPECT_GT(widest["metal corner"][0], 25.0);
+  EXPECT_LT(widest["pipe r 1 cm (plastic)"][3], 10.0);
+  EXPECT_LT(widest["pane end (glass edge)"][0], 10.0);
+  EXPECT_LT(widest["pane end (glass edge)"][3], 0.0);  // not heard at all at 2.9 m
+  for (const auto& [name, w] : widest)
+    for (size_t i = 1; i < w.size(); ++i) EXPECT_LE(w[i], w[i - 1]) << name << " at " << ranges[i] << " m";
 }
