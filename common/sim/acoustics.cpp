@@ -100,6 +100,8 @@ Transducer::Transducer(double frequency_hz, double radius_m, int pulse_cycles, b
 }
 
 double Transducer::oneWayDb(double off_axis) const {
+  // Nothing behind the transducer's face, however wide the (scaled) pattern.
+  if (!(std::abs(off_axis) <= kPi / 2)) return kFloorDb;
   const double a = std::abs(off_axis) / scale_;
   if (!(a <= kPi / 2)) return kFloorDb;
   const double f = a / kStep;

@@ -54,6 +54,9 @@ TEST(Acoustics, TransducerTableFillsNullsAndScales) {
   for (double a : {2.0, 5.0, 9.0, 17.0})
     EXPECT_NEAR(wide.oneWayDb(deg2rad(1.2 * a)), t.oneWayDb(deg2rad(a)), 0.05) << a;
   EXPECT_NEAR(wide.firstNull(), 1.2 * t.firstNull(), 1e-9);
+  // A wider pattern still sends nothing behind the transducer's face.
+  EXPECT_GT(wide.oneWayDb(deg2rad(89)), -100);
+  EXPECT_LT(wide.oneWayDb(deg2rad(95)), -200);
   EXPECT_NEAR(wide.effectiveWidth(), 1.2 * t.effectiveWidth(), 0.01 * t.effectiveWidth());
   // The reach grows with the echo's margin: more than the main lobe only for strong echoes.
   EXPECT_LT(t.reach(10), t.reach(30));
