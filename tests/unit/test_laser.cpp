@@ -60,6 +60,16 @@ LaserConfig noiseless() {
   return c;
 }
 
+// The error a `laser:` section (YAML lines under it) gives, or "no error".
+std::string configMessage(const std::string& yaml) {
+  try {
+    laserConfig(Config::fromString("laser:\n" + yaml, "cfg.yaml").section("laser"));
+  } catch (const ConfigError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
 // The physical profile, noise-free.
 LaserConfig physical() {
   LaserConfig c;
@@ -242,18 +252,10 @@ TEST(Laser, MountPoseFromConfig) {
 }
 
 TEST(Laser, ConfigErrorsNameTheKey) {
-  auto message = [](const std::string& yaml) {
-    try {
-      laserConfig(Config::fromString("laser:\n" + yaml, "cfg.yaml").section("laser"));
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_EQ(message("  fov_deg: 400\n"), "cfg.yaml: laser.fov_deg: must be in [1, 360]");
-  EXPECT_NE(message("  colour: red\n").find("cfg.yaml: laser.colour: unknown key"), std::string::npos);
-  EXPECT_NE(message("  mount: {z: 1}\n").find("laser.mount.z: unknown key"), std::string::npos);
-  EXPECT_NE(message("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
+  EXPECT_EQ(configMessage("  fov_deg: 400\n"), "cfg.yaml: laser.fov_deg: must be in [1, 360]");
+  EXPECT_NE(configMessage("  colour: red\n").find("cfg.yaml: laser.colour: unknown key"), std::string::npos);
+  EXPECT_NE(configMessage("  mount: {z: 1}\n").find("laser.mount.z: unknown key"), std::string::npos);
+  EXPECT_NE(configMessage("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
 }
 
 TEST(Laser, RefusesBadStatesAndCarriesOn) {
@@ -409,17 +411,9 @@ TEST(LaserPhysical, ProfileAndKeysFromConfig) {
   EXPECT_DOUBLE_EQ(c.beam_diameter, 0.02);
   EXPECT_EQ(c.footprint_rays, 3);
   EXPECT_DOUBLE_EQ(c.merge_range, 0.2);
-  auto message = [](const std::string& yaml) {
-    try {
-      laserConfig(Config::fromString("laser:\n" + yaml, "cfg.yaml").section("laser"));
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message("  profile: real\n").find("cfg.yaml: laser.profile: must be one of physical, ideal"), std::string::npos);
-  EXPECT_NE(message("  range_10pct_m: 0\n").find("laser.range_10pct_m: must be > 0"), std::string::npos);
-  EXPECT_NE(message("  footprint_rays: 0\n").find("laser.footprint_rays: must be in [1, 100]"), std::string::npos);
+  EXPECT_NE(configMessage("  profile: real\n").find("cfg.yaml: laser.profile: must be one of physical, ideal"), std::string::npos);
+  EXPECT_NE(configMessage("  range_10pct_m: 0\n").find("laser.range_10pct_m: must be > 0"), std::string::npos);
+  EXPECT_NE(configMessage("  footprint_rays: 0\n").find("laser.footprint_rays: must be in [1, 100]"), std::string::npos);
 }
 
 TEST(LaserPhysical, MeshStaysTransparentEvenHeadOn) {
