@@ -128,9 +128,10 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
   log.sonar_rings.push_back(ring);
   sonar_truth_t tr{};
   tr.utime = 100;
-  sonar_cause_t c0{0, sonar_cause_t::CAUSE_DIRECT, 3, 0, 1.0f, 2.0f};       // glass: invisible
-  sonar_cause_t c1{1, sonar_cause_t::CAUSE_SPECULAR_LONG, -1, 0, -1.f, 1.2f};
-  sonar_cause_t c2{2, sonar_cause_t::CAUSE_DIRECT, 0, 1, 1.5f, 1.5f};      // wall: visible
+  // (hit point and reflector do not matter here)
+  sonar_cause_t c0{0, sonar_cause_t::CAUSE_DIRECT, 3, 0, 1.0f, 2.0f, 0, 0, 0};       // glass: invisible
+  sonar_cause_t c1{1, sonar_cause_t::CAUSE_SPECULAR_LONG, -1, 0, -1.f, 1.2f, 0, 0, 0};
+  sonar_cause_t c2{2, sonar_cause_t::CAUSE_DIRECT, 0, 1, 1.5f, 1.5f, 0, 0, 0};      // wall: visible
   tr.causes = {c0, c1, c2};
   log.sonar_truths.push_back(tr);
   complement_t cm{};
