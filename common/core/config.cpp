@@ -85,7 +85,7 @@ std::vector<std::string> Config::keys() const {
 static std::string describe(const Range& r) {
   std::ostringstream os;
   const bool has_lo = std::isfinite(r.lo), has_hi = std::isfinite(r.hi);
-  if (has_lo && has_hi) os << "must be in [" << r.lo << ", " << r.hi << "]";
+  if (has_lo && has_hi) os << "must be in " << (r.lo_open ? "(" : "[") << r.lo << ", " << r.hi << "]";
   else if (has_lo) os << "must be " << (r.lo_open ? "> " : ">= ") << r.lo;
   else if (has_hi) os << "must be <= " << r.hi;
   else os << "must be a finite number";

@@ -37,6 +37,7 @@ RunLog loadRunLog(const std::string& path) {
     if (ch == channels::SIM_STATE) decodeInto(*r, log.sim_states, log.undecodable);
     else if (ch == channels::ODOMETRY) decodeInto(*r, log.odometry, log.undecodable);
     else if (ch == channels::LASER_SCAN) decodeInto(*r, log.laser_scans, log.undecodable);
+    else if (ch == channels::LASER_TRUTH) decodeInto(*r, log.laser_truths, log.undecodable);
     else if (ch == channels::SONAR_RING) decodeInto(*r, log.sonar_rings, log.undecodable);
     else if (ch == channels::SONAR_TRUTH) decodeInto(*r, log.sonar_truths, log.undecodable);
     else if (ch == channels::SONAR_HYPOTHESIS) decodeInto(*r, log.hypotheses, log.undecodable);
@@ -99,22 +100,62 @@ std::vector<sim::MoverPose> TruthTrack::moversAt(int64_t utime) const {
 
 // ------------------------------------------------------------------------------ sensors
 
-void evalSensors(const RunLog& log, Metrics& m) {
+void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m) {
   m.set("sensors.laser_scans", static_cast<int64_t>(log.laser_scans.size()));
   int64_t readings = 0;
   for (const auto& r : log.sonar_rings) readings += static_cast<int64_t>(r.range.size());
   m.set("sensors.sonar_readings", readings);
-  if (log.sonar_truths.empty()) return;
-  static const char* kCauses[] = {"direct", "specular_long", "no_echo", "crosstalk", "foreign"};
-  int64_t counts[5] = {0, 0, 0, 0, 0}, total = 0;
-  for (const auto& t : log.sonar_truths)
-    for (const auto& c : t.causes) {
-      if (c.cause >= 0 && c.cause < 5) ++counts[c.cause];
-      ++total;
+  if (!log.sonar_truths.empty()) {
+    static const char* kCauses[] = {"direct", "specular_long", "no_echo", "crosstalk", "foreign", "late_echo"};
+    static const char* kReflectors[] = {"none", "plane", "corner", "edge", "cylinder"};
+    constexpr int kNumCauses = 6, kNumReflectors = 5;
+    int64_t counts[kNumCauses] = {}, reflectors[kNumReflectors] = {}, total = 0, direct = 0;
+    for (const auto& t : log.sonar_truths)
+      for (const auto& c : t.causes) {
+        if (c.cause >= 0 && c.cause < kNumCauses) ++counts[c.cause];
+        if (c.cause == sonar_cause_t::CAUSE_DIRECT) {
+          ++direct;
+          if (c.reflector >= 0 && c.reflector < kNumReflectors) ++reflectors[c.reflector];
+        }
+        ++total;
+      }
+    for (int i = 0; i < kNumCauses; ++i)
+      m.set(std::string("sensors.sonar_causes.") + kCauses[i],
+            total > 0 ? static_cast<double>(counts[i]) / static_cast<double>(total) : 0.0);
+    // Which geometry answered the direct echoes (shares of the direct readings).
+    if (direct > 0)
+      for (int i = 1; i < kNumReflectors; ++i)
+        m.set(std::string("sensors.sonar_reflectors.") + kReflectors[i],
+              static_cast<double>(reflectors[i]) / static_cast<double>(direct));
+  }
+  if (!log.laser_truths.empty()) {
+    // Shares of all laser readings: returned by a surface of each material, a mixed pixel (a
+    // return between two surfaces), or nothing.
+    std::map<std::string, int64_t> by_material;
+    for (const auto& kv : sc.materials) by_material[kv.first] = 0;
+    int64_t total = 0, mixed = 0, none = 0;
+    std::map<std::pair<int64_t, int32_t>, const laser_scan_t*> scans;
+    for (const auto& s : log.laser_scans) scans[{s.utime, s.seq}] = &s;
+    for (const auto& t : log.laser_truths) {
+      const auto it = scans.find({t.utime, t.seq});
+      const laser_scan_t* scan = it == scans.end() ? nullptr : it->second;
+      for (size_t i = 0; i < t.obstacle.size(); ++i) {
+        ++total;
+        const bool returned = scan && i < scan->flags.size() && scan->flags[i] == laser_scan_t::FLAG_OK;
+        const int o = t.obstacle[i];
+        if (!returned) ++none;
+        else if (o >= 0 && o < static_cast<int>(sc.obstacles.size())) ++by_material[sc.obstacles[static_cast<size_t>(o)].material];
+        else if (o <= -2 && -o - 2 < static_cast<int>(sc.movers.size())) ++by_material[sc.movers[static_cast<size_t>(-o - 2)].material];
+        else ++mixed;
+      }
     }
-  for (int i = 0; i < 5; ++i)
-    m.set(std::string("sensors.sonar_causes.") + kCauses[i],
-          total > 0 ? static_cast<double>(counts[i]) / static_cast<double>(total) : 0.0);
+    if (total > 0) {
+      for (const auto& [mat, n] : by_material)
+        m.set("sensors.laser_returns_by_material." + mat, static_cast<double>(n) / static_cast<double>(total));
+      m.set("sensors.laser_mixed_pixels", static_cast<double>(mixed) / static_cast<double>(total));
+      m.set("sensors.laser_no_return", static_cast<double>(none) / static_cast<double>(total));
+    }
+  }
 }
 
 // ------------------------------------------------------------------------------ complement
@@ -258,7 +299,7 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
   if (log.sim_states.size() >= 2)
     duration = static_cast<double>(log.sim_states.back().utime - log.sim_states.front().utime) * 1e-6;
   m.set("duration_s", duration);
-  evalSensors(log, m);
+  evalSensors(log, sc, m);
   evalComplement(log, o, m);
   if (!log.sector_maps.empty() && log.sim_states.size() >= 2) {
     const SectorTruthTable truth = sectorTruthTable(log, sc, o);

@@ -10,6 +10,7 @@
 #include <lasonic/hypothetical_scan_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/line_map_t.hpp>
+#include <lasonic/laser_truth_t.hpp>
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 #include <lasonic/sim_state_t.hpp>
@@ -26,6 +27,7 @@ struct RunLog {
   std::vector<sim_state_t> sim_states;
   std::vector<odometry_t> odometry;
   std::vector<laser_scan_t> laser_scans;
+  std::vector<laser_truth_t> laser_truths;
   std::vector<sonar_ring_t> sonar_rings;
   std::vector<sonar_truth_t> sonar_truths;
   std::vector<hypothetical_scan_t> hypotheses;
@@ -65,7 +67,9 @@ class TruthTrack {
   const std::vector<sim_state_t>* states_;
 };
 
-void evalSensors(const RunLog& log, Metrics& m);
+// Sensor statistics: counts, sonar causes and reflector kinds (SONAR_TRUTH), laser returns by
+// the material that returned them (LASER_TRUTH; needs the scenario to name the materials).
+void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m);
 void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m);
 // True free distance per sector (from the robot's boundary; +inf when nothing within
 // max_range), for the robot at `robot` with the world's movers already placed.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <lasonic/laser_scan_t.hpp>
+#include <lasonic/laser_truth_t.hpp>
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sim_state_t.hpp>
 #include <lasonic/sonar_geometry_t.hpp>
@@ -71,7 +72,13 @@ class WorldCore {
 };
 
 // ---------------------------------------------------------------- laser
+// Sensor profiles (README "Sensor models"): physical (the default) models what a real scanner
+// and transducer do; ideal is the method's idealised sensor (the simulator's first model), kept
+// so that results can be compared.
+enum class SensorProfile { Physical, Ideal };
+
 struct LaserConfig {
+  SensorProfile profile = SensorProfile::Physical;
   double scan_rate_hz = 5;        // scans per second (2 per revolution on MOBOT-IV)
   int readings = 720;             // per scan
   double fov_deg = 360;           // field of view, centred on the sensor's x axis
@@ -79,6 +86,15 @@ struct LaserConfig {
   double range_min = 0.05;        // [m]
   double noise_std = 0.01;        // [m]
   geom::Pose2 mount{0, 0, 0};     // sensor pose in the robot frame
+  // --- physical profile
+  // Detection limit: a surface of remission rho at incidence beta is seen up to
+  // range_10pct * sqrt(rho cos(beta) / 0.1) (the returned power falls as 1/r²).
+  double range_10pct = 5.0;       // [m] range at which a 10 % (dark grey) target is just detected
+  double dropout_db = 1.5;        // [dB] width of the detection threshold (receiver noise)
+  double beam_divergence = 0.6 * geom::kPi / 180;  // [rad] full angle of the beam
+  double beam_diameter = 0.01;    // [m] at the exit window
+  int footprint_rays = 5;         // sub-rays across the footprint (mixed pixels, thin objects)
+  double merge_range = 0.5;       // [m] returns closer than this merge into one reading (pulse length)
 };
 LaserConfig laserConfig(const Config& c, LaserConfig base = {});
 
@@ -90,15 +106,27 @@ class LaserDriverCore {
  public:
   // seed: the run's seed (normally the scenario's); the noise uses deriveSeed(seed, "laser").
   LaserDriverCore(const Scenario& s, const LaserConfig& c, uint64_t seed);
+  struct Output {
+    laser_scan_t scan;
+    laser_truth_t truth;   // LASER_TRUTH: the obstacle that returned each reading
+  };
   // Scans completed by the time of this state (usually 0 or 1). A state not after the previous
   // one, or with a non-finite pose, is refused with std::invalid_argument (nothing changes).
-  std::vector<laser_scan_t> onSimState(const sim_state_t& st);
+  std::vector<Output> onSimState(const sim_state_t& st);
   const LaserConfig& config() const { return cfg_; }
 
  private:
-  laser_scan_t makeScan(int64_t start_utime);
+  Output makeScan(int64_t start_utime);
   // Truth at utime, interpolated between the buffered states that bracket it.
   void truthAt(int64_t utime, geom::Pose2& robot, std::vector<MoverPose>& movers) const;
+  // One reading of the physical model: range (or < 0: no return) and the obstacle (-1: none or
+  // a mixed pixel).
+  std::pair<double, int> physicalReading(const geom::Vec2& origin, double angle);
+  // Static primitives by the direction they lie in from the sensor during one scan (bins of
+  // kBinWidth), so that a reading tests only those its footprint can meet.
+  void binStatics(const geom::Vec2& from, double motion);
+  static constexpr int kBins = 720;
+  std::vector<std::vector<uint32_t>> bins_;
 
   std::unique_ptr<const Scenario> scenario_;  // heap: world_ points into it, cores stay movable
   WorldGeometry world_;
@@ -120,28 +148,47 @@ struct SonarSensor {
   double beam_width = 0;          // [rad]
   int group = 0;
 };
+enum class CrosstalkModel { Geometric, Random };
+
 struct SonarConfig {
+  SensorProfile profile = SensorProfile::Physical;
   std::vector<SonarSensor> sensors;   // default: MOBOT-IV ring of 24, 15 deg apart, 6 groups of 4
   double range_max = 3.0;             // [m]
   double range_min = 0.10;            // [m] transducer ringing hides nearer echoes
   // Between consecutive groups: the 2*3.0/343 = 17.5 ms echo time of flight at range_max plus
   // margin for the echoes to die down (a full ring every 180 ms, each sensor at 5.6 Hz).
   double group_period_s = 0.03;
-  // 0.5 deg apart across a 30 deg beam: a 4 cm pipe at range_max still meets a ray.
-  int rays_per_beam = 61;
+  // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
+  // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
+  double beam_scale = 1.0;
   double noise_std = 0.01;            // [m] + noise_rel * range
   double noise_rel = 0.01;
-  double multipath_prob = 0.5;        // specular miss -> a too-long reading (else no echo)
   int multipath_bounces = 3;          // specular reflections followed (1: a single mirror)
-  double crosstalk_prob = 0.02;       // per reading
-  double foreign_prob = 0.01;         // per reading
-  // The ideal beam of DESIGN.md step 2 (SONAR_TRUTH.nearest_laser_visible): keep it equal to
-  // the complement's hypothetical-scan sector.
+  double foreign_prob = 0.01;         // per reading: an unmodelled foreign ultrasound source
+  // --- ideal profile
+  // 0.5 deg apart across a 30 deg beam: a 4 cm pipe at range_max still meets a ray.
+  int rays_per_beam = 61;
+  double multipath_prob = 0.5;        // specular miss -> a too-long reading (else no echo)
+  double crosstalk_prob = 0.02;       // per reading (also the physical profile's crosstalk: random)
+  // --- physical profile (sim/acoustics.hpp, README "Sensor models")
+  double frequency_hz = 49'400;       // Polaroid 6500 ranging module
+  double transducer_radius = 0.0192;  // [m] Polaroid 600-series electrostatic transducer
+  int pulse_cycles = 16;              // the 6500 module's burst
+  bool side_lobes = true;
+  double plane_range = 10.7;          // [m] a flat wall is detected up to here (35 ft, 6500 module)
+  double tvg_range = 1.0;             // [m] the gain reaches full gain at this echo range
+  double air_absorption = -1;         // [dB/m]; < 0: ISO 9613-1 at frequency_hz, 20 °C, 50 % RH
+  double ray_step = 0.5 * geom::kPi / 180;  // [rad] between rays across the beam
+  CrosstalkModel crosstalk = CrosstalkModel::Geometric;
+  // The ideal beam of the hypothetical scan (README "Method, as implemented", step 2), for
+  // SONAR_TRUTH.nearest_laser_visible: keep it equal to the complement's sector.
   double ideal_beam_width = 30 * geom::kPi / 180;  // [rad]
   double ideal_range = 2.20;                       // [m]
 };
 // Keys of `c` replace those of `base`; `ring` or `sensors` replaces the whole sensor set.
 SonarConfig sonarConfig(const Config& c, SonarConfig base = {});
+
+class PhysicalSonar;  // sim/sonar_physical.hpp
 
 // Fires the groups one after another, every group_period_s from the first SIM_STATE on, with
 // the truth interpolated to each firing time.
@@ -149,6 +196,9 @@ class SonarDriverCore {
  public:
   // seed: the scenario's; the sonar's own stream is deriveSeed(seed, "sonar").
   SonarDriverCore(const Scenario& s, const SonarConfig& c, uint64_t seed);
+  ~SonarDriverCore();
+  SonarDriverCore(SonarDriverCore&&) noexcept;
+  SonarDriverCore& operator=(SonarDriverCore&&) noexcept;
   struct Output {
     sonar_ring_t ring;
     sonar_truth_t truth;
@@ -171,6 +221,8 @@ class SonarDriverCore {
   std::optional<sim_state_t> last_;       // previous SIM_STATE, to interpolate the truth
   int64_t next_fire_utime_ = 0;
   int32_t seq_ = 0;
+  std::unique_ptr<PhysicalSonar> physical_;     // the physical profile's state (pings, fluctuations)
+  std::vector<geom::Vec2> mover_velocity_;      // true, from the last two SIM_STATEs, by mover id
 };
 
 }  // namespace lasonic::sim

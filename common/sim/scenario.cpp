@@ -1,23 +1,52 @@
 #include "sim/scenario.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace lasonic::sim {
 
 std::map<std::string, Material> builtinMaterials() {
   using geom::deg2rad;
+  // Ideal profile: laser behaviour, largest sonar incidence that echoes, echo probability.
   auto m = [](const char* name, LaserBehaviour laser, double echo_deg, double prob) {
-    return Material{name, laser, deg2rad(echo_deg), prob};
+    Material mat{name, laser, deg2rad(echo_deg), prob};
+    return mat;
   };
+  // Physical profile (sources: README "Sensor models"). Sonar at 49.4 kHz (wavelength 6.9 mm):
+  // reflection loss [dB], rms roughness [mm], lobe [deg], diffuse share, transmitted share;
+  // laser: remission at the scanner's near-infrared wavelength, specular cone [deg].
+  auto phys = [](Material mat, double reflect_db, double rough_mm, double lobe_deg, double diffuse,
+                 double transmit, double remission, double specular_deg) {
+    mat.sonar_reflect_db = reflect_db;
+    mat.sonar_roughness = rough_mm * 1e-3;
+    mat.sonar_lobe = deg2rad(lobe_deg);
+    mat.sonar_diffuse = diffuse;
+    mat.sonar_transmit = transmit;
+    mat.laser_remission = remission;
+    mat.laser_specular = deg2rad(specular_deg);
+    return mat;
+  };
+  // Rigid surfaces (plaster, metal, glass, plastic) reflect all but ~0.1 % of the power: their
+  // acoustic impedance is 10^4 times that of air. Painted plaster (rms ~0.2 mm) is smooth
+  // against the wavelength: 88 % mirror; sheet metal, glass and PVC are mirrors. A wire mesh
+  // covers ~15 % of its area with wires thinner than the wavelength: it scatters that part in
+  // all directions (-8 dB) and lets 85 % through. Cardboard is a slightly porous mirror; clothing
+  // absorbs about three quarters of the power (-6 dB) and folds make a person a rough,
+  // fluctuating reflector.
+  Material person = phys(m("person", LaserBehaviour::Reflect, 90, 0.8), -6.0, 5.0, 20, 0.5, 0, 0.30, 0);
+  person.sonar_fluct_db = 4.0;   // posture and swinging arms: a few dB
+  person.sonar_fluct_s = 0.5;    // about half a stride at walking pace
+  person.sonar_aspect_db = 3.0;  // torso ~0.45 m wide front-on, ~0.25 m from the side
   std::map<std::string, Material> out;
   for (const Material& mat : {
-           m("wall", LaserBehaviour::Reflect, 60, 1.0),
-           m("metal", LaserBehaviour::Reflect, 12, 1.0),
-           m("glass", LaserBehaviour::Transparent, 10, 1.0),
-           m("mesh", LaserBehaviour::Transparent, 90, 0.9),
-           m("black_cardboard", LaserBehaviour::Absorb, 40, 1.0),
-           m("plastic", LaserBehaviour::Reflect, 90, 1.0),
-           m("person", LaserBehaviour::Reflect, 90, 0.8),
+           phys(m("wall", LaserBehaviour::Reflect, 60, 1.0), 0.0, 0.2, 5, 0.1, 0, 0.85, 0),
+           phys(m("metal", LaserBehaviour::Reflect, 12, 1.0), 0.0, 0.01, 1, 0.0, 0, 0.40, 0),
+           phys(m("glass", LaserBehaviour::Transparent, 10, 1.0), 0.0, 0.001, 0.5, 0.0, 0, 0.0, 2),
+           phys(m("mesh", LaserBehaviour::Transparent, 90, 0.9), -8.0, 5.0, 30, 1.0, 0.85, 0.0, 0),
+           phys(m("black_cardboard", LaserBehaviour::Absorb, 40, 1.0), -1.0, 0.1, 3, 0.1, 0, 0.03, 0),
+           phys(m("plastic", LaserBehaviour::Reflect, 90, 1.0), 0.0, 0.01, 1, 0.0, 0, 0.50, 0),
+           person,
        })
     out[mat.name] = mat;
   return out;
@@ -75,31 +104,139 @@ std::vector<geom::Vec2> requirePath(const Config& c, const std::string& key) {
   return pts;
 }
 
+// Physical parameters of a material that gives only the ideal keys: an echo angle up to 30°
+// means a smooth surface whose lobe reaches about that far; a larger one a rough surface, the
+// more diffuse the wider. Its echo probability carries over (README "Scenario format").
+void physicalFromIdeal(Material& mat) {
+  const double deg = geom::rad2deg(mat.sonar_echo_angle);
+  const bool smooth = deg <= 30;
+  mat.sonar_roughness = smooth ? 0.1e-3 : 3e-3;
+  mat.sonar_lobe = std::max(geom::deg2rad(0.5), mat.sonar_echo_angle / (smooth ? 3.0 : 2.0));
+  mat.sonar_diffuse = smooth ? 0.0 : std::min(1.0, deg / 90.0);
+  mat.sonar_hear_prob = mat.sonar_echo_prob;
+}
+
+// Ideal parameters of a material that gives only physical keys: mostly diffuse -> echoes from
+// every angle, else up to twice its lobe width.
+void idealFromPhysical(Material& mat) {
+  const double deg = geom::rad2deg(mat.sonar_lobe);
+  mat.sonar_echo_angle = geom::deg2rad(mat.sonar_diffuse >= 0.5 ? 90.0 : std::clamp(2 * deg, 5.0, 90.0));
+  mat.sonar_echo_prob = 1;
+}
+
+double defaultRemission(LaserBehaviour b) {
+  switch (b) {
+    case LaserBehaviour::Reflect: return 0.5;       // a mid-grey surface
+    case LaserBehaviour::Absorb: return 0.03;       // matte black
+    case LaserBehaviour::Transparent: return 0.0;
+  }
+  return 0.5;
+}
+
 void parseMaterials(const Config& root, std::map<std::string, Material>& materials) {
   const Config mats = root.section("materials");
+  static const std::vector<std::string> kPhysicalSonar = {"sonar_reflect_db", "sonar_roughness_mm", "sonar_lobe_deg",
+                                                          "sonar_diffuse", "sonar_transmit", "sonar_fluct_db",
+                                                          "sonar_fluct_s", "sonar_aspect_db"};
   for (const std::string& name : mats.keys()) {
     const Config m = mats.section(name);
-    m.allowOnly({"laser", "sonar_echo_angle_deg", "sonar_echo_prob"});
+    m.allowOnly({"laser", "sonar_echo_angle_deg", "sonar_echo_prob", "sonar_reflect_db", "sonar_roughness_mm",
+                 "sonar_lobe_deg", "sonar_diffuse", "sonar_transmit", "sonar_fluct_db", "sonar_fluct_s",
+                 "sonar_aspect_db", "laser_remission", "laser_specular_deg"});
     const bool is_new = !materials.count(name);
     Material mat = is_new ? Material{name} : materials.at(name);
-    // A new material must say how both sensors see it; an override may change any subset.
+    bool physical = false;
+    for (const std::string& k : kPhysicalSonar) physical = physical || m.has(k);
+    // A new material must say how both sensors see it: `laser`, and the sonar by either the ideal
+    // echo angle or the physical roughness (the other profile's parameters are derived).
     if (is_new || m.has("laser")) mat.laser = parseLaserBehaviour(m, "laser");
-    if (is_new || m.has("sonar_echo_angle_deg"))
+    if (is_new && !m.has("sonar_echo_angle_deg") && !m.has("sonar_roughness_mm"))
+      m.fail("sonar_echo_angle_deg", "is required (or give the physical sonar_roughness_mm)");
+    if (m.has("sonar_echo_angle_deg"))
       mat.sonar_echo_angle = geom::deg2rad(m.requireNum("sonar_echo_angle_deg", Range::between(0, 90)));
     mat.sonar_echo_prob = m.get("sonar_echo_prob", mat.sonar_echo_prob, Range::probability());
+    if (is_new && !physical) physicalFromIdeal(mat);
+    if (m.has("sonar_roughness_mm"))
+      mat.sonar_roughness = 1e-3 * m.requireNum("sonar_roughness_mm", Range::between(0, 1000));
+    mat.sonar_reflect_db = m.get("sonar_reflect_db", mat.sonar_reflect_db, Range::between(-100, 0));
+    mat.sonar_lobe = geom::deg2rad(m.get("sonar_lobe_deg", geom::rad2deg(mat.sonar_lobe), Range::between(0, 89)));
+    mat.sonar_diffuse = m.get("sonar_diffuse", mat.sonar_diffuse, Range::probability());
+    mat.sonar_transmit = m.get("sonar_transmit", mat.sonar_transmit, Range{0, 1, false});
+    if (mat.sonar_transmit >= 1.0) m.fail("sonar_transmit", "must be < 1 (1 would be no surface at all)");
+    mat.sonar_fluct_db = m.get("sonar_fluct_db", mat.sonar_fluct_db, Range::between(0, 40));
+    mat.sonar_fluct_s = m.get("sonar_fluct_s", mat.sonar_fluct_s, Range::positive());
+    mat.sonar_aspect_db = m.get("sonar_aspect_db", mat.sonar_aspect_db, Range::between(0, 40));
+    if (is_new && physical && !m.has("sonar_echo_angle_deg")) idealFromPhysical(mat);
+    if (is_new && !m.has("laser_remission")) mat.laser_remission = defaultRemission(mat.laser);
+    mat.laser_remission = m.get("laser_remission", mat.laser_remission, Range::probability());
+    mat.laser_specular =
+        geom::deg2rad(m.get("laser_specular_deg", geom::rad2deg(mat.laser_specular), Range::between(0, 90)));
     materials[name] = mat;
   }
+}
+
+// frame: {material, width, depth}: a jamb at each end of a segment or open polyline, e.g. a
+// glass door in a wooden frame. The obstacle's ends are moved inwards by the width.
+void parseFrame(const Config& o, ObstacleSpec& spec, const std::map<std::string, Material>& materials) {
+  const Config f = o.section("frame");
+  f.allowOnly({"material", "width", "depth"});
+  if (spec.closed) o.fail("frame", "only segments and open polylines can have a frame");
+  spec.frame_material = requireMaterial(f, "material", materials);
+  spec.frame_width = f.requireNum("width", Range::positive());
+  spec.frame_depth = f.get("depth", spec.frame_width, Range::positive());
+  auto& p = spec.points;
+  const double first = (p[1] - p[0]).norm(), last = (p[p.size() - 1] - p[p.size() - 2]).norm();
+  const double need = p.size() == 2 ? 2 * spec.frame_width : spec.frame_width;
+  if (first <= need || last <= need)
+    f.fail("width", "leaves nothing of the " + std::string(p.size() == 2 ? "segment" : "end segments") +
+                        " it frames (" + std::to_string(std::min(first, last)) + " m)");
+  const geom::Vec2 in_front = (p[1] - p[0]) / first, in_back = (p[p.size() - 2] - p.back()) / last;
+  p.front() += spec.frame_width * in_front;
+  p.back() += spec.frame_width * in_back;
+}
+
+// The two jambs of a framed obstacle, as boxes: `width` along its end segment (ending where the
+// obstacle ended), `depth` across it.
+std::vector<ObstacleSpec> frameJambs(const ObstacleSpec& spec, int index) {
+  std::vector<ObstacleSpec> out;
+  const auto& p = spec.points;
+  for (const auto& [end, next] : {std::pair{p.front(), p[1]}, std::pair{p.back(), p[p.size() - 2]}}) {
+    const geom::Vec2 u = (next - end).normalized();  // inwards
+    const geom::Vec2 c = end - 0.5 * spec.frame_width * u;
+    const geom::Pose2 frame{c.x(), c.y(), std::atan2(u.y(), u.x())};
+    const double hx = 0.5 * spec.frame_width, hy = 0.5 * spec.frame_depth;
+    ObstacleSpec j;
+    j.shape = "box";
+    j.material = spec.frame_material;
+    j.points = {frame.transform({-hx, -hy}), frame.transform({hx, -hy}), frame.transform({hx, hy}),
+                frame.transform({-hx, hy})};
+    j.closed = true;
+    j.frame_of = index;
+    out.push_back(j);
+  }
+  return out;
+}
+
+EmitterSpec parseEmitter(const Config& e) {
+  e.allowOnly({"position", "period_s", "phase_s", "level_db", "heading_deg"});
+  EmitterSpec spec;
+  spec.position = e.requireVec2("position");
+  spec.period_s = e.requireNum("period_s", Range::positive());
+  spec.phase_s = e.get("phase_s", spec.phase_s, Range::nonNegative());
+  if (e.has("level_db")) spec.level_db = e.requireNum("level_db", Range::between(-100, 200));
+  if (e.has("heading_deg")) spec.heading = geom::deg2rad(e.requireNum("heading_deg", Range::any()));
+  return spec;
 }
 
 ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material>& materials) {
   ObstacleSpec spec;
   spec.shape = o.require<std::string>("shape");
   if (spec.shape == "segment") {
-    o.allowOnly({"shape", "material", "from", "to"});
+    o.allowOnly({"shape", "material", "from", "to", "frame"});
     spec.points = {o.requireVec2("from"), o.requireVec2("to")};
     if ((spec.points[1] - spec.points[0]).norm() < 1e-9) o.fail("to", "equals from (zero-length segment)");
   } else if (spec.shape == "polyline") {
-    o.allowOnly({"shape", "material", "points", "closed"});
+    o.allowOnly({"shape", "material", "points", "closed", "frame"});
     spec.points = o.requirePoints("points", 2);
     spec.closed = o.get<bool>("closed", false);
     for (size_t i = 1; i < spec.points.size(); ++i)
@@ -126,6 +263,7 @@ ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material
     o.fail("shape", "must be segment, polyline, circle or box (got \"" + spec.shape + "\")");
   }
   spec.material = requireMaterial(o, "material", materials);
+  if (o.has("frame")) parseFrame(o, spec, materials);
   return spec;
 }
 
@@ -185,7 +323,7 @@ RobotSpec parseRobot(const Config& r) {
 Scenario::Scenario(const Scenario& other)
     : name(other.name), file(other.file), duration_s(other.duration_s), seed(other.seed),
       materials(other.materials), obstacles(other.obstacles), statics(other.statics),
-      movers(other.movers), robot(other.robot), laser(other.laser), sonar(other.sonar),
+      movers(other.movers), emitters(other.emitters), robot(other.robot), laser(other.laser), sonar(other.sonar),
       odometry(other.odometry) {
   relink(statics, materials);
 }
@@ -214,8 +352,8 @@ bool Scenario::laserVisible(int obstacle) const {
 }
 
 Scenario parseScenario(const Config& root) {
-  root.allowOnly({"name", "duration_s", "seed", "materials", "obstacles", "movers", "robot", "laser",
-                  "sonar", "odometry"});
+  root.allowOnly({"name", "duration_s", "seed", "materials", "obstacles", "movers", "emitters", "robot",
+                  "laser", "sonar", "odometry"});
   Scenario s;
   s.name = root.require<std::string>("name");
   s.duration_s = root.get("duration_s", s.duration_s, Range::positive());
@@ -227,10 +365,13 @@ Scenario parseScenario(const Config& root) {
   parseMaterials(root, s.materials);
 
   const std::vector<Config> obstacles = root.list("obstacles");
-  for (size_t i = 0; i < obstacles.size(); ++i) {
-    s.obstacles.push_back(parseObstacle(obstacles[i], s.materials));
-    expand(s.obstacles.back(), static_cast<int>(i), s.materials, s.statics);
-  }
+  for (size_t i = 0; i < obstacles.size(); ++i) s.obstacles.push_back(parseObstacle(obstacles[i], s.materials));
+  // Frames after the scenario's own obstacles, so that those keep their indices.
+  for (size_t i = 0; i < obstacles.size(); ++i)
+    if (!s.obstacles[i].frame_material.empty())
+      for (ObstacleSpec& j : frameJambs(s.obstacles[i], static_cast<int>(i))) s.obstacles.push_back(j);
+  for (size_t i = 0; i < s.obstacles.size(); ++i) expand(s.obstacles[i], static_cast<int>(i), s.materials, s.statics);
+  for (const Config& e : root.list("emitters")) s.emitters.push_back(parseEmitter(e));
   const std::vector<Config> movers = root.list("movers");
   for (size_t i = 0; i < movers.size(); ++i)
     s.movers.push_back(parseMover(movers[i], static_cast<int>(i), s.materials));

@@ -4,6 +4,7 @@
 // "obstacles[3].radius: must be > 0".
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,14 +15,34 @@ namespace lasonic::sim {
 
 enum class LaserBehaviour { Reflect, Transparent, Absorb };
 
+// How a surface material looks to each sensor. Two sensor profiles read it (README "Sensor
+// models"): the ideal profile (the method's idealised sensors) uses `laser`, sonar_echo_angle and
+// sonar_echo_prob; the physical profile (the default) uses the physical parameters below.
 struct Material {
   std::string name;
   LaserBehaviour laser = LaserBehaviour::Reflect;
+  // --- ideal profile
   double sonar_echo_angle = 0;  // [rad] largest incidence angle that still echoes straight back
   double sonar_echo_prob = 1;   // probability that a surface within that angle echoes
+  // --- physical profile, sonar
+  double sonar_reflect_db = 0;  // [dB] <= 0: power lost in the reflection (absorbed by the material)
+  double sonar_roughness = 0;   // [m] rms surface height: coherent (mirror) share exp(-(2 k h)^2)
+  double sonar_lobe = 0;        // [rad] rms facet slope: width of the incoherent specular lobe
+  double sonar_diffuse = 0;     // share of the incoherent power scattered diffusely (Lambert)
+  double sonar_transmit = 0;    // share of the power that passes through (a mesh); 0: opaque
+  double sonar_fluct_db = 0;    // [dB] std-dev of a slowly varying echo level (a person's posture)
+  double sonar_fluct_s = 1;     // [s] correlation time of that variation
+  double sonar_aspect_db = 0;   // [dB] a mover is this much weaker seen from the side than head-on
+  // Per-reading echo probability in the physical profile: 1, except for a material described
+  // only by the ideal keys, whose sonar_echo_prob carries over.
+  double sonar_hear_prob = 1;
+  // --- physical profile, laser
+  double laser_remission = 0;   // diffuse reflectance at the scanner's wavelength (0..1)
+  double laser_specular = 0;    // [rad] a transparent surface returns the beam within this of normal incidence
 };
 
-// Built-in materials (DESIGN.md): wall, metal, glass, mesh, black_cardboard, plastic, person.
+// Built-in materials (README "Scenario format"): wall, metal, glass, mesh, black_cardboard,
+// plastic, person; each with its ideal and physical parameters.
 std::map<std::string, Material> builtinMaterials();
 
 enum class PathMode { Once, Loop, PingPong };
@@ -42,6 +63,24 @@ struct ObstacleSpec {
   std::vector<geom::Vec2> points;  // polyline points / segment ends / box corners
   bool closed = false;
   geom::Circle circle{geom::Vec2::Zero(), 0.0};  // circle
+  // A frame (door jambs): obstacles appended after the scenario's own, one box at each end of
+  // this segment / open polyline, whose ends were shortened by its width. -1: not a frame;
+  // else the index of the framed obstacle.
+  int frame_of = -1;
+  // This obstacle's own frame (segment / open polyline): material, width along the ends, depth
+  // across; empty material: none.
+  std::string frame_material;
+  double frame_width = 0, frame_depth = 0;
+};
+
+// A foreign ultrasound source (another robot's sonar, a motion detector): pings every period_s
+// from a fixed position; the physical sonar hears its direct sound (README "Sensor models").
+struct EmitterSpec {
+  geom::Vec2 position{geom::Vec2::Zero()};
+  double period_s = 0.1;
+  double phase_s = 0;                 // first ping at sim time phase_s
+  std::optional<double> level_db;     // margin of its sound at 1 m on our axis at full gain; default: like our own transducer
+  std::optional<double> heading;      // [rad] points like our transducer; unset: omnidirectional
 };
 
 struct MoverSpec {
@@ -78,6 +117,7 @@ struct Scenario {
   std::vector<ObstacleSpec> obstacles;
   std::vector<Primitive> statics;  // expanded static geometry
   std::vector<MoverSpec> movers;
+  std::vector<EmitterSpec> emitters;
   RobotSpec robot;
   Config laser;     // overrides of the laser driver's config keys
   Config sonar;     // overrides of the sonar driver's config keys

@@ -7,6 +7,7 @@
 
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
+#include "sim/sonar_physical.hpp"
 
 namespace lasonic::sim {
 
@@ -73,10 +74,12 @@ std::vector<std::vector<int>> firingGroups(const std::vector<SonarSensor>& senso
 }
 
 SonarConfig sonarConfig(const Config& c, SonarConfig base) {
-  c.allowOnly({"ring", "sensors", "range_max", "range_min", "group_period_s", "rays_per_beam",
-               "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk_prob",
-               "foreign_prob", "ideal_beam_deg", "ideal_range"});
+  c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "beam_scale", "rays_per_beam",
+               "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
+               "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
+               "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range"});
   SonarConfig o = base;
+  o.profile = c.getChoice("profile", o.profile, {{"physical", SensorProfile::Physical}, {"ideal", SensorProfile::Ideal}});
   if (c.has("ring") && c.has("sensors")) c.fail("sensors", "give either ring or sensors, not both");
   if (c.has("ring")) o.sensors = parseRing(c.section("ring"));
   if (c.has("sensors")) {
@@ -94,13 +97,25 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.range_max = c.get("range_max", o.range_max, Range::positive());
   o.range_min = c.get("range_min", o.range_min, Range::nonNegative());
   o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
+  o.beam_scale = c.get("beam_scale", o.beam_scale, Range{0, 5, true});
   o.rays_per_beam = c.get("rays_per_beam", o.rays_per_beam, Range::between(1, 10000));
   o.noise_std = c.get("noise_std", o.noise_std, Range::nonNegative());
   o.noise_rel = c.get("noise_rel", o.noise_rel, Range::nonNegative());
   o.multipath_prob = c.get("multipath_prob", o.multipath_prob, Range::probability());
   o.multipath_bounces = c.get("multipath_bounces", o.multipath_bounces, Range::between(0, 10));
+  o.crosstalk = c.getChoice("crosstalk", o.crosstalk,
+                            {{"geometric", CrosstalkModel::Geometric}, {"random", CrosstalkModel::Random}});
   o.crosstalk_prob = c.get("crosstalk_prob", o.crosstalk_prob, Range::probability());
   o.foreign_prob = c.get("foreign_prob", o.foreign_prob, Range::probability());
+  o.frequency_hz = c.get("frequency_hz", o.frequency_hz, Range::between(1e3, 1e6));
+  o.transducer_radius = c.get("transducer_radius_m", o.transducer_radius, Range{0, 1, true});
+  o.pulse_cycles = c.get("pulse_cycles", o.pulse_cycles, Range::between(1, 10000));
+  o.side_lobes = c.get<bool>("side_lobes", o.side_lobes);
+  o.plane_range = c.get("plane_range_m", o.plane_range, Range::positive());
+  o.tvg_range = c.get("tvg_range_m", o.tvg_range, Range::nonNegative());
+  if (c.has("air_absorption_db_per_m"))
+    o.air_absorption = c.requireNum("air_absorption_db_per_m", Range::between(0, 100));
+  o.ray_step = geom::deg2rad(c.get("ray_step_deg", geom::rad2deg(o.ray_step), Range::between(0.01, 5)));
   o.ideal_beam_width =
       geom::deg2rad(c.get("ideal_beam_deg", geom::rad2deg(o.ideal_beam_width), Range{0, 180, true}));
   o.ideal_range = c.get("ideal_range", o.ideal_range, Range::positive());
@@ -115,6 +130,8 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
                std::to_string(timeOfFlight(o.range_max)) + " s, else a group's echoes reach the next");
   if (o.crosstalk_prob + o.foreign_prob > 1.0)
     c.fail(key("crosstalk_prob", "foreign_prob"), "crosstalk_prob + foreign_prob must be <= 1");
+  if (o.plane_range <= o.range_max)
+    c.fail(key("plane_range_m", "range_max"), "plane_range_m (the range a flat wall is still heard at) must be > range_max");
   return o;
 }
 
@@ -299,7 +316,13 @@ SonarDriverCore::SonarDriverCore(const Scenario& s, const SonarConfig& c, uint64
       groups_(firingGroups(c.sensors)),
       period_us_(std::max<int64_t>(1, std::llround(c.group_period_s * 1e6))) {
   if (groups_.empty()) throw std::invalid_argument("SonarDriverCore: no sonar sensors configured");
+  if (c.profile == SensorProfile::Physical) physical_ = std::make_unique<PhysicalSonar>(*scenario_, c, seed);
+  mover_velocity_.assign(scenario_->movers.size(), geom::Vec2::Zero());
 }
+
+SonarDriverCore::~SonarDriverCore() = default;
+SonarDriverCore::SonarDriverCore(SonarDriverCore&&) noexcept = default;
+SonarDriverCore& SonarDriverCore::operator=(SonarDriverCore&&) noexcept = default;
 
 std::vector<SonarDriverCore::Output> SonarDriverCore::onSimState(const sim_state_t& st) {
   if (last_ && st.utime <= last_->utime)
@@ -314,6 +337,13 @@ std::vector<SonarDriverCore::Output> SonarDriverCore::onSimState(const sim_state
     last_ = st;
     next_fire_utime_ = st.utime;
   }
+  // The movers' true velocities over this interval (a person's aspect in the physical model).
+  if (st.utime > last_->utime)
+    for (const mover_state_t& m : st.movers)
+      for (const mover_state_t& ma : last_->movers)
+        if (ma.id == m.id)
+          mover_velocity_[static_cast<size_t>(m.id)] =
+              geom::Vec2(m.x - ma.x, m.y - ma.y) / (static_cast<double>(st.utime - last_->utime) * 1e-6);
   std::vector<Output> out;
   for (; next_fire_utime_ <= st.utime; next_fire_utime_ += period_us_)
     out.push_back(fire(next_fire_utime_, interpolateState(*last_, st, next_fire_utime_)));
@@ -334,15 +364,28 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
   o.ring.group = o.truth.group = static_cast<int16_t>(group);
   o.ring.num_sensors = static_cast<int16_t>(config_.sensors.size());
   o.ring.range_max = static_cast<float>(config_.range_max);
-  for (int id : groups_[static_cast<size_t>(group)]) {
+  const std::vector<int>& ids = groups_[static_cast<size_t>(group)];
+  std::vector<SonarReading> readings;
+  if (physical_) {
+    std::vector<geom::Pose2> poses;
+    for (int id : ids) poses.push_back(robot.compose(config_.sensors[static_cast<size_t>(id)].mount));
+    readings = physical_->fireGroup(world_, utime, ids, poses, mover_velocity_, rng_);
+  } else {
+    for (int id : ids) {
+      const SonarSensor& s = config_.sensors[static_cast<size_t>(id)];
+      readings.push_back(fireSensor(world_, robot.compose(s.mount), s.beam_width * config_.beam_scale, config_, rng_));
+    }
+  }
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const int id = ids[k];
     const SonarSensor& s = config_.sensors[static_cast<size_t>(id)];
-    SonarReading r = fireSensor(world_, robot.compose(s.mount), s.beam_width, config_, rng_);
+    SonarReading& r = readings[k];
     r.truth.sensor_id = static_cast<int16_t>(id);
     o.ring.sensor_id.push_back(static_cast<int16_t>(id));
     o.ring.range.push_back(r.range);
     o.ring.no_echo.push_back(r.no_echo ? 1 : 0);
     o.ring.mount.push_back(toMsg(s.mount));
-    o.ring.beam_width.push_back(static_cast<float>(s.beam_width));
+    o.ring.beam_width.push_back(static_cast<float>(s.beam_width));  // the nominal beam, whatever beam_scale is
     o.truth.causes.push_back(r.truth);
   }
   o.ring.nreadings = o.truth.nreadings = static_cast<int32_t>(o.ring.sensor_id.size());

@@ -1,9 +1,10 @@
 #pragma once
-// The simulated sonar beam (DESIGN.md "The simulated robot and world") as plain functions, so a
-// test can fire one sensor at a hand-built world. SonarDriverCore (drivers.hpp) schedules the
-// firings and wraps the readings into SONAR_RING / SONAR_TRUTH.
+// The ideal sonar profile (README "Sensor models": the method's idealised sonar, the
+// simulator's first model) as plain functions, so a test can fire one sensor at a hand-built
+// world. The physical profile, the default, is sim/sonar_physical.hpp. SonarDriverCore
+// (drivers.hpp) schedules the firings and wraps the readings into SONAR_RING / SONAR_TRUTH.
 //
-// One firing of one sensor:
+// One firing of one sensor (ideal profile):
 //  1. rays_per_beam rays, evenly across the beam opening, edges included, are cast from the
 //     sensor's true pose; sound passes through no material, so each ray stops at its first hit.
 //  2. A hit echoes straight back if its incidence angle is within the material's

@@ -32,16 +32,37 @@ std::optional<Hit> WorldGeometry::castRay(const geom::Ray& ray, double max_range
     }
   }
   if (!best) return std::nullopt;
+  return makeHit(ray, best_t, *best);
+}
 
+std::optional<Hit> WorldGeometry::castRayAmong(const geom::Ray& ray, double max_range,
+                                               const std::vector<uint32_t>& statics) const {
+  const Primitive* best = nullptr;
+  double best_t = max_range;
+  auto test = [&](const Primitive& p) {
+    const std::optional<double> t =
+        p.kind == Primitive::Kind::Segment ? geom::intersect(ray, p.segment) : geom::intersect(ray, p.circle);
+    if (t && *t <= best_t) {
+      best_t = *t;
+      best = &p;
+    }
+  };
+  for (uint32_t i : statics) test(prims_[i]);
+  for (size_t i = n_static_; i < prims_.size(); ++i) test(prims_[i]);
+  if (!best) return std::nullopt;
+  return makeHit(ray, best_t, *best);
+}
+
+Hit WorldGeometry::makeHit(const geom::Ray& ray, double t, const Primitive& p) const {
   Hit h;
-  h.range = best_t;
-  h.point = ray.origin + best_t * ray.dir;
-  h.primitive = best;
-  h.obstacle = best->obstacle;
-  if (best->kind == Primitive::Kind::Segment) {
-    h.normal = geom::normal(best->segment);
+  h.range = t;
+  h.point = ray.origin + t * ray.dir;
+  h.primitive = &p;
+  h.obstacle = p.obstacle;
+  if (p.kind == Primitive::Kind::Segment) {
+    h.normal = geom::normal(p.segment);
   } else {
-    const geom::Vec2 radial = h.point - best->circle.center;
+    const geom::Vec2 radial = h.point - p.circle.center;
     // A ray starting inside a disc hits at range 0; its surface then faces the ray head-on.
     h.normal = radial.norm() > 1e-12 ? geom::Vec2(radial.normalized()) : geom::Vec2(-ray.dir);
   }

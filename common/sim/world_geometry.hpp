@@ -1,5 +1,6 @@
 #pragma once
 // Ray casting in the simulated world: static primitives plus the movers at one instant.
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -35,11 +36,17 @@ class WorldGeometry {
   std::optional<Hit> castRay(const geom::Ray& ray, double max_range,
                              const std::function<bool(const Material&)>& passes = nullptr) const;
 
+  // The same, with nothing passing, among the static primitives with the given indices (into
+  // primitives()) and every mover: for callers that cull what a ray can meet.
+  std::optional<Hit> castRayAmong(const geom::Ray& ray, double max_range, const std::vector<uint32_t>& statics) const;
+
   // All primitives (statics then movers), for sector queries by the evaluation.
   const std::vector<Primitive>& primitives() const { return prims_; }
   const Scenario& scenario() const { return *scenario_; }
+  size_t staticCount() const { return n_static_; }
 
  private:
+  Hit makeHit(const geom::Ray& ray, double t, const Primitive& p) const;
   const Scenario* scenario_;
   size_t n_static_ = 0;
   std::vector<Primitive> prims_;

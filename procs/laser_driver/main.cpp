@@ -1,5 +1,6 @@
 // lasonic-laser-driver: the simulated laser range scanner. Subscribes SIM_STATE (truth), casts
-// each reading against the scenario's world at its own time, publishes LASER_SCAN.
+// each reading against the scenario's world at its own time, publishes LASER_SCAN and, for
+// evaluation, LASER_TRUTH (the obstacle that returned each reading).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -37,11 +38,12 @@ int main(int argc, char** argv) {
 
   Node node("lasonic-laser-driver", lcm_url);
   sim::LaserDriverCore laser(setup->scenario, cfg, setup->scenario.seed);
-  spdlog::info("scenario {}: {} readings over {} deg at {} Hz, range {}..{} m, noise {} m", setup->scenario.name,
-               cfg.readings, cfg.fov_deg, cfg.scan_rate_hz, cfg.range_min, cfg.range_max, cfg.noise_std);
+  spdlog::info("scenario {}: {} readings over {} deg at {} Hz, range {}..{} m, noise {} m, {} profile",
+               setup->scenario.name, cfg.readings, cfg.fov_deg, cfg.scan_rate_hz, cfg.range_min, cfg.range_max,
+               cfg.noise_std, cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical");
 
   node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
-    std::vector<laser_scan_t> scans;
+    std::vector<sim::LaserDriverCore::Output> scans;
     try {
       scans = laser.onSimState(st);
     } catch (const std::invalid_argument& e) {
@@ -49,7 +51,10 @@ int main(int argc, char** argv) {
       return;
     }
     node.noteMessageTime(st.utime);
-    for (laser_scan_t& scan : scans) node.publish(channels::LASER_SCAN, scan);
+    for (sim::LaserDriverCore::Output& o : scans) {
+      node.publish(channels::LASER_SCAN, o.scan);
+      node.publish(channels::LASER_TRUTH, o.truth);
+    }
   });
   return node.run();
 }

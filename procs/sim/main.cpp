@@ -25,11 +25,16 @@ int main(int argc, char** argv) {
   std::string config_file, scenario_file, out_file;
   std::optional<double> duration;
   std::optional<uint64_t> seed;
+  std::string profile;
   app.add_option("--scenario", scenario_file, "scenario YAML")->required();
   app.add_option("--out", out_file, "LCM log file to write")->required();
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
   app.add_option("--seed", seed, "random seed (default: the scenario's)");
   app.add_option("--config", config_file, "lasonic YAML config (sections odometry, laser, sonar)");
+  app.add_option("--profile", profile,
+                 "sensor profile of both laser and sonar, overriding config and scenario: physical (the default) "
+                 "or ideal (the method's idealised sensors)")
+      ->check(CLI::IsMember({"physical", "ideal"}));
   CLI11_PARSE(app, argc, argv);
 
   std::optional<sim::SimSetup> setup;
@@ -41,6 +46,10 @@ int main(int argc, char** argv) {
     odo_cfg = sim::odometryConfigFor(*setup);
     laser_cfg = sim::laserConfigFor(*setup);
     sonar_cfg = sim::sonarConfigFor(*setup);
+    if (!profile.empty()) {
+      const auto p = profile == "ideal" ? sim::SensorProfile::Ideal : sim::SensorProfile::Physical;
+      laser_cfg.profile = sonar_cfg.profile = p;
+    }
   } catch (const ConfigError& e) {
     std::cerr << "lasonic-sim: " << e.what() << "\n";
     return 2;
@@ -73,7 +82,10 @@ int main(int argc, char** argv) {
         sonar_geometry_t g = sonar.geometry(utime);
         write(channels::SONAR_GEOMETRY, utime, g);
       }
-      for (laser_scan_t& scan : laser.onSimState(st)) write(channels::LASER_SCAN, utime, scan);
+      for (sim::LaserDriverCore::Output& o : laser.onSimState(st)) {
+        write(channels::LASER_SCAN, utime, o.scan);
+        write(channels::LASER_TRUTH, utime, o.truth);
+      }
       for (sim::SonarDriverCore::Output& o : sonar.onSimState(st)) {
         write(channels::SONAR_RING, utime, o.ring);
         write(channels::SONAR_TRUTH, utime, o.truth);
@@ -91,8 +103,11 @@ int main(int argc, char** argv) {
     events += n;
     per_channel += (per_channel.empty() ? "" : ", ") + channel + " " + std::to_string(n);
   }
-  std::printf("lasonic-sim: %s: %lld events (%s), %.1f sim s in %.2f wall s, seed %llu -> %s\n",
-              scenario.name.c_str(), static_cast<long long>(events), per_channel.c_str(), scenario.duration_s,
-              wall_s, static_cast<unsigned long long>(scenario.seed), out_file.c_str());
+  std::printf("lasonic-sim: %s: %lld events (%s), %.1f sim s in %.2f wall s (real-time factor %.0f), seed %llu, "
+              "laser %s, sonar %s -> %s\n",
+              scenario.name.c_str(), static_cast<long long>(events), per_channel.c_str(), scenario.duration_s, wall_s,
+              wall_s > 0 ? scenario.duration_s / wall_s : 0.0, static_cast<unsigned long long>(scenario.seed),
+              laser_cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical",
+              sonar_cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical", out_file.c_str());
   return 0;
 }

@@ -39,9 +39,9 @@ int main(int argc, char** argv) {
   Node node("lasonic-sonar-driver", lcm_url);
   sim::SonarDriverCore sonar(setup->scenario, cfg, setup->scenario.seed);
   const sonar_geometry_t geometry = sonar.geometry(0);
-  spdlog::info("scenario {}: {} sonars in {} groups, a group every {} s, range {}..{} m, {} rays per beam",
-               setup->scenario.name, geometry.num_sensors, geometry.num_groups, cfg.group_period_s,
-               cfg.range_min, cfg.range_max, cfg.rays_per_beam);
+  spdlog::info("scenario {}: {} sonars in {} groups, a group every {} s, range {}..{} m, {} profile, beam scale {}",
+               setup->scenario.name, geometry.num_sensors, geometry.num_groups, cfg.group_period_s, cfg.range_min,
+               cfg.range_max, cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical", cfg.beam_scale);
 
   std::optional<int64_t> next_geometry_utime;  // SONAR_GEOMETRY at 1 Hz of sim time
   node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {

@@ -21,6 +21,12 @@ grep -q colour "$tmp/unknown_key.yaml" || die "could not make unknown_key.yaml"
 printf 'sonar:\n  range_min: 5\n' >"$tmp/bad_sonar.yaml"
 printf 'laser:\n  readings: 1\n' >"$tmp/bad_laser.yaml"
 printf 'odometry:\n  rate_hz: -1\n' >"$tmp/bad_odometry.yaml"
+printf 'sonar:\n  profile: realistic\n' >"$tmp/bad_profile.yaml"
+printf 'laser:\n  profile: perfect\n' >"$tmp/bad_laser_profile.yaml"
+# A scenario whose material has a bad physical parameter, and one with a bad beam_scale.
+sed 's/^obstacles:$/materials:\n  metal: {sonar_roughness_mm: -2}\nobstacles:/' "$scenario" >"$tmp/bad_material.yaml"
+grep -q sonar_roughness_mm "$tmp/bad_material.yaml" || die "could not make bad_material.yaml"
+printf 'sonar: {beam_scale: -0.8}\n' | cat "$scenario" - >"$tmp/bad_beam_scale.yaml"
 
 expect_error() {  # TOOL CASE WANT ARGS...: exit status 2 and stderr+stdout contain WANT
   local tool=$1 case=$2 want=$3 rc=0
@@ -51,7 +57,17 @@ for tool in lasonic-sim lasonic-sim-world lasonic-laser-driver lasonic-sonar-dri
     --scenario "$scenario" --config "$tmp/nonexistent-config.yaml"
   f=${bad_file[$tool]}
   expect_error "$tool" bad_config "$f.yaml: ${bad_value[$f]}" --scenario "$scenario" --config "$tmp/$f.yaml"
+  expect_error "$tool" bad_material "bad_material.yaml: materials.metal.sonar_roughness_mm: must be in [0, 1000]" \
+    --scenario "$tmp/bad_material.yaml"
 done
+expect_error lasonic-sim bad_profile "bad_profile.yaml: sonar.profile: must be one of physical, ideal" \
+  --scenario "$scenario" --config "$tmp/bad_profile.yaml"
+expect_error lasonic-laser-driver bad_profile "bad_laser_profile.yaml: laser.profile: must be one of physical, ideal" \
+  --scenario "$scenario" --config "$tmp/bad_laser_profile.yaml"
+expect_error lasonic-sonar-driver bad_beam_scale "bad_beam_scale.yaml: sonar.beam_scale: must be in (0, 5]" \
+  --scenario "$tmp/bad_beam_scale.yaml"
+expect_error lasonic-sim bad_beam_scale "bad_beam_scale.yaml: sonar.beam_scale: must be in (0, 5]" \
+  --scenario "$tmp/bad_beam_scale.yaml"
 echo "$test_name: (1) ok: every start-up error exits 2 and names the file and key"
 
 # 2. Malformed messages on the laser driver's input.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # sim_determinism.sh: lasonic-sim is deterministic: the same scenario and seed give a byte-identical
-# log, another seed another log. Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
+# log, another seed another log; in both sensor profiles (physical, the default, and ideal), which
+# differ. Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 set -euo pipefail
 bin=${LASONIC_BIN:?set LASONIC_BIN}
 src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
@@ -10,9 +11,13 @@ sim() { "$bin/lasonic-sim" --scenario "$src/deploy/scenarios/fig4_room.yaml" --d
 sim --out "$tmp/a.lcmlog"
 sim --out "$tmp/b.lcmlog" --config "$src/deploy/config/lasonic.yaml"
 sim --out "$tmp/c.lcmlog" --seed 5
-cmp "$tmp/a.lcmlog" "$tmp/b.lcmlog" || { echo "sim_determinism.sh: FAIL: same seed, different logs" >&2; exit 1; }
-if cmp -s "$tmp/a.lcmlog" "$tmp/c.lcmlog"; then
-  echo "sim_determinism.sh: FAIL: another seed gave the same log" >&2
-  exit 1
-fi
+sim --out "$tmp/d.lcmlog" --profile ideal
+sim --out "$tmp/e.lcmlog" --profile ideal
+sim --out "$tmp/f.lcmlog" --profile ideal --seed 5
+fail() { echo "sim_determinism.sh: FAIL: $*" >&2; exit 1; }
+cmp "$tmp/a.lcmlog" "$tmp/b.lcmlog" || fail "same seed, different logs"
+cmp "$tmp/d.lcmlog" "$tmp/e.lcmlog" || fail "same seed, different logs (ideal profile)"
+cmp -s "$tmp/a.lcmlog" "$tmp/c.lcmlog" && fail "another seed gave the same log"
+cmp -s "$tmp/d.lcmlog" "$tmp/f.lcmlog" && fail "another seed gave the same log (ideal profile)"
+cmp -s "$tmp/a.lcmlog" "$tmp/d.lcmlog" && fail "the physical and ideal profiles gave the same log"
 echo "sim_determinism.sh: PASS"

@@ -33,6 +33,11 @@ TEST(Config, ErrorsNameTheKeyPath) {
   EXPECT_EQ(errorOf([&] { c.section("sonar").get("rate", 1.0, Range::any()); }),
             "s.yaml: sonar.rate: must be a number");
   EXPECT_EQ(errorOf([&] { c.require<int>("nope"); }), "s.yaml: nope: is required");
+  // An interval open at its lower end says so.
+  EXPECT_EQ(errorOf([&] { obs[1].get("radius", 1.0, Range{-2, 5, true}); }),
+            "s.yaml: obstacles[1].radius: must be in (-2, 5]");
+  EXPECT_EQ(errorOf([&] { obs[1].get("radius", 1.0, Range::between(0, 5)); }),
+            "s.yaml: obstacles[1].radius: must be in [0, 5]");
   EXPECT_NE(errorOf([&] { c.section("sonar").allowOnly({"x"}); }).find("sonar.rate: unknown key"),
             std::string::npos);
 }

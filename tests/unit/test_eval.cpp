@@ -128,6 +128,7 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
   log.sonar_rings.push_back(ring);
   sonar_truth_t tr{};
   tr.utime = 100;
+  // (hit point and reflector do not matter here)
   sonar_cause_t c0{0, sonar_cause_t::CAUSE_DIRECT, 3, 0, 1.0f, 2.0f, 0, 0, 0};       // glass: invisible
   sonar_cause_t c1{1, sonar_cause_t::CAUSE_SPECULAR_LONG, -1, 0, -1.f, 1.2f, 0, 0, 0};
   sonar_cause_t c2{2, sonar_cause_t::CAUSE_DIRECT, 0, 1, 1.5f, 1.5f, 0, 0, 0};      // wall: visible
@@ -190,4 +191,52 @@ TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
   evalAgmOperational(log, sc, EvalOptions{}, m2);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.recall"), 0.0);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.precision"), 0.0);
+}
+
+TEST(EvalSensors, CausesReflectorsAndLaserReturnsByMaterial) {
+  const auto sc = boxRoom();
+  RunLog log;
+  // Sonar: 4 readings: a direct echo from a corner, one from a plane, a late echo, no echo.
+  sonar_truth_t t{};
+  t.utime = 1;
+  auto cause = [](int8_t c, int8_t reflector) {
+    sonar_cause_t x{};
+    x.cause = c;
+    x.reflector = reflector;
+    return x;
+  };
+  t.causes = {cause(sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_CORNER),
+              cause(sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_PLANE),
+              cause(sonar_cause_t::CAUSE_LATE_ECHO, sonar_cause_t::REFLECTOR_NONE),
+              cause(sonar_cause_t::CAUSE_NO_ECHO, sonar_cause_t::REFLECTOR_NONE)};
+  t.nreadings = 4;
+  log.sonar_truths = {t};
+  // Laser: 5 readings: wall, wall, mesh (obstacle 1), a mixed pixel, no return.
+  laser_scan_t scan{};
+  scan.utime = 7;
+  scan.seq = 3;
+  scan.flags = {laser_scan_t::FLAG_OK, laser_scan_t::FLAG_OK, laser_scan_t::FLAG_OK, laser_scan_t::FLAG_OK,
+                laser_scan_t::FLAG_NO_RETURN};
+  scan.ranges = {1, 1, 1, 1, 0};
+  scan.nranges = 5;
+  laser_truth_t lt{};
+  lt.utime = 7;
+  lt.seq = 3;
+  lt.obstacle = {0, 0, 1, -1, -1};
+  lt.nranges = 5;
+  log.laser_scans = {scan};
+  log.laser_truths = {lt};
+  Metrics m;
+  evalSensors(log, sc, m);
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_causes.direct"), 0.5);
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_causes.late_echo"), 0.25);
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_causes.no_echo"), 0.25);
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_reflectors.corner"), 0.5);  // of the direct echoes
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_reflectors.plane"), 0.5);
+  EXPECT_DOUBLE_EQ(m.number("sensors.sonar_reflectors.edge"), 0.0);
+  EXPECT_DOUBLE_EQ(m.number("sensors.laser_returns_by_material.wall"), 0.4);
+  EXPECT_DOUBLE_EQ(m.number("sensors.laser_returns_by_material.mesh"), 0.2);
+  EXPECT_DOUBLE_EQ(m.number("sensors.laser_returns_by_material.glass"), 0.0);
+  EXPECT_DOUBLE_EQ(m.number("sensors.laser_mixed_pixels"), 0.2);
+  EXPECT_DOUBLE_EQ(m.number("sensors.laser_no_return"), 0.2);
 }

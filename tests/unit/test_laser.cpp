@@ -30,25 +30,48 @@ sim_state_t state(int64_t utime, double x, double y, double theta) {
   return st;
 }
 
-// One scan by a robot standing at `pose`.
-laser_scan_t scanFrom(LaserDriverCore& laser, const geom::Pose2& pose, int64_t t0 = 1'000'000) {
+// One scan (and its LASER_TRUTH) by a robot standing at `pose`.
+LaserDriverCore::Output scanAndTruthFrom(LaserDriverCore& laser, const geom::Pose2& pose, int64_t t0 = 1'000'000) {
   EXPECT_TRUE(laser.onSimState(state(t0, pose.x, pose.y, pose.theta)).empty());
   auto scans = laser.onSimState(state(t0 + 200'000, pose.x, pose.y, pose.theta));
   EXPECT_EQ(scans.size(), 1u);
   return scans.at(0);
 }
+laser_scan_t scanFrom(LaserDriverCore& laser, const geom::Pose2& pose, int64_t t0 = 1'000'000) {
+  return scanAndTruthFrom(laser, pose, t0).scan;
+}
 
 // Index of the reading nearest to a sensor-frame angle.
 size_t indexOf(const laser_scan_t& s, double angle) {
-  return static_cast<size_t>(std::lround(geom::normalizeAngle(angle - s.angle_min) / s.angle_increment)) %
-         static_cast<size_t>(s.nranges);
+  double a = std::fmod(angle - s.angle_min, 2 * geom::kPi);  // [0, 2 pi): the scan starts at angle_min
+  if (a < 0) a += 2 * geom::kPi;
+  return static_cast<size_t>(std::lround(a / s.angle_increment)) % static_cast<size_t>(s.nranges);
 }
 
 // Copies: gtest takes its arguments by reference, and LCM's class constants have no definition.
 constexpr int8_t kOk = laser_scan_t::FLAG_OK;
 constexpr int8_t kNoReturn = laser_scan_t::FLAG_NO_RETURN;
 
+// The ideal profile (one ray per reading, materials as reflect / transparent / absorb), noise-free.
 LaserConfig noiseless() {
+  LaserConfig c;
+  c.profile = SensorProfile::Ideal;
+  c.noise_std = 0;
+  return c;
+}
+
+// The error a `laser:` section (YAML lines under it) gives, or "no error".
+std::string configMessage(const std::string& yaml) {
+  try {
+    laserConfig(Config::fromString("laser:\n" + yaml, "cfg.yaml").section("laser"));
+  } catch (const ConfigError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
+// The physical profile, noise-free.
+LaserConfig physical() {
   LaserConfig c;
   c.noise_std = 0;
   return c;
@@ -89,7 +112,7 @@ TEST(Laser, WallAtKnownDistanceWithinNoise) {
   EXPECT_EQ(s.flags[indexOf(s, geom::kPi)], kNoReturn);
 }
 
-TEST(Laser, GlassAndMeshAreInvisible) {
+TEST(Laser, IdealGlassAndMeshAreInvisible) {
   const Scenario sc = world(
       "  - {shape: segment, material: wall, from: [3, -10], to: [3, 10]}\n"
       "  - {shape: segment, material: glass, from: [1, -1], to: [1, 1]}\n"
@@ -101,7 +124,7 @@ TEST(Laser, GlassAndMeshAreInvisible) {
   EXPECT_NEAR(s.ranges[ahead], 3.0, 1e-5);  // straight through glass and mesh to the wall
 }
 
-TEST(Laser, BlackCardboardGivesNoReturn) {
+TEST(Laser, IdealBlackCardboardGivesNoReturn) {
   const Scenario sc = world(
       "  - {shape: segment, material: wall, from: [3, -10], to: [3, 10]}\n"
       "  - {shape: box, material: black_cardboard, center: [2, 0], size: [0.3, 0.5]}\n");
@@ -112,7 +135,7 @@ TEST(Laser, BlackCardboardGivesNoReturn) {
   EXPECT_EQ(s.flags[indexOf(s, deg2rad(10))], kOk);
 }
 
-TEST(Laser, ThinPipeIsMissedBetweenRays) {
+TEST(Laser, IdealThinPipeIsMissedBetweenRays) {
   // A 2 cm pipe spans 0.23 deg at 5 m: with rays 0.5 deg apart, a scan sees it only if a ray
   // happens to fall on it (p = 0.23 / 0.5 = 0.46); at 1 m it spans 1.15 deg and is always seen.
   auto seenFraction = [](double distance) {
@@ -150,7 +173,7 @@ TEST(Laser, ReadingsAreSpreadOverTheScanAndPlacedWithTheirOwnPose) {
     if (k < 10) {
       EXPECT_TRUE(out.empty()) << k;
     }
-    scans.insert(scans.end(), out.begin(), out.end());
+    for (auto& o : out) scans.push_back(o.scan);
   }
   ASSERT_EQ(scans.size(), 1u);
   const laser_scan_t& s = scans[0];
@@ -165,7 +188,7 @@ TEST(Laser, ReadingsAreSpreadOverTheScanAndPlacedWithTheirOwnPose) {
   std::vector<laser_scan_t> next;
   for (int k = 11; k <= 20; ++k) {
     auto out = laser.onSimState(state(t0 + k * 20'000, 0.02 * k, 0, 0));
-    next.insert(next.end(), out.begin(), out.end());
+    for (auto& o : out) next.push_back(o.scan);
   }
   ASSERT_EQ(next.size(), 1u);
   EXPECT_EQ(next[0].utime, t0 + 200'000);
@@ -192,15 +215,16 @@ TEST(Laser, MoversAreInterpolatedPerReading) {
   EXPECT_TRUE(laser.onSimState(withMover(1'000'000, -1)).empty());
   const auto scans = laser.onSimState(withMover(1'200'000, 1));
   ASSERT_EQ(scans.size(), 1u);
-  EXPECT_EQ(scans[0].flags[360], kOk);
-  EXPECT_NEAR(scans[0].ranges[360], 1.75, 1e-5);
+  EXPECT_EQ(scans[0].scan.flags[360], kOk);
+  EXPECT_NEAR(scans[0].scan.ranges[360], 1.75, 1e-5);
+  EXPECT_EQ(scans[0].truth.obstacle[360], -2);  // LASER_TRUTH: mover 0
 }
 
 TEST(Laser, A270DegreeScannerWorks) {
   const Scenario sc = world(
       "  - {shape: segment, material: wall, from: [3, -1], to: [3, 1]}\n"
       "  - {shape: segment, material: wall, from: [-2, -1], to: [-2, 1]}\n");
-  const LaserConfig c = laserConfig(Config::fromString("fov_deg: 270\nreadings: 541\nnoise_std: 0\n"));
+  const LaserConfig c = laserConfig(Config::fromString("profile: ideal\nfov_deg: 270\nreadings: 541\nnoise_std: 0\n"));
   LaserDriverCore laser(sc, c, 1);
   const laser_scan_t s = scanFrom(laser, {0, 0, 0});
   EXPECT_EQ(s.nranges, 541);
@@ -220,7 +244,7 @@ TEST(Laser, MountPoseFromConfig) {
   // Sensor 0.2 m ahead of the robot's centre, looking to the robot's left.
   const Scenario sc = world("  - {shape: segment, material: wall, from: [-5, 3], to: [5, 3]}\n");
   const LaserConfig c =
-      laserConfig(Config::fromString("noise_std: 0\nmount: {x: 0.2, y: 0.5, yaw_deg: 90}\n"));
+      laserConfig(Config::fromString("profile: ideal\nnoise_std: 0\nmount: {x: 0.2, y: 0.5, yaw_deg: 90}\n"));
   LaserDriverCore laser(sc, c, 1);
   const laser_scan_t s = scanFrom(laser, {0, 0, 0});
   EXPECT_NEAR(s.mount.theta, deg2rad(90), 1e-12);
@@ -228,18 +252,10 @@ TEST(Laser, MountPoseFromConfig) {
 }
 
 TEST(Laser, ConfigErrorsNameTheKey) {
-  auto message = [](const std::string& yaml) {
-    try {
-      laserConfig(Config::fromString("laser:\n" + yaml, "cfg.yaml").section("laser"));
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_EQ(message("  fov_deg: 400\n"), "cfg.yaml: laser.fov_deg: must be in [1, 360]");
-  EXPECT_NE(message("  colour: red\n").find("cfg.yaml: laser.colour: unknown key"), std::string::npos);
-  EXPECT_NE(message("  mount: {z: 1}\n").find("laser.mount.z: unknown key"), std::string::npos);
-  EXPECT_NE(message("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
+  EXPECT_EQ(configMessage("  fov_deg: 400\n"), "cfg.yaml: laser.fov_deg: must be in [1, 360]");
+  EXPECT_NE(configMessage("  colour: red\n").find("cfg.yaml: laser.colour: unknown key"), std::string::npos);
+  EXPECT_NE(configMessage("  mount: {z: 1}\n").find("laser.mount.z: unknown key"), std::string::npos);
+  EXPECT_NE(configMessage("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
 }
 
 TEST(Laser, RefusesBadStatesAndCarriesOn) {
@@ -250,7 +266,7 @@ TEST(Laser, RefusesBadStatesAndCarriesOn) {
   EXPECT_THROW(laser.onSimState(state(1'100'000, std::nan(""), 0, 0)), std::invalid_argument);
   const auto scans = laser.onSimState(state(1'200'000, 0, 0, 0));
   ASSERT_EQ(scans.size(), 1u);
-  EXPECT_NEAR(scans[0].ranges[360], 3.0, 1e-5);
+  EXPECT_NEAR(scans[0].scan.ranges[360], 3.0, 1e-5);
 }
 
 TEST(Laser, SameSeedSameScan) {
@@ -259,4 +275,159 @@ TEST(Laser, SameSeedSameScan) {
   const laser_scan_t sa = scanFrom(a, {0, 0, 0}), sb = scanFrom(b, {0, 0, 0}), scc = scanFrom(c, {0, 0, 0});
   EXPECT_EQ(sa.ranges, sb.ranges);
   EXPECT_NE(sa.ranges, scc.ranges);
+}
+
+// ------------------------------------------------------------------ physical profile
+
+TEST(LaserPhysical, GlassReturnsOnlyNearNormalIncidence) {
+  // A pane 1.5 m ahead, a wall 3 m ahead behind it. Head-on, the pane's Fresnel reflection comes
+  // straight back; a few degrees off normal, the beam passes through to the wall.
+  const Scenario sc = world(
+      "  - {shape: segment, material: wall, from: [3, -10], to: [3, 10]}\n"
+      "  - {shape: segment, material: glass, from: [1.5, -3], to: [1.5, 3]}\n");
+  LaserDriverCore laser(sc, physical(), 1);
+  const auto out = scanAndTruthFrom(laser, {0, 0, 0});
+  const laser_scan_t& s = out.scan;
+  const size_t ahead = indexOf(s, 0);
+  ASSERT_EQ(s.flags[ahead], kOk);
+  EXPECT_NEAR(s.ranges[ahead], 1.5, 0.01);
+  EXPECT_EQ(out.truth.obstacle[ahead], 1);  // the pane
+  for (double deg : {-1.0, 1.0}) {  // within the 2° cone
+    const size_t i = indexOf(s, deg2rad(deg));
+    EXPECT_NEAR(s.ranges[i], 1.5 / std::cos(deg2rad(deg)), 0.01) << deg;
+  }
+  for (double deg : {-10.0, -5.0, 5.0, 10.0, 30.0}) {
+    const size_t i = indexOf(s, deg2rad(deg));
+    ASSERT_EQ(s.flags[i], kOk) << deg;
+    EXPECT_NEAR(s.ranges[i], 3.0 / std::cos(deg2rad(deg)), 0.01) << deg;  // through the pane
+    EXPECT_EQ(out.truth.obstacle[i], 0) << deg;
+  }
+  // The ideal profile never sees glass.
+  LaserDriverCore ideal(sc, noiseless(), 1);
+  EXPECT_NEAR(scanFrom(ideal, {0, 0, 0}).ranges[ahead], 3.0, 1e-5);
+}
+
+TEST(LaserPhysical, DarkSurfacesDropOutWithRange) {
+  // Black cardboard (remission 3 %) faces the scanner; with a 10 % target detected to 5 m it is
+  // seen to 5 * sqrt(0.3) = 2.7 m head-on; white plaster (85 %) far beyond.
+  auto seen = [](const std::string& material, double distance) {
+    const Scenario sc = world("  - {shape: segment, material: " + material + ", from: [" + std::to_string(distance) +
+                              ", -0.5], to: [" + std::to_string(distance) + ", 0.5]}\n");
+    LaserDriverCore laser(sc, physical(), 3);
+    int ok = 0, n = 0;
+    for (int k = 0; k < 20; ++k) {
+      const laser_scan_t s = scanFrom(laser, {0, 0, 0}, 1'000'000 + k * 1'000'000);
+      for (double deg = -2; deg <= 2; deg += 0.5, ++n) ok += s.flags[indexOf(s, deg2rad(deg))] == kOk;
+    }
+    return static_cast<double>(ok) / n;
+  };
+  EXPECT_GT(seen("black_cardboard", 1.0), 0.99);
+  EXPECT_GT(seen("black_cardboard", 2.2), 0.9);
+  EXPECT_LT(seen("black_cardboard", 3.4), 0.1);
+  EXPECT_GT(seen("wall", 3.4), 0.99);
+  EXPECT_GT(seen("wall", 12.0), 0.9);
+}
+
+TEST(LaserPhysical, ThinPipeHitRateFallsWithRange) {
+  // A 2 cm pipe before a wall 1 m behind it. The beam's 0.6° footprint is wider than the 0.5°
+  // spacing: the pipe is hit whenever it covers enough of some reading's footprint; far away it
+  // covers too little and returns too little power, and what returns mixes with the wall.
+  auto hitRate = [](double d) {
+    const Scenario sc = world("  - {shape: circle, material: plastic, center: [" + std::to_string(d) +
+                              ", 0], radius: 0.01}\n  - {shape: segment, material: wall, from: [" +
+                              std::to_string(d + 1) + ", -5], to: [" + std::to_string(d + 1) + ", 5]}\n");
+    LaserDriverCore laser(sc, physical(), 5);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> heading(-0.1, 0.1);
+    int hits = 0;
+    const int scans = 100;
+    for (int k = 0; k < scans; ++k) {
+      const auto out = scanAndTruthFrom(laser, {0, 0, heading(rng)}, 1'000'000 + k * 1'000'000);
+      bool hit = false;
+      for (size_t i = 0; i < out.truth.obstacle.size(); ++i)
+        hit = hit || (out.truth.obstacle[i] == 0 && out.scan.flags[i] == kOk && std::abs(out.scan.ranges[i] - (d - 0.01)) < 0.05);
+      hits += hit;
+    }
+    return static_cast<double>(hits) / scans;
+  };
+  const double r1 = hitRate(1.0), r3 = hitRate(3.0), r6 = hitRate(6.0), r9 = hitRate(9.0);
+  EXPECT_GT(r1, 0.99);  // 1.15° wide: always covers a footprint
+  EXPECT_GE(r1, r3);
+  EXPECT_GE(r3, r6);
+  EXPECT_GE(r6, r9);
+  EXPECT_GT(r1 - r9, 0.5) << r1 << " " << r3 << " " << r6 << " " << r9;
+  EXPECT_LT(r9, 0.3);
+}
+
+TEST(LaserPhysical, EdgesGiveMixedPixels) {
+  // A wall's end 2 m ahead with another wall 0.3 m behind it: the two returns of a footprint
+  // that straddles the end overlap (within merge_range) and read in between, nobody's surface
+  // in LASER_TRUTH. With the second wall 2 m behind, the returns stay apart and the nearer wins.
+  auto scanEdge = [](double behind, int& mixed, int& between) {
+    const Scenario sc = world("  - {shape: segment, material: wall, from: [2, -3], to: [2, 0]}\n"
+                              "  - {shape: segment, material: wall, from: [" + std::to_string(2 + behind) +
+                              ", -5], to: [" + std::to_string(2 + behind) + ", 5]}\n");
+    LaserConfig c = physical();
+    c.footprint_rays = 11;
+    LaserDriverCore laser(sc, c, 1);
+    mixed = between = 0;
+    for (int k = 0; k < 20; ++k) {
+      const auto out = scanAndTruthFrom(laser, {0, 0, deg2rad(0.05 * k)}, 1'000'000 + k * 1'000'000);
+      for (size_t i = 0; i < out.truth.obstacle.size(); ++i) {
+        if (out.scan.flags[i] != kOk) continue;
+        mixed += out.truth.obstacle[i] == -1;
+        const double a = out.scan.angle_min + static_cast<double>(i) * out.scan.angle_increment + deg2rad(0.05 * k);
+        if (std::abs(a) < deg2rad(5)) between += out.scan.ranges[i] > 2.02 && out.scan.ranges[i] < 1.98 + behind;
+      }
+    }
+  };
+  int mixed = 0, between = 0;
+  scanEdge(0.3, mixed, between);
+  EXPECT_GE(mixed, 10);  // about one per scan
+  EXPECT_GE(between, 10);
+  scanEdge(2.0, mixed, between);
+  EXPECT_EQ(mixed, 0);
+  EXPECT_EQ(between, 0);
+  // The ideal profile's one ray never mixes.
+  const Scenario sc = world(
+      "  - {shape: segment, material: wall, from: [2, -3], to: [2, 0]}\n"
+      "  - {shape: segment, material: wall, from: [2.3, -5], to: [2.3, 5]}\n");
+  LaserDriverCore ideal(sc, noiseless(), 1);
+  const auto out = scanAndTruthFrom(ideal, {0, 0, 0});
+  for (size_t i = 0; i < out.truth.obstacle.size(); ++i)
+    if (out.scan.flags[i] == kOk) {
+      EXPECT_GE(out.truth.obstacle[i], 0);
+    }
+}
+
+TEST(LaserPhysical, ProfileAndKeysFromConfig) {
+  EXPECT_EQ(laserConfig(Config()).profile, SensorProfile::Physical);
+  const LaserConfig c = laserConfig(Config::fromString(
+      "profile: ideal\nrange_10pct_m: 8\nbeam_divergence_deg: 0.3\nbeam_diameter_m: 0.02\nfootprint_rays: 3\n"
+      "merge_range_m: 0.2\n"));
+  EXPECT_EQ(c.profile, SensorProfile::Ideal);
+  EXPECT_DOUBLE_EQ(c.range_10pct, 8);
+  EXPECT_NEAR(c.beam_divergence, deg2rad(0.3), 1e-12);
+  EXPECT_DOUBLE_EQ(c.beam_diameter, 0.02);
+  EXPECT_EQ(c.footprint_rays, 3);
+  EXPECT_DOUBLE_EQ(c.merge_range, 0.2);
+  EXPECT_NE(configMessage("  profile: real\n").find("cfg.yaml: laser.profile: must be one of physical, ideal"), std::string::npos);
+  EXPECT_NE(configMessage("  range_10pct_m: 0\n").find("laser.range_10pct_m: must be > 0"), std::string::npos);
+  EXPECT_NE(configMessage("  footprint_rays: 0\n").find("laser.footprint_rays: must be in [1, 100]"), std::string::npos);
+}
+
+TEST(LaserPhysical, MeshStaysTransparentEvenHeadOn) {
+  // A transparent material without a specular cone (a mesh) never returns the beam, not even
+  // exactly at normal incidence.
+  const Scenario sc = world(
+      "  - {shape: segment, material: wall, from: [3, -10], to: [3, 10]}\n"
+      "  - {shape: segment, material: mesh, from: [1, -1], to: [1, 1]}\n");
+  LaserConfig c = physical();
+  c.footprint_rays = 1;
+  c.beam_diameter = 0;
+  LaserDriverCore laser(sc, c, 1);
+  const auto out = scanAndTruthFrom(laser, {0, 0, 0});
+  const size_t ahead = indexOf(out.scan, 0);
+  EXPECT_NEAR(out.scan.ranges[ahead], 3.0, 1e-5);
+  EXPECT_EQ(out.truth.obstacle[ahead], 0);
 }

@@ -106,6 +106,80 @@ TEST(Scenario, BuiltinMaterials) {
   EXPECT_NEAR(m.at("person").sonar_echo_prob, 0.8, 1e-12);
 }
 
+TEST(Scenario, PhysicalMaterialParameters) {
+  const auto m = builtinMaterials();
+  // Every built-in material has physical parameters too.
+  EXPECT_NEAR(m.at("wall").sonar_roughness, 0.2e-3, 1e-12);
+  EXPECT_GT(m.at("mesh").sonar_transmit, 0.5);
+  EXPECT_EQ(m.at("metal").sonar_transmit, 0.0);
+  EXPECT_GT(m.at("person").sonar_fluct_db, 0.0);
+  EXPECT_NEAR(m.at("black_cardboard").laser_remission, 0.03, 1e-12);
+  EXPECT_GT(m.at("glass").laser_specular, 0.0);
+  // A new material with only the ideal keys gets physical ones derived from them (rough above
+  // 30°), and keeps its echo probability in the physical profile; one with only physical keys
+  // gets an ideal echo angle.
+  const Scenario s = parse(minimal(
+      "materials:\n"
+      "  felt: {laser: absorb, sonar_echo_angle_deg: 80, sonar_echo_prob: 0.7}\n"
+      "  tile: {laser: reflect, sonar_echo_angle_deg: 9}\n"
+      "  brick: {laser: reflect, sonar_roughness_mm: 3, sonar_lobe_deg: 30, sonar_diffuse: 1, laser_remission: 0.3}\n"
+      "  wall: {sonar_roughness_mm: 0.5, laser_remission: 0.7}\n"));
+  EXPECT_GT(s.material("felt").sonar_roughness, 1e-3);
+  EXPECT_NEAR(s.material("felt").sonar_hear_prob, 0.7, 1e-12);
+  EXPECT_NEAR(s.material("felt").laser_remission, 0.03, 1e-12);  // `absorb`: matte black
+  EXPECT_LT(s.material("tile").sonar_roughness, 0.2e-3);
+  EXPECT_DOUBLE_EQ(s.material("tile").sonar_hear_prob, 1.0);
+  EXPECT_NEAR(s.material("brick").sonar_echo_angle, geom::deg2rad(90), 1e-12);
+  EXPECT_NEAR(s.material("brick").sonar_lobe, geom::deg2rad(30), 1e-12);
+  EXPECT_NEAR(s.material("brick").laser_remission, 0.3, 1e-12);
+  // Overriding a built-in changes only the keys given: the ideal wall is untouched.
+  EXPECT_NEAR(s.material("wall").sonar_roughness, 0.5e-3, 1e-12);
+  EXPECT_NEAR(s.material("wall").sonar_echo_angle, geom::deg2rad(60), 1e-12);
+  EXPECT_NEAR(s.material("wall").sonar_lobe, geom::deg2rad(5), 1e-12);
+}
+
+TEST(Scenario, FramesAndEmitters) {
+  const Scenario s = parse(minimal(
+      "obstacles:\n"
+      "  - {shape: segment, material: glass, from: [0,0], to: [1,0], frame: {material: wall, width: 0.05, depth: 0.1}}\n"
+      "  - {shape: circle, material: plastic, center: [3,3], radius: 0.1}\n"
+      "emitters:\n  - {position: [1, 2], period_s: 0.05, phase_s: 0.01, level_db: 40, heading_deg: 90}\n"));
+  // The scenario's own obstacles keep their indices; the two jambs follow.
+  ASSERT_EQ(s.obstacles.size(), 4u);
+  EXPECT_EQ(s.obstacles[1].shape, "circle");
+  EXPECT_EQ(s.obstacles[2].frame_of, 0);
+  EXPECT_EQ(s.obstacles[3].frame_of, 0);
+  EXPECT_EQ(s.obstacles[2].material, "wall");
+  // The pane is shortened by the jambs' width.
+  EXPECT_NEAR(s.obstacles[0].points[0].x(), 0.05, 1e-12);
+  EXPECT_NEAR(s.obstacles[0].points[1].x(), 0.95, 1e-12);
+  // Jamb at the start: 0.05 along x, 0.1 across, from x = 0 to 0.05.
+  double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+  for (const geom::Vec2& p : s.obstacles[2].points) {
+    xmin = std::min(xmin, p.x());
+    xmax = std::max(xmax, p.x());
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  EXPECT_NEAR(xmin, 0.0, 1e-12);
+  EXPECT_NEAR(xmax, 0.05, 1e-12);
+  EXPECT_NEAR(ymax - ymin, 0.1, 1e-12);
+  // Statics: pane 1 + circle 1 + 2 boxes of 4 edges; jamb edges carry the jamb's index.
+  EXPECT_EQ(s.statics.size(), 10u);
+  EXPECT_EQ(s.statics.back().obstacle, 3);
+  EXPECT_EQ(s.statics.back().material->name, "wall");
+  EXPECT_TRUE(s.laserVisible(2));  // a plaster jamb
+  ASSERT_EQ(s.emitters.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.emitters[0].period_s, 0.05);
+  EXPECT_DOUBLE_EQ(s.emitters[0].phase_s, 0.01);
+  EXPECT_DOUBLE_EQ(*s.emitters[0].level_db, 40);
+  EXPECT_NEAR(*s.emitters[0].heading, geom::kPi / 2, 1e-12);
+  // A copy keeps everything.
+  const Scenario copy = s;
+  EXPECT_EQ(copy.emitters.size(), 1u);
+  EXPECT_EQ(copy.statics.back().material, &copy.material("wall"));
+}
+
 TEST(Scenario, CopiesOwnTheirMaterials) {
   Scenario copy;
   {
@@ -146,6 +220,25 @@ TEST(Scenario, ErrorsNameTheKeyPath) {
   expectError(minimal("materials:\n  foam: {laser: soak, sonar_echo_angle_deg: 10}\n"),
               "materials.foam.laser: must be reflect, transparent or absorb");
   expectError(minimal("materials:\n  foam: {laser: absorb}\n"), "materials.foam.sonar_echo_angle_deg: is required");
+  expectError(minimal("materials:\n  foam: {laser: absorb, sonar_roughness_mm: -1}\n"),
+              "materials.foam.sonar_roughness_mm: must be in [0, 1000]");
+  expectError(minimal("materials:\n  wall: {sonar_reflect_db: 3}\n"), "materials.wall.sonar_reflect_db: must be in [-100, 0]");
+  expectError(minimal("materials:\n  wall: {sonar_transmit: 1}\n"), "materials.wall.sonar_transmit: must be < 1");
+  expectError(minimal("materials:\n  wall: {laser_remission: 1.5}\n"), "materials.wall.laser_remission: must be in [0, 1]");
+  expectError(minimal("materials:\n  wall: {laser_shine: 1}\n"), "materials.wall.laser_shine: unknown key");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: glass, from: [0,0], to: [1,0], frame: {material: wood, width: 0.05}}\n"),
+              "obstacles[0].frame.material: unknown material \"wood\"");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: glass, from: [0,0], to: [1,0], frame: {material: wall, width: 0.5}}\n"),
+              "obstacles[0].frame.width: leaves nothing of the segment");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: glass, from: [0,0], to: [1,0], frame: {material: wall}}\n"),
+              "obstacles[0].frame.width: is required");
+  expectError(minimal("obstacles:\n  - {shape: box, material: glass, center: [0,0], size: [1,1], frame: {material: wall, width: 0.1}}\n"),
+              "obstacles[0].frame: unknown key");
+  expectError(minimal("obstacles:\n  - {shape: polyline, closed: true, material: glass, points: [[0,0],[1,0],[1,1]], frame: {material: wall, width: 0.1}}\n"),
+              "obstacles[0].frame: only segments and open polylines can have a frame");
+  expectError(minimal("emitters:\n  - {position: [1, 2]}\n"), "emitters[0].period_s: is required");
+  expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 0}\n"), "emitters[0].period_s: must be > 0");
+  expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 0.1, colour: red}\n"), "emitters[0].colour: unknown key");
   expectError("name: t\n", "robot: is required");
 }
 
@@ -193,6 +286,8 @@ TEST_P(ShippedScenario, LoadsAndKeepsClear) {
   EXPECT_NO_THROW(laserConfig(s.laser));
   EXPECT_NO_THROW(odometryConfig(s.odometry));
   EXPECT_NO_THROW(sonarConfig(s.sonar));
+  // Both profiles can be chosen per scenario.
+  EXPECT_EQ(sonarConfig(Config::fromString("profile: ideal"), sonarConfig(s.sonar)).profile, SensorProfile::Ideal);
 
   WorldCore world(s, OdometryConfig{});
   auto clearance = [&](const geom::Vec2& p) {

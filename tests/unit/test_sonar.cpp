@@ -345,7 +345,8 @@ TEST(SonarDriver, FiresWithTheTruthInterpolatedToTheFiringTime) {
   for (size_t k = 0; k < out.size(); ++k) {
     const double x = 0.3 * static_cast<double>(k + 1);
     ASSERT_EQ(out[k].ring.sensor_id[0], 0);  // facing +x, mounted 0.35 m ahead of the centre
-    EXPECT_NEAR(out[k].ring.range[0], 3.0 - x - 0.35, 1e-5);
+    // (A strong echo crosses the physical model's threshold less than a millimetre late.)
+    EXPECT_NEAR(out[k].ring.range[0], 3.0 - x - 0.35, 1e-3);
   }
 }
 
