@@ -34,7 +34,10 @@ void setLengths(grid_map_t& m) {
     throw std::logic_error("grid_map_t: width*height != number of cells");
 }
 void setLengths(sector_map_t& m) {
-  m.nsectors = sameSize<int32_t>("sector_map_t", m.distance, m.source, m.laser_distance, m.sonar_distance);
+  // A producer without a remembered source may leave it empty: nothing remembered anywhere.
+  if (m.remembered_distance.empty()) m.remembered_distance.assign(m.distance.size(), -1.0f);
+  m.nsectors = sameSize<int32_t>("sector_map_t", m.distance, m.source, m.laser_distance, m.sonar_distance,
+                                 m.remembered_distance);
 }
 void setLengths(process_status_t& m) {
   m.nchannels = sameSize<int32_t>("process_status_t", m.channels);

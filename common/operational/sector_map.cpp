@@ -12,7 +12,7 @@ bool known(float d) { return d >= 0; }
 
 SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1 ||
-      !(p.copy_confirm_tolerance >= 0) || !(p.laser_explains_radius >= 0))
+      !(p.copy_confirm_tolerance >= 0) || !(p.laser_explains_radius >= 0) || !(p.remembered_stale_s > 0))
     throw std::invalid_argument("SectorMap: inconsistent parameters");
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
@@ -20,7 +20,9 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   sonar_now_.resize(n);
   held_laser_.resize(n);
   held_sonar_.resize(n);
+  remembered_now_.resize(n);
   s_.distance.assign(n, -1);
+  s_.remembered.assign(n, -1);
   s_.laser.assign(n, -1);
   s_.sonar.assign(n, -1);
   s_.source.assign(n, SectorSource::None);
@@ -62,6 +64,35 @@ void SectorMap::rebuildExplained(double c) {
 void SectorMap::setSonarTime(int64_t utime) {
   sonar_utime_ = utime;
   have_sonar_ = true;
+}
+
+void SectorMap::setRemembered(int64_t utime, std::vector<geom::Vec2> points) {
+  remembered_points_ = std::move(points);
+  remembered_utime_ = utime;
+  have_remembered_ = true;
+}
+
+bool SectorMap::explained(const geom::Vec2& p) const {
+  if (explained_.empty() || !(explained_cell_size_ > 0)) return false;
+  const auto global = [this](double v) {
+    return static_cast<int64_t>(std::clamp(std::floor(v / explained_cell_size_), -1e15, 1e15));
+  };
+  return std::binary_search(explained_.begin(), explained_.end(), std::make_pair(global(p.x()), global(p.y())));
+}
+
+void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out) const {
+  std::fill(out.begin(), out.end(), Value{});
+  const double reach = p_.robot_radius + p_.max_range;
+  for (const auto& p : remembered_points_) {
+    const geom::Vec2 d = p - pose.position();
+    const double r = d.norm();
+    if (!(r <= reach)) continue;
+    if (explained(p)) continue;  // the laser reports it, at its own bearing
+    const double dist = std::max(0.0, r - p_.robot_radius);
+    if (dist > p_.max_range) continue;
+    Value& v = out[static_cast<size_t>(sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+    if (!known(v.d) || dist < v.d) v = {static_cast<float>(dist), SectorSource::Remembered};
+  }
 }
 
 void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) const {
@@ -139,6 +170,8 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   s_.sonar_age_s = have_sonar_ ? static_cast<double>(utime - sonar_utime_) * 1e-6 : -1.0;
   s_.laser_stale = !have_laser_ || s_.laser_age_s > p_.laser_stale_s;
   s_.sonar_stale = !have_sonar_ || s_.sonar_age_s > p_.sonar_stale_s;
+  s_.remembered_age_s = have_remembered_ ? static_cast<double>(utime - remembered_utime_) * 1e-6 : -1.0;
+  s_.remembered_stale = !have_remembered_ || s_.remembered_age_s > p_.remembered_stale_s;
 
   laserValues(pose, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
@@ -161,15 +194,21 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   }
   hold(s_.laser_stale, laser_now_, held_laser_);
   hold(s_.sonar_stale, sonar_now_, held_sonar_);
+  // Memory is not held: stale (or never received), it is simply not used.
+  if (s_.remembered_stale) std::fill(remembered_now_.begin(), remembered_now_.end(), Value{});
+  else rememberedValues(pose, remembered_now_);
 
   for (size_t k = 0; k < n; ++k) {
     const Value& l = laser_now_[k];
     const Value& s = sonar_now_[k];
-    const Value& best = (known(l.d) && (!known(s.d) || l.d <= s.d)) ? l : s;
-    s_.distance[k] = best.d;
-    s_.source[k] = best.src;
+    const Value& m = remembered_now_[k];
+    const Value* best = (known(l.d) && (!known(s.d) || l.d <= s.d)) ? &l : &s;
+    if (known(m.d) && (!known(best->d) || m.d < best->d)) best = &m;
+    s_.distance[k] = best->d;
+    s_.source[k] = best->src;
     s_.laser[k] = l.d;
     s_.sonar[k] = s.d;
+    s_.remembered[k] = m.d;
   }
   return s_;
 }

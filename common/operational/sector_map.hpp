@@ -22,8 +22,13 @@
 //   whose laser value lies within copy_confirm_tolerance of it: the laser (0.5 deg rays) has
 //   then put that obstacle in this sector, so the bearing error the copy guards against is
 //   not there (a thin pipe that the Radar Map's lines leave out but the scan's points hold);
-// - the sector value is the smaller of laser and sonar (a tie goes to the laser, the more
-//   accurate sensor), with its source recorded.
+// - remembered value (beyond the paper; off unless the caller gives remembered points): the
+//   navigator's stable tactical map (its occupied cells, at their centres), the static obstacles
+//   the sonar located seconds ago; cells the newest scan explains do not count. It is used only
+//   while fresh (remembered_stale_s) and only ever adds an obstacle: stale, absent or far, the map
+//   is exactly what it would be without it;
+// - the sector value is the smallest of laser, sonar and remembered (ties: laser, then sonar),
+//   with its source recorded.
 // Staleness: a sensor whose newest data is more than its limit older than the map's time is
 // stale; its values are then held: each sector takes the min of the newly computed value and
 // the held one, and the held values only ever get shorter, so stale data never makes a sector
@@ -40,7 +45,7 @@
 namespace lasonic {
 
 // Values equal sector_map_t::SOURCE_*.
-enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied = 3 };
+enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied = 3, Remembered = 4 };
 
 // Where an AGM cell's obstacle is taken to be (see the file comment).
 enum class CellPoint { Nearest, Centre };
@@ -58,6 +63,7 @@ struct SectorMapParams {
   double copy_confirm_tolerance = 0.10;  // [m] |laser - sonar| within this: laser-confirmed
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
+  double remembered_stale_s = 2.0;  // [s] a remembered (tactical) map older than this is not used
 };
 
 // Any grid of obstacle cells laid out like the AGM -- global cell (gx, gy) covers
@@ -95,10 +101,10 @@ struct SectorMapState {
   int64_t utime = 0;
   geom::Pose2 pose;
   // Per sector, [m]; -1 = nothing known (within max_range).
-  std::vector<float> distance, laser, sonar;
+  std::vector<float> distance, laser, sonar, remembered;
   std::vector<SectorSource> source;
-  bool laser_stale = true, sonar_stale = true;
-  double laser_age_s = -1, sonar_age_s = -1;  // -1: never received
+  bool laser_stale = true, sonar_stale = true, remembered_stale = true;
+  double laser_age_s = -1, sonar_age_s = -1, remembered_age_s = -1;  // -1: never received
 };
 
 class SectorMap {
@@ -113,6 +119,9 @@ class SectorMap {
   void setLaserPoints(int64_t utime, std::vector<geom::Vec2> points);
   // Time of the newest sonar data the AGM holds (the newest complement message).
   void setSonarTime(int64_t utime);
+  // The newest remembered obstacles (the tactical map's occupied cells, global frame) and the
+  // time of that map.
+  void setRemembered(int64_t utime, std::vector<geom::Vec2> points);
 
   // Computes the map at utime with the robot at `pose` (odometry frame).
   const SectorMapState& update(int64_t utime, const geom::Pose2& pose, const AccumulativeGridMap& agm);
@@ -127,6 +136,8 @@ class SectorMap {
   };
   int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
+  void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out) const;
+  bool explained(const geom::Vec2& p) const;
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out) const;
   template <typename Grid>
@@ -139,9 +150,10 @@ class SectorMap {
   std::vector<geom::Vec2> laser_points_;
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted global cells (gx, gy)
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
-  int64_t laser_utime_ = 0, sonar_utime_ = 0;
-  bool have_laser_ = false, have_sonar_ = false;
-  std::vector<Value> laser_now_, sonar_own_, sonar_now_, held_laser_, held_sonar_;
+  std::vector<geom::Vec2> remembered_points_;
+  int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
+  bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
+  std::vector<Value> laser_now_, sonar_own_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
   SectorMapState s_;
 };
 

@@ -19,12 +19,14 @@ namespace lasonic {
 static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NONE &&
               static_cast<int8_t>(SectorSource::Laser) == sector_map_t::SOURCE_LASER &&
               static_cast<int8_t>(SectorSource::Sonar) == sector_map_t::SOURCE_SONAR &&
-              static_cast<int8_t>(SectorSource::SonarCopied) == sector_map_t::SOURCE_SONAR_COPIED);
+              static_cast<int8_t>(SectorSource::SonarCopied) == sector_map_t::SOURCE_SONAR_COPIED &&
+              static_cast<int8_t>(SectorSource::Remembered) == sector_map_t::SOURCE_REMEMBERED);
 
 PilotConfig pilotConfig(const Config& c) {
   c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
                "agm_publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing", "sonar_cell_point",
-               "copy_rule", "copy_confirm_tolerance", "laser_explains_radius"});
+               "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
+               "remembered_stale_s"});
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   SectorMapParams& s = p.sector_map;
@@ -42,6 +44,8 @@ PilotConfig pilotConfig(const Config& c) {
                             {{"paper", CopyRule::Paper}, {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed}});
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
+  p.remembered = c.get<bool>("remembered", p.remembered);
+  s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positive());
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
   if (view < s.robot_radius + s.max_range) {
@@ -62,6 +66,38 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
+  if (cfg_.remembered)
+    node_.subscribe<grid_map_t>(channels::AGM_TACTICAL, [this](const grid_map_t& m) { onTacticalMap(m); });
+}
+
+void PilotStage::onTacticalMap(const grid_map_t& m) {
+  // Not a sensor: it does not advance the map's time (a navigator ahead of the pilot's clock is
+  // simply fresh), and a bad one is dropped whole -- memory may only add what is sure.
+  if (last_tactical_utime_ && m.utime <= *last_tactical_utime_) {
+    node_.reportError("rejected.tactical_backwards", "AGM_TACTICAL.utime = " + std::to_string(m.utime) +
+                                                         " is not newer than the previous map (" +
+                                                         std::to_string(*last_tactical_utime_) + "): dropped");
+    return;
+  }
+  const int64_t cells = int64_t{m.width} * int64_t{m.height};
+  if (m.width <= 0 || m.height <= 0 || cells != static_cast<int64_t>(m.gp.size()) || !(m.cell_size > 0) ||
+      !std::isfinite(m.cell_size) || !std::isfinite(m.origin_x) || !std::isfinite(m.origin_y)) {
+    node_.reportError("rejected.tactical_map", "AGM_TACTICAL: " + std::to_string(m.width) + " x " +
+                                                   std::to_string(m.height) + " cells of " + std::to_string(m.cell_size) +
+                                                   " m, " + std::to_string(m.gp.size()) + " Gp values: dropped");
+    return;
+  }
+  last_tactical_utime_ = m.utime;
+  std::vector<geom::Vec2> points;
+  const int threshold = std::max(1, m.gp_threshold);
+  for (int iy = 0; iy < m.height; ++iy)
+    for (int ix = 0; ix < m.width; ++ix) {
+      const int32_t gp = m.gp[static_cast<size_t>(iy) * static_cast<size_t>(m.width) + static_cast<size_t>(ix)];
+      if (gp >= threshold)
+        points.emplace_back(m.origin_x + (ix + 0.5) * m.cell_size, m.origin_y + (iy + 0.5) * m.cell_size);
+    }
+  sector_map_.setRemembered(m.utime, std::move(points));
+  node_.count("remembered.maps");
 }
 
 void PilotStage::onOdometry(const odometry_t& m) {
@@ -151,6 +187,9 @@ void PilotStage::publishSectorMap() {
   msg.sonar_stale = s.sonar_stale ? 1 : 0;
   msg.laser_age_s = static_cast<float>(s.laser_age_s);
   msg.sonar_age_s = static_cast<float>(s.sonar_age_s);
+  msg.remembered_distance = s.remembered;
+  msg.remembered_stale = s.remembered_stale ? 1 : 0;
+  msg.remembered_age_s = static_cast<float>(s.remembered_age_s);
   node_.publish(channels::SECTOR_MAP, msg);
 }
 

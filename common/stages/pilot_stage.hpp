@@ -1,7 +1,8 @@
 #pragma once
 // PilotStage: the operational level (DESIGN.md steps 4-5) on a lasonic::Node.
 //
-// In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group).
+// In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group), and with
+//      `remembered` the navigator's AGM_TACTICAL.
 // Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan;
 //      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
 //      passed since the last one (the first cycle always publishes).
@@ -32,6 +33,7 @@
 #include <optional>
 
 #include <lasonic/complement_t.hpp>
+#include <lasonic/grid_map_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/odometry_t.hpp>
 
@@ -52,6 +54,9 @@ struct PilotConfig {
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
   // The one cell a complementary reading increments (operational/echo_placer.hpp).
   EchoPlacementConfig placement;
+  // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
+  // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
+  bool remembered = false;
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
@@ -64,6 +69,7 @@ class PilotStage {
   void onOdometry(const odometry_t& m);
   void onLaserScan(const laser_scan_t& m);
   void onComplement(const complement_t& m);
+  void onTacticalMap(const grid_map_t& m);
   void publishSectorMap();
   void publishAgm(int64_t utime);
 
@@ -74,7 +80,7 @@ class PilotStage {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
-  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
+  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
 };
 
