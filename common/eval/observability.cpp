@@ -155,7 +155,7 @@ void SectorScore::add(double reported, const SectorSample& s, const EvalOptions&
   const bool fa = has && reported <= o.sector_range && reported < truth - o.sector_tolerance;
   false_alarm_.add(fa);
   if (has && reported <= o.sector_range) false_of_reports_.add(fa);
-  if (fa && source >= 0 && source < 4) ++false_by_source_[source];
+  if (fa && source >= 0 && source < 5) ++false_by_source_[source];
 }
 
 void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
@@ -170,8 +170,8 @@ void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
     setRatio(m, prefix + ".missed_by_material." + materials[i], missed_by_material_[i]);
   if (!details) return;
   if (false_alarm_.num > 0) {
-    static const char* kNames[4] = {"none", "laser", "sonar", "sonar_copied"};
-    for (int s = 1; s < 4; ++s)
+    static const char* kNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
+    for (int s = 1; s < 5; ++s)
       m.set(prefix + ".false_alarms_by_source." + kNames[s],
             static_cast<double>(false_by_source_[s]) / static_cast<double>(false_alarm_.num));
   }

@@ -101,7 +101,7 @@ class SectorScore {
   std::vector<Ratio> missed_by_material_;
   double abs_err_ = 0;
   int64_t err_n_ = 0;
-  int64_t false_by_source_[4] = {0, 0, 0, 0};
+  int64_t false_by_source_[5] = {0, 0, 0, 0, 0};  // sector_map_t::SOURCE_*
 };
 
 }  // namespace lasonic::eval

@@ -10,7 +10,7 @@ namespace lasonic {
 
 AgmParams agmParams(const Config& c, AgmParams p) {
   c.allowOnly({"size", "cell_size", "g_max", "h_max", "t", "g_threshold", "recenter_max_cells",
-               "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m"});
+               "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m", "arc_vote_tau"});
   p.size = c.get("size", p.size, Range::between(3, 10000));
   p.cell_size = c.get("cell_size", p.cell_size, Range::positive());
   p.g_max = c.get("g_max", p.g_max, Range::between(1, std::numeric_limits<int16_t>::max()));
@@ -22,6 +22,7 @@ AgmParams agmParams(const Config& c, AgmParams p) {
   p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::nonNegative());
   p.hit_centroids = c.get<bool>("hit_centroids", p.hit_centroids);
   p.h_max_m = c.get("h_max_m", p.h_max_m, Range::nonNegative());
+  p.arc_vote_tau = c.get("arc_vote_tau", p.arc_vote_tau, Range::nonNegative());
   return p;
 }
 
@@ -38,6 +39,10 @@ AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p) : p_(p), n_(p.size)
     hx_.assign(cells, 0.f);
     hy_.assign(cells, 0.f);
     hn_.assign(cells, 0);
+  }
+  if (p_.arc_vote_tau > 0) {
+    av_.assign(cells, 0.f);
+    av_cycle_.assign(cells, 0);
   }
   ox_ = oy_ = -(n_ / 2);  // centred on the global origin until the robot is known
 }
@@ -129,6 +134,7 @@ void AccumulativeGridMap::moveTo(int64_t nox, int64_t noy) {
     gu_[s] = gp_[s] = 0;
     last_hit_[s] = 0;
     forgetHits(s);
+    if (!av_.empty()) av_[s] = 0.f;
   });
   const int64_t old_x = ox_, old_y = oy_;
   ox_ = nox;
@@ -149,6 +155,7 @@ void AccumulativeGridMap::clearAll() {
   std::fill(gu_.begin(), gu_.end(), 0);
   std::fill(gp_.begin(), gp_.end(), 0);
   std::fill(last_hit_.begin(), last_hit_.end(), 0);
+  std::fill(av_.begin(), av_.end(), 0.f);
   if (p_.hit_centroids) {
     std::fill(hx_.begin(), hx_.end(), 0.f);
     std::fill(hy_.begin(), hy_.end(), 0.f);
@@ -216,6 +223,37 @@ int AccumulativeGridMap::h(int ix, int iy) const {
 int64_t AccumulativeGridMap::lastHitCycle(int ix, int iy) const {
   const size_t s = slot(ix, iy);
   return g_[s] > 0 ? last_hit_[s] : 0;
+}
+
+double AccumulativeGridMap::fadedVotes(size_t s) const {
+  if (av_[s] == 0.f) return 0.0;
+  return static_cast<double>(av_[s]) * std::exp(-static_cast<double>(cycle_ - av_cycle_[s]) / p_.arc_vote_tau);
+}
+
+double AccumulativeGridMap::arcVotes(int ix, int iy) const {
+  return av_.empty() ? 0.0 : fadedVotes(slot(ix, iy));
+}
+
+void AccumulativeGridMap::addArcVotes(const geom::Vec2& centre, double range, double lo, double hi) {
+  if (av_.empty() || !(range > 0) || !(hi >= lo) || !std::isfinite(centre.x()) || !std::isfinite(centre.y())) return;
+  // An arc longer than the window (a malformed huge range) says nothing the window could hold.
+  if (!(range * (hi - lo) <= 2.0 * n_ * p_.cell_size)) return;
+  // Samples at most half a cell apart; each cell crossed gets one vote however many samples fall in it.
+  const int steps = std::max(1, static_cast<int>(std::ceil(range * (hi - lo) / (0.5 * p_.cell_size))));
+  size_t last = static_cast<size_t>(-1);
+  std::vector<size_t> voted;
+  for (int q = 0; q <= steps; ++q) {
+    const double b = lo + (hi - lo) * q / steps;
+    const geom::Vec2 p = centre + range * geom::unitVector(b);
+    const int64_t gx = globalCell(p.x()), gy = globalCell(p.y());
+    if (!inWindow(gx, gy)) continue;
+    const size_t s = slotGlobal(gx, gy);
+    if (s == last || std::find(voted.begin(), voted.end(), s) != voted.end()) continue;
+    last = s;
+    voted.push_back(s);
+    av_[s] = static_cast<float>(fadedVotes(s) + 1.0);
+    av_cycle_[s] = cycle_;
+  }
 }
 
 geom::Vec2 AccumulativeGridMap::evidencePoint(int ix, int iy) const {

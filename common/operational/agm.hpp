@@ -49,6 +49,11 @@ struct AgmParams {
   // beyond the paper, for long memories: what limits them is the odometry's drift per metre
   // driven, not time). Distance = the sum of the moves between the positions given to follow().
   double h_max_m = 0;
+  // Arc votes (beyond the paper; 0: off): besides G, every cell keeps how many echo arcs (range
+  // arcs within the echo's bearing uncertainty, EchoPlacer's arc placement) passed through it
+  // lately, each vote fading with this time constant [update cycles]. Arcs of one surface heard
+  // from several poses cross where the surface is: that is where their echoes' cells go.
+  double arc_vote_tau = 0;
 };
 // Reads the keys of an AGM config section over `base` (defaults of the level using it).
 // Throws ConfigError naming the key path.
@@ -102,6 +107,12 @@ class AccumulativeGridMap {
   // (or for a cell without weight) its centre.
   geom::Vec2 evidencePoint(int ix, int iy) const;
 
+  // Arc votes (arc_vote_tau > 0): adds one vote to every window cell the arc of radius `range`
+  // around `centre` crosses between the bearings lo and hi (global frame), and reads a cell's
+  // votes, faded to the current cycle. Without arc votes both do nothing / return 0.
+  void addArcVotes(const geom::Vec2& centre, double range, double lo, double hi);
+  double arcVotes(int ix, int iy) const;
+
   // Calls f(ix, iy, G, Gp) for every window cell of [ix0, ix1] x [iy0, iy1] (clipped to the
   // window), without a division per cell.
   template <typename F>
@@ -135,9 +146,13 @@ class AccumulativeGridMap {
   // (reset whenever G falls to 0).
   std::vector<float> hx_, hy_;
   std::vector<int32_t> hn_;
+  // arc_vote_tau: votes at cycle av_cycle_ (read faded by exp(-(cycle_ - av_cycle_) / tau)).
+  std::vector<float> av_;
+  std::vector<int64_t> av_cycle_;
   void forgetHits(size_t s) {
     if (p_.hit_centroids) hx_[s] = hy_[s] = 0, hn_[s] = 0;
   }
+  double fadedVotes(size_t s) const;
   struct Hit {
     int64_t gx, gy, cycle;
     double odometer;

@@ -8,11 +8,18 @@
 //  - Axis: the acoustic axis (the paper), or Neighbours: the bearing its overlapping neighbours'
 //    latest echoes suggest (operational/sonar_bearing.hpp);
 //  - Estimate: exactly that bearing, or Evidence: the bearing within its uncertainty whose arc
-//    cell already holds the most weight G (operational/evidence_placement.hpp).
+//    cell already holds the most weight G (operational/evidence_placement.hpp), or ArcVotes:
+//    the bearing within arc_halfwidth of the axis whose cell the most recent echo arcs crossed
+//    (at least arc_min_votes of them; AgmParams::arc_vote_tau), else the estimate. A real
+//    transducer hears a strong near reflector beyond its nominal beam (side lobes) and a weak
+//    one only near its axis, so no fixed sector says where the echo came from; but the arcs of
+//    one surface or one pole, heard from several poses, cross where it is. Each echo then adds
+//    its own arc's votes (after the whole group).
 // Then every reading of the group becomes its sensor's latest (an echo, or none), after the whole
 // group: the sensors of a group fire together and their beams never overlap, so the result does
 // not depend on the readings' order.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/config.hpp"
@@ -27,13 +34,20 @@ struct EchoPlacementConfig {
   AgmBearing bearing = AgmBearing::Neighbours;
   AgmPlacement placement = AgmPlacement::Evidence;
   int evidence_min_g = 2;  // Evidence: the least G of a cell that attracts an echo
+  double arc_halfwidth = geom::deg2rad(22.5);  // [rad] ArcVotes: bearings searched and voted, +- the axis
+  double arc_min_votes = 2.0;  // ArcVotes: the least (faded) votes of a cell that attracts an echo
+  // ArcVotes, no cell with arc_min_votes on the echo's arc: false = the estimate's cell; true = no
+  // cell at all (the echo still votes): a level that is not in a hurry waits for a second arc.
+  bool arc_require_votes = false;
   SonarBearingParams params;
 };
 
 // Reads the placement keys of a level's config section over `base`: agm_bearing (axis |
-// neighbours), agm_placement (estimate | evidence), evidence_min_g, neighbour_bearing {beam_deg,
-// similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
+// neighbours), agm_placement (estimate | evidence | arc_votes), evidence_min_g, arc_halfwidth_deg,
+// arc_min_votes, arc_require_votes, neighbour_bearing {beam_deg, similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
 EchoPlacementConfig echoPlacementConfig(const Config& section, EchoPlacementConfig base = {});
+// The keys echoPlacementConfig reads, for the caller's allowOnly().
+std::vector<std::string> echoPlacementKeys();
 
 // One reading of a firing group, as far as the AGM is concerned.
 struct GroupReading {
@@ -53,7 +67,7 @@ class EchoPlacer {
   // One point per echo of the group that is a hit (global frame), in the group's order, then records the group's readings as their
   // sensors' latest. An echo whose sensor pose is not finite is put at its axis end point and is
   // no neighbour to others.
-  std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, const AccumulativeGridMap& agm);
+  std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm);
 
  private:
   EchoPlacementConfig cfg_;

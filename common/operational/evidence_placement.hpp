@@ -19,7 +19,7 @@
 namespace lasonic {
 
 // Sonar-echo placements into the operational AGM.
-enum class AgmPlacement { Estimate, Evidence };
+enum class AgmPlacement { Estimate, Evidence, ArcVotes };
 
 // The bearing (global frame) of the point to increment for an echo at `range` from `sensor`:
 // the bearing in [est.bearing - est.halfwidth, est.bearing + est.halfwidth] whose arc point lies

@@ -158,6 +158,11 @@ struct SonarConfig {
   // Between consecutive groups: the 2*3.0/343 = 17.5 ms echo time of flight at range_max plus
   // margin for the echoes to die down (a full ring every 180 ms, each sensor at 5.6 Hz).
   double group_period_s = 0.03;
+  // Each group fires after group_period_s plus a random delay in [0, group_jitter_s] (its own
+  // random stream): an echo of an earlier ping that arrives in a later listening window then
+  // reads a different range every ring cycle instead of the same one (Borenstein & Koren's
+  // varied firing delays against crosstalk, the paper's ref. [6]); 0: a fixed schedule.
+  double group_jitter_s = 0.008;
   // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
   // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
   double beam_scale = 1.0;
@@ -220,6 +225,7 @@ class SonarDriverCore {
   int64_t period_us_;
   std::optional<sim_state_t> last_;       // previous SIM_STATE, to interpolate the truth
   int64_t next_fire_utime_ = 0;
+  std::mt19937_64 schedule_rng_;          // group_jitter_s
   int32_t seq_ = 0;
   std::unique_ptr<PhysicalSonar> physical_;     // the physical profile's state (pings, fluctuations)
   std::vector<geom::Vec2> mover_velocity_;      // true, from the last two SIM_STATEs, by mover id

@@ -74,7 +74,7 @@ std::vector<std::vector<int>> firingGroups(const std::vector<SonarSensor>& senso
 }
 
 SonarConfig sonarConfig(const Config& c, SonarConfig base) {
-  c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "beam_scale", "rays_per_beam",
+  c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "group_jitter_s", "beam_scale", "rays_per_beam",
                "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
                "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
                "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range"});
@@ -97,6 +97,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.range_max = c.get("range_max", o.range_max, Range::positive());
   o.range_min = c.get("range_min", o.range_min, Range::nonNegative());
   o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
+  o.group_jitter_s = c.get("group_jitter_s", o.group_jitter_s, Range::between(0, 1));
   o.beam_scale = c.get("beam_scale", o.beam_scale, Range{0, 5, true});
   o.rays_per_beam = c.get("rays_per_beam", o.rays_per_beam, Range::between(1, 10000));
   o.noise_std = c.get("noise_std", o.noise_std, Range::nonNegative());
@@ -314,7 +315,8 @@ SonarDriverCore::SonarDriverCore(const Scenario& s, const SonarConfig& c, uint64
       world_(*scenario_),
       rng_(deriveSeed(seed, "sonar")),
       groups_(firingGroups(c.sensors)),
-      period_us_(std::max<int64_t>(1, std::llround(c.group_period_s * 1e6))) {
+      period_us_(std::max<int64_t>(1, std::llround(c.group_period_s * 1e6))),
+      schedule_rng_(deriveSeed(seed, "sonar-schedule")) {
   if (groups_.empty()) throw std::invalid_argument("SonarDriverCore: no sonar sensors configured");
   if (c.profile == SensorProfile::Physical) physical_ = std::make_unique<PhysicalSonar>(*scenario_, c, seed);
   mover_velocity_.assign(scenario_->movers.size(), geom::Vec2::Zero());
@@ -345,8 +347,12 @@ std::vector<SonarDriverCore::Output> SonarDriverCore::onSimState(const sim_state
           mover_velocity_[static_cast<size_t>(m.id)] =
               geom::Vec2(m.x - ma.x, m.y - ma.y) / (static_cast<double>(st.utime - last_->utime) * 1e-6);
   std::vector<Output> out;
-  for (; next_fire_utime_ <= st.utime; next_fire_utime_ += period_us_)
+  const auto jitter_us = std::llround(config_.group_jitter_s * 1e6);
+  for (; next_fire_utime_ <= st.utime;) {
     out.push_back(fire(next_fire_utime_, interpolateState(*last_, st, next_fire_utime_)));
+    next_fire_utime_ += period_us_;
+    if (jitter_us > 0) next_fire_utime_ += static_cast<int64_t>(schedule_rng_() % static_cast<uint64_t>(jitter_us + 1));
+  }
   last_ = st;
   return out;
 }

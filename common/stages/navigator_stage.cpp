@@ -22,8 +22,9 @@ AgmParams NavigatorConfig::tacticalAgmDefaults() {
 }
 
 NavigatorConfig navigatorConfig(const Config& c) {
-  c.allowOnly({"agm", "lines", "publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing",
-               "verify_with_next_scan", "verify_max_wait_s"});
+  std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s"};
+  for (const auto& k : echoPlacementKeys()) keys.push_back(k);
+  c.allowOnly(keys);
   NavigatorConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   p.placement = echoPlacementConfig(c, p.placement);

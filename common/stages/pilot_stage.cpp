@@ -23,10 +23,11 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
               static_cast<int8_t>(SectorSource::Remembered) == sector_map_t::SOURCE_REMEMBERED);
 
 PilotConfig pilotConfig(const Config& c) {
-  c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
-               "agm_publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing", "sonar_cell_point",
-               "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-               "remembered_stale_s"});
+  std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
+                                   "sonar_stale_s", "agm_publish_hz", "sonar_cell_point", "copy_rule",
+                                   "copy_confirm_tolerance", "laser_explains_radius", "remembered", "remembered_stale_s"};
+  for (const auto& k : echoPlacementKeys()) keys.push_back(k);
+  c.allowOnly(keys);
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   SectorMapParams& s = p.sector_map;
