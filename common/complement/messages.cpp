@@ -29,10 +29,63 @@ pose2d_t toMsg(const geom::Pose2& p) {
   return m;
 }
 
-// Sonar echoes beyond this are implausible whatever the ring claims as range_max.
-constexpr double kMaxSonarRange = 50.0;
+using input_limits::kMaxSonarRange;
 
 }  // namespace
+
+std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vector<InputProblem>& problems) {
+  const std::pair<const char*, double> fields[] = {{"pose.x", m.pose.x}, {"pose.y", m.pose.y},
+                                                   {"pose.theta", m.pose.theta}, {"v", m.v}, {"omega", m.omega}};
+  for (const auto& [name, value] : fields) {
+    if (!std::isfinite(value)) {
+      problems.push_back({"rejected.odometry_nan", std::string("ODOMETRY.") + name + " = " + num(value) +
+                                                       " (utime " + std::to_string(m.utime) + "): dropped"});
+      return std::nullopt;
+    }
+  }
+  return OdometryInput{m.utime, {m.pose.x, m.pose.y, m.pose.theta}, m.v, m.omega};
+}
+
+std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::vector<InputProblem>& problems) {
+  std::vector<ComplementInput> out;
+  out.reserve(m.readings.size());
+  auto field_name = [](size_t i, const char* f) {
+    return "SONAR_COMPLEMENT.readings[" + std::to_string(i) + "]." + f;
+  };
+  for (size_t i = 0; i < m.readings.size(); ++i) {
+    const complement_reading_t& r = m.readings[i];
+    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
+      problems.push_back({"rejected.complement_class",
+                          field_name(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped"});
+      continue;
+    }
+    ComplementInput c;
+    c.sensor_id = r.sensor_id;
+    c.cls = static_cast<SonarClass>(r.cls);
+    if (c.cls == SonarClass::Complementary) {
+      const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
+      bool ok = true;
+      for (const auto& [name, value] : fields) {
+        if (ok && !std::isfinite(value)) {
+          problems.push_back({"rejected.complement_nan", field_name(i, name) + " = " + num(value) + ": skipped"});
+          ok = false;
+        }
+      }
+      // A negative or absurd "echo" would also shift every neighbour's bearing.
+      if (ok && (r.range < 0 || r.range > kMaxSonarRange)) {
+        problems.push_back({"rejected.complement_range", field_name(i, "range") + " = " + num(r.range) +
+                                                             " (not in [0, " + num(kMaxSonarRange) + "] m): skipped"});
+        ok = false;
+      }
+      c.usable = ok;
+      c.range = r.range;
+      c.end = geom::Vec2(r.end_x, r.end_y);
+      if (finitePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+    }
+    out.push_back(c);
+  }
+  return out;
+}
 
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems) {
   const auto n = static_cast<size_t>(std::max(0, m.nranges));

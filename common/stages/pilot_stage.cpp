@@ -11,6 +11,7 @@
 
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
+#include "stages/inputs.hpp"
 
 namespace lasonic {
 
@@ -61,18 +62,6 @@ PilotConfig pilotConfig(const Config& c) {
   return p;
 }
 
-namespace {
-constexpr double kMaxEchoRange = 100.0;  // [m] no sonar hears this far: a malformed reading
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-std::string reading(size_t i, const char* field) {
-  return "SONAR_COMPLEMENT.readings[" + std::to_string(i) + "]." + field;
-}
-}  // namespace
-
 PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
     : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map), bearing_(cfg.bearing) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
@@ -81,38 +70,15 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
 }
 
 void PilotStage::onOdometry(const odometry_t& m) {
-  node_.noteMessageTime(m.utime);
-  const std::pair<const char*, double> fields[] = {
-      {"pose.x", m.pose.x}, {"pose.y", m.pose.y}, {"pose.theta", m.pose.theta}, {"v", m.v}};
-  for (const auto& [name, value] : fields) {
-    if (!std::isfinite(value)) {
-      node_.reportError("rejected.odometry_nan", std::string("ODOMETRY.") + name + " = " + num(value) + " (utime " +
-                                                     std::to_string(m.utime) + "): dropped");
-      return;
-    }
-  }
-  switch (poses_.add(m.utime, {m.pose.x, m.pose.y, m.pose.theta})) {
-    case PoseHistory::AddResult::Ok: speed_ = m.v; break;
-    case PoseHistory::AddResult::Duplicate: node_.count("odometry_duplicates"); break;
-    case PoseHistory::AddResult::WentBackwards:
-      node_.reportError("rejected.odometry_backwards", "ODOMETRY.utime = " + std::to_string(m.utime) +
-                                                           " is older than the newest (" +
-                                                           std::to_string(poses_.newestTime()) + "): dropped");
-      break;
-  }
+  if (const auto odo = acceptOdometry(node_, poses_, m)) speed_ = odo->v;
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
-  if (last_scan_utime_ && m.utime <= *last_scan_utime_) {
-    node_.reportError("rejected.laser_backwards", "LASER_SCAN.utime = " + std::to_string(m.utime) +
-                                                      " is not newer than the previous scan (" +
-                                                      std::to_string(*last_scan_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
   const auto scan = complement::laserScanFromMessage(m, problems);
-  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
 
@@ -139,48 +105,22 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
 
 void PilotStage::onComplement(const complement_t& m) {
   node_.noteMessageTime(m.utime);
-  if (last_complement_utime_ && m.utime <= *last_complement_utime_) {
-    node_.reportError("rejected.complement_backwards", "SONAR_COMPLEMENT.utime = " + std::to_string(m.utime) +
-                                                           " is not newer than the previous group (" +
-                                                           std::to_string(*last_complement_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
 
+  std::vector<complement::InputProblem> problems;
+  const std::vector<complement::ComplementInput> readings = complement::complementFromMessage(m, problems);
+  reportProblems(node_, problems);
   std::vector<geom::Vec2> hits;
   // Every reading replaces its sensor's latest echo (after the whole group: the sensors of one
   // group fire together and never overlap); only a usable complementary one is an echo.
   std::vector<std::pair<int, std::optional<SonarEcho>>> latest;
-  for (size_t i = 0; i < m.readings.size(); ++i) {
-    const complement_reading_t& r = m.readings[i];
-    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
-      node_.reportError("rejected.complement_class",
-                        reading(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped");
-      continue;
-    }
+  for (const complement::ComplementInput& r : readings) {
     latest.emplace_back(r.sensor_id, std::nullopt);
-    if (r.cls != complement_reading_t::CLASS_COMPLEMENTARY) continue;
-    const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
-    bool ok = true;
-    for (const auto& [name, value] : fields) {
-      if (ok && !std::isfinite(value)) {
-        node_.reportError("rejected.complement_nan", reading(i, name) + " = " + num(value) + ": skipped");
-        ok = false;
-      }
-    }
-    // A negative or absurd "echo" would also shift every neighbour's bearing.
-    if (ok && (r.range < 0 || r.range > kMaxEchoRange)) {
-      node_.reportError("rejected.complement_range", reading(i, "range") + " = " + num(r.range) +
-                                                         " (not in [0, 100] m): skipped");
-      ok = false;
-    }
-    if (!ok) continue;
-    const geom::Vec2 axis_end(r.end_x, r.end_y);
-    const SonarEcho echo{m.utime, r.range, {r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta}};
-    const bool pose_ok =
-        std::isfinite(echo.sensor.x) && std::isfinite(echo.sensor.y) && std::isfinite(echo.sensor.theta);
-    if (pose_ok) latest.back().second = echo;
-    if (pose_ok) {
+    if (r.cls != complement::SonarClass::Complementary || !r.usable) continue;
+    if (r.sensor_pose) {
+      const SonarEcho echo{m.utime, r.range, *r.sensor_pose};
+      latest.back().second = echo;
       // The paper's axis is the estimate, uncertain by half the beam width.
       BearingEstimate est{echo.sensor.theta, 0.5 * cfg_.bearing.beam_width};
       if (cfg_.agm_bearing == AgmBearing::Neighbours) est = bearing_.estimate(r.sensor_id, echo);
@@ -188,9 +128,9 @@ void PilotStage::onComplement(const complement_t& m) {
                            ? evidenceBearing(agm_, echo.sensor.position(), echo.range, est, cfg_.evidence_min_g)
                            : est.bearing;
       // On the axis: exactly the paper's point (the reading's own end point).
-      hits.push_back(b == echo.sensor.theta ? axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
+      hits.push_back(b == echo.sensor.theta ? r.end : echo.sensor.position() + echo.range * geom::unitVector(b));
     } else {
-      hits.push_back(axis_end);
+      hits.push_back(r.end);
     }
   }
   for (const auto& [id, echo] : latest) bearing_.record(id, echo);

@@ -431,7 +431,7 @@ int check(const std::string& file) {
               {{"decode_errors.ODOMETRY", d},
                {"decode_errors.LASER_SCAN", d},
                {"decode_errors.SONAR_RING", d},
-               {"rejected.odometry_pose", 1},
+               {"rejected.odometry_nan", 1},
                {"rejected.odometry_backwards", 1},
                {"rejected.laser_range", 3},
                {"rejected.laser_flag", 1},

@@ -1,0 +1,39 @@
+#include "stages/inputs.hpp"
+
+#include <string>
+
+namespace lasonic {
+
+void reportProblems(Node& node, const std::vector<complement::InputProblem>& problems) {
+  for (const auto& p : problems) node.reportError(p.counter, p.message);
+}
+
+std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory& poses, const odometry_t& m) {
+  node.noteMessageTime(m.utime);
+  std::vector<complement::InputProblem> problems;
+  const auto odo = complement::odometryFromMessage(m, problems);
+  reportProblems(node, problems);
+  if (!odo) return std::nullopt;
+  switch (poses.add(odo->utime, odo->pose)) {
+    case PoseHistory::AddResult::Ok: return odo;
+    case PoseHistory::AddResult::Duplicate: node.count("odometry_duplicates"); break;
+    case PoseHistory::AddResult::WentBackwards:
+      node.reportError("rejected.odometry_backwards", "ODOMETRY.utime = " + std::to_string(m.utime) +
+                                                          " is older than the newest (" +
+                                                          std::to_string(poses.newestTime()) + "): dropped");
+      break;
+  }
+  return std::nullopt;
+}
+
+bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what) {
+  if (last && utime <= *last) {
+    node.reportError(std::string("rejected.") + what + "_backwards",
+                     std::string(channel) + ".utime = " + std::to_string(utime) +
+                         " is not newer than the previous one (" + std::to_string(*last) + "): dropped");
+    return false;
+  }
+  return true;
+}
+
+}  // namespace lasonic
