@@ -16,10 +16,21 @@ ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
 }
 
-void ComplementStage::onOdometry(const odometry_t& m) { acceptOdometry(node_, poses_, m); }
+void ComplementStage::checkClock(int64_t utime, const char* channel) {
+  if (!clockRestarted(node_, clock_, utime, channel)) return;
+  poses_.clear();
+  radar_map_.reset();
+  last_scan_utime_.reset();
+}
+
+void ComplementStage::onOdometry(const odometry_t& m) {
+  checkClock(m.utime, channels::ODOMETRY);
+  acceptOdometry(node_, poses_, m);
+}
 
 void ComplementStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
+  checkClock(m.utime, channels::LASER_SCAN);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<cp::InputProblem> problems;
   const auto scan = cp::laserScanFromMessage(m, problems);
@@ -45,6 +56,7 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 
 void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   node_.noteMessageTime(m.utime);
+  checkClock(m.utime, channels::SONAR_RING);
   std::vector<cp::InputProblem> problems;
   const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
   reportProblems(node_, problems);

@@ -1,5 +1,7 @@
 #include "stages/inputs.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <string>
 
 namespace lasonic {
@@ -33,6 +35,14 @@ bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, cons
                          " is not newer than the previous one (" + std::to_string(*last) + "): dropped");
     return false;
   }
+  return true;
+}
+
+bool clockRestarted(Node& node, TimeReset& clock, int64_t utime, const char* channel) {
+  if (!clock.jumpedBack(utime)) return false;
+  node.count("time_resets");
+  spdlog::warn("{}.utime = {} jumps back by more than {} s: the clock restarted; starting afresh [time_resets: {}]",
+               channel, utime, TimeReset::kJumpUs / 1e6, node.counter("time_resets"));
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "complement/messages.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 
 namespace lasonic {
 
@@ -26,5 +27,9 @@ std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory&
 // rejected.<what>_backwards naming the channel and both times. The caller moves `last` on once
 // the message was used.
 bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what);
+
+// True when `utime` (of `channel`) shows that the sources' clock restarted (TimeReset): counted
+// under time_resets and logged; the caller then starts afresh.
+bool clockRestarted(Node& node, TimeReset& clock, int64_t utime, const char* channel);
 
 }  // namespace lasonic

@@ -69,12 +69,27 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
 }
 
+void PilotStage::checkClock(int64_t utime, const char* channel) {
+  if (!clockRestarted(node_, clock_, utime, channel)) return;
+  poses_.clear();
+  speed_ = 0;
+  agm_ = AccumulativeGridMap(cfg_.agm);
+  sector_map_ = SectorMap(cfg_.sector_map);
+  bearing_ = SonarBearingTracker(cfg_.bearing);
+  last_scan_utime_.reset();
+  last_complement_utime_.reset();
+  last_agm_publish_.reset();
+  now_ = 0;
+}
+
 void PilotStage::onOdometry(const odometry_t& m) {
+  checkClock(m.utime, channels::ODOMETRY);
   if (const auto odo = acceptOdometry(node_, poses_, m)) speed_ = odo->v;
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
+  checkClock(m.utime, channels::LASER_SCAN);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
   const auto scan = complement::laserScanFromMessage(m, problems);
@@ -105,6 +120,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
 
 void PilotStage::onComplement(const complement_t& m) {
   node_.noteMessageTime(m.utime);
+  checkClock(m.utime, channels::SONAR_COMPLEMENT);
   if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
 

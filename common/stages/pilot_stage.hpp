@@ -28,6 +28,8 @@
 // SONAR_COMPLEMENT not newer than the previous one is dropped; bad laser readings are skipped
 // (the complement stage's validation); a complement reading with an unknown class, or a
 // complementary one with a non-finite range or end point or a negative range, is skipped.
+// An input whose time jumps back by more than TimeReset::kJumpUs (a restarted simulator or
+// driver, a looping log) resets the stage to its start state (counted: time_resets).
 #include <cstdint>
 #include <optional>
 
@@ -38,6 +40,7 @@
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 #include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
 #include "operational/sector_map.hpp"
@@ -70,6 +73,7 @@ class PilotStage {
   void onOdometry(const odometry_t& m);
   void onLaserScan(const laser_scan_t& m);
   void onComplement(const complement_t& m);
+  void checkClock(int64_t utime, const char* channel);
   void publishSectorMap();
   void publishAgm(int64_t utime);
 
@@ -82,6 +86,7 @@ class PilotStage {
   SonarBearingTracker bearing_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
+  TimeReset clock_;
 };
 
 }  // namespace lasonic

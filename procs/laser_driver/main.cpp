@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "lcmio/process.hpp"
+#include "lcmio/time_reset.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
 
@@ -27,13 +28,20 @@ int main(int argc, char** argv) {
     if (seed) setup->scenario.seed = *seed;
   };
   return pm.run(argc, argv, configure, [&](Node& node) {
-    sim::LaserDriverCore laser(setup->scenario, cfg, setup->scenario.seed);
+    std::optional<sim::LaserDriverCore> laser;
+    laser.emplace(setup->scenario, cfg, setup->scenario.seed);
+    TimeReset clock;  // a restarted lasonic-sim-world starts its clock again: start afresh too
     spdlog::info("scenario {}: {} readings over {} deg at {} Hz, range {}..{} m, noise {} m", setup->scenario.name,
                  cfg.readings, cfg.fov_deg, cfg.scan_rate_hz, cfg.range_min, cfg.range_max, cfg.noise_std);
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
+      if (clock.jumpedBack(st.utime)) {
+        node.count("time_resets");
+        spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
+        laser.emplace(setup->scenario, cfg, setup->scenario.seed);
+      }
       std::vector<laser_scan_t> scans;
       try {
-        scans = laser.onSimState(st);
+        scans = laser->onSimState(st);
       } catch (const std::invalid_argument& e) {
         node.reportError("rejected.sim_state", e.what());
         return;

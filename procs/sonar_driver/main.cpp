@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "lcmio/process.hpp"
+#include "lcmio/time_reset.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
 
@@ -28,23 +29,31 @@ int main(int argc, char** argv) {
     if (seed) setup->scenario.seed = *seed;
   };
   return pm.run(argc, argv, configure, [&](Node& node) {
-    sim::SonarDriverCore sonar(setup->scenario, cfg, setup->scenario.seed);
-    const sonar_geometry_t geometry = sonar.geometry(0);
+    std::optional<sim::SonarDriverCore> sonar;
+    sonar.emplace(setup->scenario, cfg, setup->scenario.seed);
+    TimeReset clock;  // a restarted lasonic-sim-world starts its clock again: start afresh too
+    const sonar_geometry_t geometry = sonar->geometry(0);
     spdlog::info("scenario {}: {} sonars in {} groups, a group every {} s, range {}..{} m, {} rays per beam",
                  setup->scenario.name, geometry.num_sensors, geometry.num_groups, cfg.group_period_s, cfg.range_min,
                  cfg.range_max, cfg.rays_per_beam);
     std::optional<int64_t> next_geometry_utime;  // SONAR_GEOMETRY at 1 Hz of sim time
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
+      if (clock.jumpedBack(st.utime)) {
+        node.count("time_resets");
+        spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
+        sonar.emplace(setup->scenario, cfg, setup->scenario.seed);
+        next_geometry_utime.reset();
+      }
       std::vector<sim::SonarDriverCore::Output> firings;
       try {
-        firings = sonar.onSimState(st);
+        firings = sonar->onSimState(st);
       } catch (const std::invalid_argument& e) {
         node.reportError("rejected.sim_state", e.what());
         return;
       }
       node.noteMessageTime(st.utime);
       if (!next_geometry_utime || st.utime >= *next_geometry_utime) {
-        sonar_geometry_t g = sonar.geometry(st.utime);
+        sonar_geometry_t g = sonar->geometry(st.utime);
         node.publish(channels::SONAR_GEOMETRY, g);
         next_geometry_utime = st.utime + 1'000'000;
       }
