@@ -22,7 +22,7 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
 
 PilotConfig pilotConfig(const Config& c) {
   c.allowOnly({"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s", "sonar_stale_s",
-               "agm_publish_hz", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing", "sonar_cell_point",
+               "agm_publish_hz", "map_max_interval_s", "agm_bearing", "agm_placement", "evidence_min_g", "neighbour_bearing", "sonar_cell_point",
                "copy_rule", "copy_confirm_tolerance", "laser_explains_radius"});
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
@@ -34,6 +34,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
+  p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::positive());
   p.agm_bearing = c.getChoice("agm_bearing", p.agm_bearing,
                               {{"axis", AgmBearing::Axis}, {"neighbours", AgmBearing::Neighbours}});
   p.agm_placement = c.getChoice("agm_placement", p.agm_placement,
@@ -79,12 +80,22 @@ void PilotStage::checkClock(int64_t utime, const char* channel) {
   last_scan_utime_.reset();
   last_complement_utime_.reset();
   last_agm_publish_.reset();
+  last_map_utime_.reset();
   now_ = 0;
 }
 
 void PilotStage::onOdometry(const odometry_t& m) {
   checkClock(m.utime, channels::ODOMETRY);
-  if (const auto odo = acceptOdometry(node_, poses_, m)) speed_ = odo->v;
+  const auto odo = acceptOdometry(node_, poses_, m);
+  if (!odo) return;
+  speed_ = odo->v;
+  // No sensor made a map for too long: odometry does, so the ages (and stale flags) move on.
+  const auto interval_us = static_cast<int64_t>(cfg_.map_max_interval_s * 1e6);
+  if (last_map_utime_ && odo->utime - *last_map_utime_ >= interval_us) {
+    now_ = std::max(now_, odo->utime);
+    node_.count("sector_map.on_odometry");
+    publishSectorMap();
+  }
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
@@ -188,6 +199,7 @@ void PilotStage::publishSectorMap() {
   msg.laser_age_s = static_cast<float>(s.laser_age_s);
   msg.sonar_age_s = static_cast<float>(s.sonar_age_s);
   node_.publish(channels::SECTOR_MAP, msg);
+  last_map_utime_ = s.utime;
 }
 
 void PilotStage::publishAgm(int64_t utime) {

@@ -2,7 +2,8 @@
 // PilotStage: the operational level (DESIGN.md steps 4-5) on a lasonic::Node.
 //
 // In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group).
-// Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan;
+// Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan, and on ODOMETRY
+//      when no map was made for map_max_interval_s of message time (a sensor died);
 //      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
 //      passed since the last one (the first cycle always publishes).
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
@@ -52,6 +53,11 @@ struct PilotConfig {
   AgmParams agm;             // library defaults are the operational ones
   SectorMapParams sector_map;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
+  // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
+  // silent, or the sonar dead and the next scan not yet due), ODOMETRY does, so a dead sensor is
+  // flagged stale in time. Above the longest gap of a normal run (a firing group, 30 ms, plus an
+  // odometry tick, 20 ms): normal runs never trigger it.
+  double map_max_interval_s = 0.1;
   // The one cell a complementary reading increments: Axis = the paper's (the reading's end
   // point on the acoustic axis), Neighbours = echoPoint() against the other sensors' latest
   // complementary readings (operational/sonar_bearing.hpp).
@@ -84,7 +90,7 @@ class PilotStage {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   SonarBearingTracker bearing_;
-  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_;
+  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
 };
