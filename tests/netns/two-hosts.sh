@@ -16,7 +16,8 @@
 # a snooping bridge would forward the group to B only once B re-reported its membership.)
 #
 # Functions: twohosts_up, in_b CMD..., link_cut, link_restore, twohosts_down (also on EXIT via
-# the caller's cleanup: call it there). Sets host_b_pid.
+# the caller's cleanup: call it there). Sets host_b_pid. For a background process in B use
+# `nsenter -t "$host_b_pid" -n CMD &` (not `in_b CMD &`), so that $! is CMD itself.
 
 host_b_pid=
 twohosts_up() {
