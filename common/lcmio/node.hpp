@@ -56,6 +56,12 @@ class LcmUrlError : public std::runtime_error {
 
 class Node {
  public:
+  // Messages LCM queues per subscription while a handler runs. LCM's default, 30, silently drops
+  // the rest of a burst (measured: a pilot busy with a laser scan lost SONAR_COMPLEMENT messages
+  // of a fuzzing burst). Bursts happen (a logger replaying, a network hiccup released); a
+  // process that keeps up at its steady rate clears 1000 queued messages in well under a second.
+  static constexpr int kQueueCapacity = 1000;
+
   struct Options {
     bool heartbeat = true;        // publish PROCESS_STATUS at 1 Hz (off for offline replay)
     bool install_signal_handlers = true;
@@ -172,7 +178,9 @@ void Node::subscribe(const std::string& channel, std::function<void(const T&)> h
   sub->node = this;
   sub->handler = std::move(handler);
   status_.declareInput(channel);
-  lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
+  lcm::Subscription* s =
+      lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
+  if (s) s->setQueueCapacity(kQueueCapacity);
   subs_.push_back(std::move(sub));
 }
 

@@ -16,21 +16,24 @@ ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
 }
 
-void ComplementStage::checkClock(int64_t utime, const char* channel) {
-  if (!clockRestarted(node_, clock_, utime, channel)) return;
-  poses_.clear();
-  radar_map_.reset();
-  last_scan_utime_.reset();
+bool ComplementStage::timeOk(int64_t utime, const char* channel) {
+  const ClockCheck c = checkClock(node_, clock_, utime, channel);
+  if (c == ClockCheck::Restarted) {
+    poses_.clear();
+    radar_map_.reset();
+    last_scan_utime_.reset();
+  }
+  return c != ClockCheck::Bad;
 }
 
 void ComplementStage::onOdometry(const odometry_t& m) {
-  checkClock(m.utime, channels::ODOMETRY);
+  if (!timeOk(m.utime, channels::ODOMETRY)) return;
   acceptOdometry(node_, poses_, m);
 }
 
 void ComplementStage::onLaserScan(const laser_scan_t& m) {
+  if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
-  checkClock(m.utime, channels::LASER_SCAN);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<cp::InputProblem> problems;
   const auto scan = cp::laserScanFromMessage(m, problems);
@@ -55,8 +58,8 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 }
 
 void ComplementStage::onSonarRing(const sonar_ring_t& m) {
+  if (!timeOk(m.utime, channels::SONAR_RING)) return;
   node_.noteMessageTime(m.utime);
-  checkClock(m.utime, channels::SONAR_RING);
   std::vector<cp::InputProblem> problems;
   const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
   reportProblems(node_, problems);

@@ -47,8 +47,9 @@ class ComplementStage {
   void onOdometry(const odometry_t& m);
   void onLaserScan(const laser_scan_t& m);
   void onSonarRing(const sonar_ring_t& m);
-  // Every input first: a clock that jumped back (lcmio/time_reset.hpp) -> start afresh.
-  void checkClock(int64_t utime, const char* channel);
+  // Every input first: false for an absurd time (drop the message); a clock that jumped back
+  // (lcmio/time_reset.hpp) -> start afresh.
+  bool timeOk(int64_t utime, const char* channel);
 
   Node& node_;
   ComplementConfig cfg_;

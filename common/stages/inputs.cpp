@@ -38,12 +38,17 @@ bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, cons
   return true;
 }
 
-bool clockRestarted(Node& node, TimeReset& clock, int64_t utime, const char* channel) {
-  if (!clock.jumpedBack(utime)) return false;
+ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel) {
+  if (!plausibleUtime(utime)) {
+    node.reportError("rejected.time", std::string(channel) + ".utime = " + std::to_string(utime) +
+                                          " us is not a time (outside [0, " + std::to_string(kMaxUtime) + "]): dropped");
+    return ClockCheck::Bad;
+  }
+  if (!clock.jumpedBack(channel, utime)) return ClockCheck::Ok;
   node.count("time_resets");
   spdlog::warn("{}.utime = {} jumps back by more than {} s: the clock restarted; starting afresh [time_resets: {}]",
                channel, utime, TimeReset::kJumpUs / 1e6, node.counter("time_resets"));
-  return true;
+  return ClockCheck::Restarted;
 }
 
 }  // namespace lasonic

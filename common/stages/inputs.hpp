@@ -28,8 +28,10 @@ std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory&
 // the message was used.
 bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what);
 
-// True when `utime` (of `channel`) shows that the sources' clock restarted (TimeReset): counted
-// under time_resets and logged; the caller then starts afresh.
-bool clockRestarted(Node& node, TimeReset& clock, int64_t utime, const char* channel);
+// Every input's time first: Bad = outside [0, kMaxUtime] (reported as rejected.time; drop the
+// message); Restarted = the sources' clock restarted (TimeReset; counted under time_resets and
+// logged: start afresh, then use the message); Ok.
+enum class ClockCheck { Ok, Restarted, Bad };
+ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel);
 
 }  // namespace lasonic

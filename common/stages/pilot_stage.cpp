@@ -70,8 +70,9 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
 }
 
-void PilotStage::checkClock(int64_t utime, const char* channel) {
-  if (!clockRestarted(node_, clock_, utime, channel)) return;
+bool PilotStage::timeOk(int64_t utime, const char* channel) {
+  const ClockCheck c = checkClock(node_, clock_, utime, channel);
+  if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
   poses_.clear();
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.agm);
@@ -82,10 +83,11 @@ void PilotStage::checkClock(int64_t utime, const char* channel) {
   last_agm_publish_.reset();
   last_map_utime_.reset();
   now_ = 0;
+  return true;
 }
 
 void PilotStage::onOdometry(const odometry_t& m) {
-  checkClock(m.utime, channels::ODOMETRY);
+  if (!timeOk(m.utime, channels::ODOMETRY)) return;
   const auto odo = acceptOdometry(node_, poses_, m);
   if (!odo) return;
   speed_ = odo->v;
@@ -99,8 +101,8 @@ void PilotStage::onOdometry(const odometry_t& m) {
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
+  if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
-  checkClock(m.utime, channels::LASER_SCAN);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
   const auto scan = complement::laserScanFromMessage(m, problems);
@@ -130,8 +132,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
 }
 
 void PilotStage::onComplement(const complement_t& m) {
+  if (!timeOk(m.utime, channels::SONAR_COMPLEMENT)) return;
   node_.noteMessageTime(m.utime);
-  checkClock(m.utime, channels::SONAR_COMPLEMENT);
   if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
 

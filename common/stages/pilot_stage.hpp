@@ -79,7 +79,7 @@ class PilotStage {
   void onOdometry(const odometry_t& m);
   void onLaserScan(const laser_scan_t& m);
   void onComplement(const complement_t& m);
-  void checkClock(int64_t utime, const char* channel);
+  bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void publishSectorMap();
   void publishAgm(int64_t utime);
 

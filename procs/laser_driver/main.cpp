@@ -2,6 +2,7 @@
 // each reading against the scenario's world at its own time, publishes LASER_SCAN.
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@
 #include "lcmio/time_reset.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
+#include "sim/sim_state_check.hpp"
 
 using namespace lasonic;
 
@@ -34,7 +36,11 @@ int main(int argc, char** argv) {
     spdlog::info("scenario {}: {} readings over {} deg at {} Hz, range {}..{} m, noise {} m", setup->scenario.name,
                  cfg.readings, cfg.fov_deg, cfg.scan_rate_hz, cfg.range_min, cfg.range_max, cfg.noise_std);
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
-      if (clock.jumpedBack(st.utime)) {
+      if (const auto problem = sim::simStateProblem(st, setup->scenario)) {
+        node.reportError("rejected.sim_state", *problem + ": dropped");
+        return;
+      }
+      if (clock.jumpedBack(channels::SIM_STATE, st.utime)) {
         node.count("time_resets");
         spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
         laser.emplace(setup->scenario, cfg, setup->scenario.seed);
@@ -47,7 +53,17 @@ int main(int argc, char** argv) {
         return;
       }
       node.noteMessageTime(st.utime);
-      for (laser_scan_t& scan : scans) node.publish(channels::LASER_SCAN, scan);
+      for (laser_scan_t& scan : scans) {
+        // Never publish a reading a consumer cannot use as what it claims to be.
+        for (size_t i = 0; i < scan.ranges.size(); ++i)
+          if (scan.flags[i] == laser_scan_t::FLAG_OK &&
+              !(std::isfinite(scan.ranges[i]) && scan.ranges[i] >= 0 && scan.ranges[i] <= scan.range_max)) {
+            scan.flags[i] = laser_scan_t::FLAG_NO_RETURN;
+            node.reportError("invalid_readings", "LASER_SCAN.ranges[" + std::to_string(i) + "] = " +
+                                                     std::to_string(scan.ranges[i]) + " came out of the simulation: sent as no return");
+          }
+        node.publish(channels::LASER_SCAN, scan);
+      }
     });
     return node.run();
   });

@@ -10,6 +10,7 @@
 #include "lcmio/time_reset.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
+#include "sim/sim_state_check.hpp"
 
 using namespace lasonic;
 
@@ -38,7 +39,11 @@ int main(int argc, char** argv) {
                  cfg.range_max, cfg.rays_per_beam);
     std::optional<int64_t> next_geometry_utime;  // SONAR_GEOMETRY at 1 Hz of sim time
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
-      if (clock.jumpedBack(st.utime)) {
+      if (const auto problem = sim::simStateProblem(st, setup->scenario)) {
+        node.reportError("rejected.sim_state", *problem + ": dropped");
+        return;
+      }
+      if (clock.jumpedBack(channels::SIM_STATE, st.utime)) {
         node.count("time_resets");
         spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
         sonar.emplace(setup->scenario, cfg, setup->scenario.seed);

@@ -170,7 +170,7 @@ TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
   EXPECT_EQ(node.errors(), 4);
 
   odometry_t back{};
-  back.utime = 500'000;  // older than the newest (2 s)
+  back.utime = 1'500'000;  // older than the newest (2 s), by less than a restarted clock (1 s)
   back.pose = {1.0, 2.0, 0.0};
   node.publish(channels::ODOMETRY, back);
   drain();
