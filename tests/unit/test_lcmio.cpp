@@ -5,6 +5,7 @@
 
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
@@ -206,4 +207,18 @@ TEST(StatusBoard, SnapshotCarriesCountersErrorsAndChannels) {
   ASSERT_EQ(st.counter_names.size(), 2u);
   EXPECT_EQ(st.counter_names[0], "rejected.y");
   EXPECT_EQ(st.counter_values[1], 3);
+}
+
+TEST(TimeReset, PerChannelJumpsOfMoreThanASecond) {
+  TimeReset c;
+  EXPECT_FALSE(c.jumpedBack("A", 5'000'000));
+  EXPECT_FALSE(c.jumpedBack("B", 1'000'000));  // another channel may lag behind
+  EXPECT_FALSE(c.jumpedBack("A", 4'500'000));  // late, not a restart
+  EXPECT_TRUE(c.jumpedBack("A", 3'000'000));   // 2 s back: restarted
+  // After a reset every channel starts afresh: B's old time does not count any more.
+  EXPECT_FALSE(c.jumpedBack("B", 100'000));
+  EXPECT_FALSE(c.jumpedBack("A", 3'020'000));
+  EXPECT_TRUE(plausibleUtime(0));
+  EXPECT_FALSE(plausibleUtime(-1));
+  EXPECT_FALSE(plausibleUtime(kMaxUtime + 1));
 }
