@@ -30,10 +30,18 @@ namespace input_limits {
 // [m] No sonar hears this far (the ring's own range_max is 3 m; a Polaroid transducer's 10.7 m):
 // a range beyond it is a malformed reading, whatever the message claims as range_max.
 inline constexpr double kMaxSonarRange = 50.0;
+// [m] The longest-range laser scanners reach a few hundred metres: a larger range_max is not a
+// scanner's.
+inline constexpr double kMaxLaserRange = 1000.0;
+// [m] Positions (odometry, mounts, end points, sensor poses): 1000 km from the frame's origin is
+// beyond any robot's local frame, and keeps squares and products of coordinates (line fits,
+// intersections) far from overflow.
+inline constexpr double kMaxCoordinate = 1e6;
 }  // namespace input_limits
 
 // The input checks every stage shares, with one set of counter names:
-//   rejected.odometry_nan        ODOMETRY with a non-finite pose, v or omega (field named)
+//   rejected.odometry_nan        ODOMETRY with a non-finite pose, v or omega (field named), or a
+//                                position farther than kMaxCoordinate
 //   rejected.laser_scan / laser_range / laser_flag / laser_offset   (laserScanFromMessage)
 //   rejected.sonar_ring / sonar_id / sonar_mount / sonar_range      (sonarGroupFromMessage)
 //   rejected.complement_class / complement_nan / complement_range   (complementFromMessage)

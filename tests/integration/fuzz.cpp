@@ -16,7 +16,10 @@
 //     checks, per process and channel: messages received == sent; decode_errors and oversize
 //     counters == what the bytes say (classified here with Node's own rules); errors >= those;
 //     the kinds of semantic garbage show up under their counters. Prints "key value" lines.
-//   lasonic-fuzz check PIPE_LOG SIM_LOG
+//   lasonic-fuzz write LOG COUNT SEED
+//     The same messages for the pipeline's channels, written to a log (for lasonic-replay:
+//     deterministic, no network, fast).
+//   lasonic-fuzz check PIPE_LOG [SIM_LOG]
 //     Every message on an output channel in the logs decodes, and its numbers are valid (finite
 //     poses, SECTOR_MAP distances -1 or within [0, max_range], known classes and sources; the
 //     laser driver's readings finite where flagged OK).
@@ -145,7 +148,7 @@ class Gen {
     complement_t c{};
     c.utime = t;
     c.group = static_cast<int16_t>(pick(6));
-    c.tolerance = 0.1f;
+    c.tolerance = 0.125f;  // lasonic-complement's are 0.1: `check` tells them apart
     for (int k = 0; k < 4; ++k) {
       complement_reading_t r{};
       r.sensor_id = static_cast<int16_t>(c.group + 6 * k);
@@ -566,7 +569,7 @@ int check(const std::vector<std::string>& files) {
           for (const auto& l : m->segments)
             if (!std::isfinite(l.x0) || !std::isfinite(l.y0) || !std::isfinite(l.x1) || !std::isfinite(l.y1) ||
                 !std::isfinite(l.rms)) {
-              fail(ch, "non-finite segment");
+              fail(ch, "non-finite segment (event " + std::to_string(ev->timestamp) + ")");
               break;
             }
         } else if (ch == channels::SONAR_COMPLEMENT && ev->timestamp > 0) {
@@ -575,12 +578,14 @@ int check(const std::vector<std::string>& files) {
           const auto m = decodeAs<complement_t>(ev->data);
           if (!m) continue;
           ++n[ch];
+          // The fuzz's own complements have tolerance 0.125 (no 8 bit flips make it 0.1).
+          if (m->tolerance != 0.1f) continue;
           for (const auto& r : m->readings)
-            if (r.cls == complement_reading_t::CLASS_COMPLEMENTARY && m->tolerance == 0.1f &&
-                (!std::isfinite(r.range) || !std::isfinite(r.end_x) || !std::isfinite(r.end_y))) {
-              // Fuzz input may carry these; the complement's never does: count only the ones
-              // whose group the complement could have made (radar_map_utime set).
-              if (m->radar_map_utime != 0) fail(ch, "a complementary reading with a non-finite value");
+            if (r.cls < 0 || r.cls > 4 ||
+                (r.cls == complement_reading_t::CLASS_COMPLEMENTARY &&
+                 (!std::isfinite(r.range) || !std::isfinite(r.end_x) || !std::isfinite(r.end_y) || !finite(r.sensor_pose)))) {
+              fail(ch, "lasonic-complement published a reading with an unknown class or a non-finite value");
+              break;
             }
         } else if (ch == channels::LASER_SCAN && sim_log) {
           const auto m = decodeAs<laser_scan_t>(ev->data);
@@ -612,11 +617,34 @@ int check(const std::vector<std::string>& files) {
 
 }  // namespace
 
+// The pipeline channels' fuzz written to a log, for lasonic-replay: deterministic and fast.
+int write(const std::string& file, int64_t count, uint64_t seed) {
+  Gen gen(seed);
+  const std::vector<std::string> chans = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
+                                          channels::SONAR_COMPLEMENT};
+  try {
+    LogWriter out(file);
+    for (int64_t i = 0; i < count; ++i) {
+      const std::string& ch = chans[gen.pick(chans.size())];
+      std::string kind;
+      std::vector<uint8_t> b = i % 25'000 == 12'345 ? gen.overCap(ch, 1'000'000) : gen.next(ch, kind);
+      out.writeRaw(ch, i, b);
+    }
+  } catch (const LogError& e) {
+    std::fprintf(stderr, "lasonic-fuzz: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
+  if (mode == "write" && argc == 5)
+    return write(argv[2], std::strtoll(argv[3], nullptr, 10), std::strtoull(argv[4], nullptr, 10));
   if (mode == "feed" && argc == 6)
     return feed(argv[2], argv[3], std::strtoll(argv[4], nullptr, 10), std::strtoull(argv[5], nullptr, 10));
   if (mode == "check" && argc == 4) return check({argv[2], argv[3]});
-  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED | check PIPE_LOG SIM_LOG\n");
+  if (mode == "check" && argc == 3) return check({argv[2]});
+  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED | write LOG COUNT SEED | check PIPE_LOG [SIM_LOG]\n");
   return 2;
 }
