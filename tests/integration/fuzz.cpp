@@ -11,7 +11,7 @@
 //     over the cap; a real array over the cap; valid messages with fields set to NaN, +-Inf,
 //     negative, 1e30, unknown sensor ids and classes, times jumping back and forth (a looping log);
 //     and plain valid messages. The feeder keeps at most WINDOW messages in flight per process
-//     (from their 1 Hz PROCESS_STATUS), so no datagram is dropped and every message can be
+//     (from their 1 Hz PROCESS_STATUS; fewer than LCM queues per subscription), so no message is dropped and every message can be
 //     accounted for. At the end it waits for every target to report all input received, then
 //     checks, per process and channel: messages received == sent; decode_errors and oversize
 //     counters == what the bytes say (classified here with Node's own rules); errors >= those;
@@ -57,7 +57,11 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int64_t kWindow = 3000;  // messages in flight per process at most
+// Messages in flight per process at most (as of its last heartbeat): below the queue LCM keeps
+// per subscription (Node::kQueueCapacity), so that a process slower than the feed (the sonar
+// driver under the sanitizers) is waited for instead of losing messages.
+constexpr int64_t kWindow = 900;
+static_assert(kWindow < Node::kQueueCapacity);
 
 struct Target {
   std::string process;
