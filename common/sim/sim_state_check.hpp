@@ -43,3 +43,37 @@ inline std::optional<std::string> simStateProblem(const sim_state_t& st, const S
 }
 
 }  // namespace lasonic::sim
+
+// ---- what both simulated drivers' mains share (header-only: used by procs/ only)
+#include <spdlog/spdlog.h>
+
+#include "lcmio/process.hpp"
+
+namespace lasonic::sim {
+
+inline void addDriverOptions(ProcessMain& pm, std::string& scenario_file, std::optional<uint64_t>& seed) {
+  pm.app().add_option("--scenario", scenario_file, "scenario YAML (its sensor section overrides the config)")->required();
+  pm.app().add_option("--seed", seed, "random seed (default: the scenario's)");
+}
+
+// The gate every SIM_STATE passes in a driver: a bad one is counted (rejected.sim_state) and
+// dropped (nullptr); one whose time jumped back (a restarted lasonic-sim-world) is counted
+// (time_resets) and gets a fresh core, as at start. Returns the core to simulate with.
+template <typename Core, typename CoreConfig>
+Core* admitSimState(Node& node, TimeReset& clock, std::optional<Core>& core, const sim_state_t& st,
+                    const Scenario& scenario, const CoreConfig& cfg) {
+  if (const auto problem = simStateProblem(st, scenario)) {
+    node.reportError("rejected.sim_state", *problem + ": dropped");
+    return nullptr;
+  }
+  if (!core || clock.jumpedBack("SIM_STATE", st.utime)) {
+    if (core) {
+      node.count("time_resets");
+      spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
+    }
+    core.emplace(scenario, cfg, scenario.seed);
+  }
+  return &*core;
+}
+
+}  // namespace lasonic::sim

@@ -19,8 +19,7 @@ int main(int argc, char** argv) {
                  "lasonic-laser-driver: simulate the laser scanner against a scenario, driven by SIM_STATE");
   std::string scenario_file;
   std::optional<uint64_t> seed;
-  pm.app().add_option("--scenario", scenario_file, "scenario YAML (its laser: section overrides the config)")->required();
-  pm.app().add_option("--seed", seed, "random seed (default: the scenario's)");
+  sim::addDriverOptions(pm, scenario_file, seed);
 
   std::optional<sim::SimSetup> setup;
   sim::LaserConfig cfg;
@@ -36,15 +35,7 @@ int main(int argc, char** argv) {
     spdlog::info("scenario {}: {} readings over {} deg at {} Hz, range {}..{} m, noise {} m", setup->scenario.name,
                  cfg.readings, cfg.fov_deg, cfg.scan_rate_hz, cfg.range_min, cfg.range_max, cfg.noise_std);
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
-      if (const auto problem = sim::simStateProblem(st, setup->scenario)) {
-        node.reportError("rejected.sim_state", *problem + ": dropped");
-        return;
-      }
-      if (clock.jumpedBack(channels::SIM_STATE, st.utime)) {
-        node.count("time_resets");
-        spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
-        laser.emplace(setup->scenario, cfg, setup->scenario.seed);
-      }
+      if (!sim::admitSimState(node, clock, laser, st, setup->scenario, cfg)) return;
       std::vector<laser_scan_t> scans;
       try {
         scans = laser->onSimState(st);

@@ -19,8 +19,7 @@ int main(int argc, char** argv) {
                  "lasonic-sonar-driver: simulate the sonar ring against a scenario, driven by SIM_STATE");
   std::string scenario_file;
   std::optional<uint64_t> seed;
-  pm.app().add_option("--scenario", scenario_file, "scenario YAML (its sonar: section overrides the config)")->required();
-  pm.app().add_option("--seed", seed, "random seed (default: the scenario's)");
+  sim::addDriverOptions(pm, scenario_file, seed);
 
   std::optional<sim::SimSetup> setup;
   sim::SonarConfig cfg;
@@ -39,16 +38,9 @@ int main(int argc, char** argv) {
                  cfg.range_max, cfg.rays_per_beam);
     std::optional<int64_t> next_geometry_utime;  // SONAR_GEOMETRY at 1 Hz of sim time
     node.subscribe<sim_state_t>(channels::SIM_STATE, [&](const sim_state_t& st) {
-      if (const auto problem = sim::simStateProblem(st, setup->scenario)) {
-        node.reportError("rejected.sim_state", *problem + ": dropped");
-        return;
-      }
-      if (clock.jumpedBack(channels::SIM_STATE, st.utime)) {
-        node.count("time_resets");
-        spdlog::warn("SIM_STATE.utime = {} jumps back: the world restarted; starting afresh", st.utime);
-        sonar.emplace(setup->scenario, cfg, setup->scenario.seed);
-        next_geometry_utime.reset();
-      }
+      const int64_t resets = node.counter("time_resets");
+      if (!sim::admitSimState(node, clock, sonar, st, setup->scenario, cfg)) return;
+      if (node.counter("time_resets") != resets) next_geometry_utime.reset();
       std::vector<sim::SonarDriverCore::Output> firings;
       try {
         firings = sonar->onSimState(st);
