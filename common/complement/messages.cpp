@@ -29,10 +29,81 @@ pose2d_t toMsg(const geom::Pose2& p) {
   return m;
 }
 
-// Sonar echoes beyond this are implausible whatever the ring claims as range_max.
-constexpr double kMaxSonarRange = 50.0;
+using input_limits::kMaxCoordinate;
+using input_limits::kMaxLaserRange;
+using input_limits::kMaxSonarRange;
+
+bool plausiblePose(const pose2d_t& p) {
+  return finitePose(p) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate;
+}
 
 }  // namespace
+
+std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vector<InputProblem>& problems) {
+  const std::pair<const char*, double> fields[] = {{"pose.x", m.pose.x}, {"pose.y", m.pose.y},
+                                                   {"pose.theta", m.pose.theta}, {"v", m.v}, {"omega", m.omega}};
+  for (const auto& [name, value] : fields) {
+    if (!std::isfinite(value)) {
+      problems.push_back({"rejected.odometry_nan", std::string("ODOMETRY.") + name + " = " + num(value) +
+                                                       " (utime " + std::to_string(m.utime) + "): dropped"});
+      return std::nullopt;
+    }
+  }
+  if (!plausiblePose(m.pose)) {
+    problems.push_back({"rejected.odometry_nan", "ODOMETRY.pose = (" + num(m.pose.x) + ", " + num(m.pose.y) +
+                                                     ") is farther than " + num(kMaxCoordinate) + " m (utime " +
+                                                     std::to_string(m.utime) + "): dropped"});
+    return std::nullopt;
+  }
+  return OdometryInput{m.utime, {m.pose.x, m.pose.y, m.pose.theta}, m.v, m.omega};
+}
+
+std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::vector<InputProblem>& problems) {
+  std::vector<ComplementInput> out;
+  out.reserve(m.readings.size());
+  auto field_name = [](size_t i, const char* f) {
+    return "SONAR_COMPLEMENT.readings[" + std::to_string(i) + "]." + f;
+  };
+  for (size_t i = 0; i < m.readings.size(); ++i) {
+    const complement_reading_t& r = m.readings[i];
+    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_INVALID) {
+      problems.push_back({"rejected.complement_class",
+                          field_name(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped"});
+      continue;
+    }
+    ComplementInput c;
+    c.sensor_id = r.sensor_id;
+    c.cls = static_cast<SonarClass>(r.cls);
+    if (c.cls == SonarClass::Complementary) {
+      const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
+      bool ok = true;
+      for (const auto& [name, value] : fields) {
+        if (ok && !std::isfinite(value)) {
+          problems.push_back({"rejected.complement_nan", field_name(i, name) + " = " + num(value) + ": skipped"});
+          ok = false;
+        }
+      }
+      if (ok && (std::abs(r.end_x) > kMaxCoordinate || std::abs(r.end_y) > kMaxCoordinate)) {
+        problems.push_back({"rejected.complement_range", field_name(i, "end") + " = (" + num(r.end_x) + ", " +
+                                                             num(r.end_y) + ") is farther than " + num(kMaxCoordinate) +
+                                                             " m: skipped"});
+        ok = false;
+      }
+      // A negative or absurd "echo" would also shift every neighbour's bearing.
+      if (ok && (r.range < 0 || r.range > kMaxSonarRange)) {
+        problems.push_back({"rejected.complement_range", field_name(i, "range") + " = " + num(r.range) +
+                                                             " (not in [0, " + num(kMaxSonarRange) + "] m): skipped"});
+        ok = false;
+      }
+      c.usable = ok;
+      c.range = r.range;
+      c.end = geom::Vec2(r.end_x, r.end_y);
+      if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+    }
+    out.push_back(c);
+  }
+  return out;
+}
 
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems) {
   const auto n = static_cast<size_t>(std::max(0, m.nranges));
@@ -50,8 +121,8 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
                                                    ": need a finite angle_min and angle_increment > 0"});
     return std::nullopt;
   }
-  if (!finitePose(m.mount)) {
-    problems.push_back({"rejected.laser_scan", "LASER_SCAN.mount is not finite"});
+  if (!plausiblePose(m.mount)) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.mount is not finite (or beyond " + num(kMaxCoordinate) + " m)"});
     return std::nullopt;
   }
   // A scan without readings says nothing; accepted, it would read as "everything is free"
@@ -62,9 +133,19 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
   }
   // Every reading is checked against range_max: a NaN or infinite one would accept any range.
   if (!(std::isfinite(m.range_min) && std::isfinite(m.range_max) && m.range_min >= 0 &&
-        m.range_min < m.range_max)) {
+        m.range_min < m.range_max && m.range_max <= kMaxLaserRange)) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.range_min = " + num(m.range_min) + ", range_max = " +
-                                                   num(m.range_max) + ": need finite 0 <= range_min < range_max"});
+                                                   num(m.range_max) + ": need 0 <= range_min < range_max <= " +
+                                                   num(kMaxLaserRange) + " m"});
+    return std::nullopt;
+  }
+  // The readings span at most one turn (a finite but huge increment overflowed the angles to
+  // infinity, and the Radar Map's points to NaN: found by fuzzing).
+  if (static_cast<double>(n - 1) * m.angle_increment > 2.0 * geom::kPi + 1e-6 ||
+      std::abs(m.angle_min) > 4.0 * geom::kPi) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_min = " + num(m.angle_min) + ", angle_increment = " +
+                                                   num(m.angle_increment) + " with " + std::to_string(n) +
+                                                   " readings: more than one turn, or angle_min beyond +-4 pi"});
     return std::nullopt;
   }
   LaserScan s;
@@ -125,9 +206,10 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
       problems.push_back({"rejected.sonar_id", field("SONAR_RING", "sensor_id", i) + " = " +
                                                    std::to_string(r.sensor_id) + " (num_sensors " +
                                                    std::to_string(m.num_sensors) + ")"});
-    } else if (!finitePose(m.mount[i])) {
+    } else if (!plausiblePose(m.mount[i])) {
       r.valid = false;
-      problems.push_back({"rejected.sonar_mount", field("SONAR_RING", "mount", i) + " is not finite"});
+      problems.push_back({"rejected.sonar_mount", field("SONAR_RING", "mount", i) + " is not finite (or beyond " +
+                                                      num(kMaxCoordinate) + " m)"});
     } else if (!r.no_echo && !(std::isfinite(r.range) && r.range >= 0 && r.range <= range_max)) {
       r.valid = false;
       problems.push_back({"rejected.sonar_range", field("SONAR_RING", "range", i) + " = " + num(r.range) +

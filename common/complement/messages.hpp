@@ -11,6 +11,7 @@
 #include <lasonic/hypothetical_scan_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/line_map_t.hpp>
+#include <lasonic/odometry_t.hpp>
 #include <lasonic/sonar_ring_t.hpp>
 
 #include "complement/complement.hpp"
@@ -22,6 +23,51 @@ struct InputProblem {
   std::string counter;  // e.g. "rejected.sonar_range"
   std::string message;  // e.g. "SONAR_RING.range[2] = nan"
 };
+
+// Limits on incoming values, one per quantity, for every stage that reads them (the caps on
+// array lengths are in lcmio/lengths.hpp).
+namespace input_limits {
+// [m] No sonar hears this far (the ring's own range_max is 3 m; a Polaroid transducer's 10.7 m):
+// a range beyond it is a malformed reading, whatever the message claims as range_max.
+inline constexpr double kMaxSonarRange = 50.0;
+// [m] The longest-range laser scanners reach a few hundred metres: a larger range_max is not a
+// scanner's.
+inline constexpr double kMaxLaserRange = 1000.0;
+// [m] Positions (odometry, mounts, end points, sensor poses): 1000 km from the frame's origin is
+// beyond any robot's local frame, and keeps squares and products of coordinates (line fits,
+// intersections) far from overflow.
+inline constexpr double kMaxCoordinate = 1e6;
+}  // namespace input_limits
+
+// The input checks every stage shares, with one set of counter names:
+//   rejected.odometry_nan        ODOMETRY with a non-finite pose, v or omega (field named), or a
+//                                position farther than kMaxCoordinate
+//   rejected.laser_scan / laser_range / laser_flag / laser_offset   (laserScanFromMessage)
+//   rejected.sonar_ring / sonar_id / sonar_mount / sonar_range      (sonarGroupFromMessage)
+//   rejected.complement_class / complement_nan / complement_range   (complementFromMessage)
+// and, in stages/inputs.hpp, time going backwards: rejected.<odometry|laser|complement>_backwards.
+
+struct OdometryInput {
+  int64_t utime = 0;
+  geom::Pose2 pose;
+  double v = 0, omega = 0;
+};
+// nullopt (and a problem naming the field) when any value is not finite.
+std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vector<InputProblem>& problems);
+
+// One reading of SONAR_COMPLEMENT as a consumer (pilot, navigator) may use it.
+struct ComplementInput {
+  int sensor_id = 0;
+  SonarClass cls = SonarClass::Invalid;
+  // Complementary readings only: usable = finite range and end point, range in
+  // [0, kMaxSonarRange]; the sensor pose when it is finite.
+  bool usable = false;
+  double range = 0;
+  geom::Vec2 end{0, 0};
+  std::optional<geom::Pose2> sensor_pose;
+};
+// Readings with an unknown class are left out (counted); the others keep their order.
+std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::vector<InputProblem>& problems);
 
 // nullopt when the scan as a whole is unusable (arrays of different length, no readings, bad
 // angles, range limits or mount).

@@ -24,10 +24,22 @@ struct LogRecord {
   std::vector<uint8_t> data;
 };
 
+// nullopt for bytes that are not a T. Like Node, array counts are checked against the bytes
+// and the caps first (lcmio/lengths.hpp): a corrupt log must not make a tool allocate gigabytes
+// or abort on std::length_error out of LCM's generated decode().
 template <typename T>
 std::optional<T> decodeAs(const std::vector<uint8_t>& data) {
+  if constexpr (HasWireArrays<T>::value) {
+    if (checkWireArrays<T>(data.data(), data.size()).result != WireCheck::Ok &&
+        checkWireArrays<T>(data.data(), data.size()).result != WireCheck::NotThisType)
+      return std::nullopt;
+  }
   T msg;
-  if (msg.decode(data.data(), 0, static_cast<int>(data.size())) < 0) return std::nullopt;
+  try {
+    if (msg.decode(data.data(), 0, static_cast<int>(data.size())) < 0) return std::nullopt;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
   return msg;
 }
 

@@ -46,6 +46,37 @@ void setLengths(process_status_t& m) {
 void setLengths(sim_state_t& m) { m.nmovers = sameSize<int32_t>("sim_state_t", m.movers); }
 void setLengths(sonar_truth_t& m) { m.nreadings = sameSize<int32_t>("sonar_truth_t", m.causes); }
 
+namespace detail {
+namespace {
+int64_t bigEndian(const uint8_t* p, int bytes) {
+  uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i) v = (v << 8) | p[i];
+  return bytes == 4 ? static_cast<int64_t>(static_cast<int32_t>(static_cast<uint32_t>(v))) : static_cast<int64_t>(v);
+}
+}  // namespace
+
+WireCheck checkWire(const void* data, size_t size, int64_t hash, const WireShape& shape, int64_t cap) {
+  const auto* p = static_cast<const uint8_t*>(data);
+  WireCheck c;
+  if (size < 8 || bigEndian(p, 8) != hash) {
+    c.result = WireCheck::NotThisType;
+    return c;
+  }
+  if (static_cast<int64_t>(size) < shape.fixed) {
+    c.result = WireCheck::Truncated;
+    return c;
+  }
+  c.claimed = bigEndian(p + shape.count_offset, 4);
+  if (c.claimed < 0)
+    c.result = WireCheck::Truncated;
+  else if (c.claimed > cap)
+    c.result = WireCheck::TooMany;
+  else if (shape.fixed + c.claimed * shape.per_element > static_cast<int64_t>(size))
+    c.result = WireCheck::Truncated;
+  return c;
+}
+}  // namespace detail
+
 void setLengths(laser_truth_t& m) { m.nranges = sameSize<int32_t>("laser_truth_t", m.obstacle); }
 
 }  // namespace lasonic

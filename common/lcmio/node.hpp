@@ -1,25 +1,30 @@
 #pragma once
-// Node: the small interface every lasonic process uses over LCM (in the spirit of Drake's
-// DrakeLcm): typed publish/subscribe, decode errors counted and never thrown, handler
-// exceptions caught and counted, a 1 Hz PROCESS_STATUS heartbeat, clean SIGINT/SIGTERM exit.
+// Node: what a lasonic process uses to talk over LCM (in the spirit of Drake's DrakeLcm): typed
+// publish/subscribe with decode errors counted and never thrown, handler exceptions caught and
+// counted, a 1 Hz PROCESS_STATUS heartbeat. Its jobs live in small parts:
+//   lcmio/status.hpp   StatusBoard (counters, errors, channel rates -> PROCESS_STATUS), Heartbeat
+//   lcmio/signals.hpp  SIGINT/SIGTERM -> a shutdown flag
+//   lcmio/lengths.hpp  array lengths on publish; array caps checked before decoding
+//   lcmio/process.hpp  a live process's main (command line, config, logging, exit codes)
 //
 // Handlers are std::function (LCM 1.3.1's C++ API has no lambda subscribe; a small typed
 // subscription object forwards to them).
 #include <lcm/lcm-cpp.hpp>
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "lcmio/lengths.hpp"
+#include "lcmio/signals.hpp"
+#include "lcmio/status.hpp"
 
 namespace lasonic {
 
-// Fixed channel names (DESIGN.md).
+// Fixed channel names (README "Channels").
 namespace channels {
 inline constexpr const char* ODOMETRY = "ODOMETRY";
 inline constexpr const char* LASER_SCAN = "LASER_SCAN";
@@ -43,14 +48,26 @@ inline constexpr const char* PROCESS_STATUS = "PROCESS_STATUS";
 // grid maps (~80 kB per message).
 inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
+// The LCM URL cannot be used (LCM 1.3.1 prints its own reason to stderr and reports !good()).
+class LcmUrlError : public std::runtime_error {
+ public:
+  explicit LcmUrlError(const std::string& what) : std::runtime_error(what) {}
+};
+
 class Node {
  public:
+  // Messages LCM queues per subscription while a handler runs. LCM's default, 30, silently drops
+  // the rest of a burst (measured: a pilot busy with a laser scan lost SONAR_COMPLEMENT messages
+  // of a fuzzing burst). Bursts happen (a logger replaying, a network hiccup released); a
+  // process that keeps up at its steady rate clears 1000 queued messages in well under a second.
+  static constexpr int kQueueCapacity = 1000;
+
   struct Options {
     bool heartbeat = true;        // publish PROCESS_STATUS at 1 Hz (off for offline replay)
     bool install_signal_handlers = true;
   };
 
-  // Creates its own LCM instance; throws std::runtime_error if the URL does not work.
+  // Creates its own LCM instance; throws LcmUrlError if the URL does not work.
   Node(std::string process_name, const std::string& lcm_url);
   Node(std::string process_name, const std::string& lcm_url, Options opts);
   // Shares an LCM instance (offline replay runs several stages on one memq:// instance).
@@ -59,6 +76,9 @@ class Node {
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
 
+  // Before decoding, a message of a type with arrays is checked against its cap
+  // (lcmio/lengths.hpp): too many elements -> counted under oversize.<CHANNEL>; a count the
+  // bytes do not hold -> decode_errors.<CHANNEL>, like any message that does not decode.
   template <typename T>
   void subscribe(const std::string& channel, std::function<void(const T&)> handler);
 
@@ -67,32 +87,28 @@ class Node {
   void publish(const std::string& channel, T& msg);
 
   // Counters shown in PROCESS_STATUS.
-  void count(const std::string& counter, int64_t n = 1);
-  int64_t counter(const std::string& name) const;
+  void count(const std::string& counter, int64_t n = 1) { status_.count(counter, n); }
+  int64_t counter(const std::string& name) const { return status_.counter(name); }
   // Bad input or a failure: counted under `counter` and in `errors`, logged (rate-limited),
   // kept as last_error. The process goes on.
-  void reportError(const std::string& counter, const std::string& message);
+  void reportError(const std::string& counter, const std::string& message) { status_.reportError(counter, message); }
   // Newest message time processed (shown in PROCESS_STATUS).
-  void noteMessageTime(int64_t utime);
+  void noteMessageTime(int64_t utime) { status_.noteMessageTime(utime); }
 
   // Handles messages until SIGINT/SIGTERM or stop(); heartbeats on the way. Returns 0.
   int run();
   // One wait of at most timeout_ms; returns the number of messages handled (0 or 1).
   int spinOnce(int timeout_ms);
   void stop() { stop_requested_ = true; }
-  static bool shutdownRequested();
+  static bool shutdownRequested() { return shutdown::requested(); }
 
   void publishStatus();
-  const std::string& name() const { return name_; }
+  const std::string& name() const { return status_.name(); }
   lcm::LCM& lcm() { return *lcm_; }
-  int64_t errors() const { return errors_; }
+  int64_t errors() const { return status_.errors(); }
+  const StatusBoard& status() const { return status_; }
 
  private:
-  struct ChannelStats {
-    int64_t messages = 0;
-    int64_t at_last_status = 0;
-    int64_t decode_errors = 0;
-  };
   struct SubscriptionBase {
     virtual ~SubscriptionBase() = default;
     void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) { dispatch(rbuf, channel); }
@@ -108,31 +124,43 @@ class Node {
   void init();
   void maybeHeartbeat();
   void handlerFailed(const std::string& channel, const char* what);
+  void decodeFailed(const std::string& channel, const char* type, size_t bytes, const std::string& why);
+  void oversize(const std::string& channel, const char* type, int64_t claimed, int64_t cap);
 
-  std::string name_;
   std::shared_ptr<lcm::LCM> lcm_;
   Options opts_;
+  StatusBoard status_;
+  Heartbeat heartbeat_;
   std::vector<std::unique_ptr<SubscriptionBase>> subs_;
-  std::map<std::string, ChannelStats> in_, out_;
-  std::map<std::string, int64_t> counters_;
-  int64_t errors_ = 0;
-  std::string last_error_;
-  int64_t last_msg_utime_ = 0;
   bool stop_requested_ = false;
-  std::chrono::steady_clock::time_point start_, last_status_;
-  std::map<std::string, std::chrono::steady_clock::time_point> last_logged_;
 };
 
 template <typename T>
 void Node::TypedSubscription<T>::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  ChannelStats& st = node->in_[channel];
-  ++st.messages;
+  node->status_.received(channel);
+  const auto size = static_cast<size_t>(rbuf->data_size);
+  if constexpr (HasWireArrays<T>::value) {
+    const WireCheck c = checkWireArrays<T>(rbuf->data, size);
+    if (c.result == WireCheck::TooMany) {
+      node->oversize(channel, T::getTypeName(), c.claimed, WireArrays<T>::kMax);
+      return;
+    }
+    if (c.result == WireCheck::Truncated) {
+      node->decodeFailed(channel, T::getTypeName(), size,
+                         "claims " + std::to_string(c.claimed) + " elements that the bytes do not hold");
+      return;
+    }
+  }
   T msg;
-  if (msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
-    ++st.decode_errors;
-    node->reportError("decode_errors." + channel,
-                      channel + ": message does not decode as lasonic::" + T::getTypeName() +
-                          " (" + std::to_string(rbuf->data_size) + " bytes; wrong type or corrupt)");
+  int decoded = -1;
+  try {
+    decoded = msg.decode(rbuf->data, 0, static_cast<int>(size));
+  } catch (const std::exception& e) {  // e.g. std::bad_alloc: never out of LCM's C callback
+    node->decodeFailed(channel, T::getTypeName(), size, e.what());
+    return;
+  }
+  if (decoded < 0) {
+    node->decodeFailed(channel, T::getTypeName(), size, "wrong type or corrupt");
     return;
   }
   try {
@@ -149,8 +177,10 @@ void Node::subscribe(const std::string& channel, std::function<void(const T&)> h
   auto sub = std::make_unique<TypedSubscription<T>>();
   sub->node = this;
   sub->handler = std::move(handler);
-  in_[channel];
-  lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
+  status_.declareInput(channel);
+  lcm::Subscription* s =
+      lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
+  if (s) s->setQueueCapacity(kQueueCapacity);
   subs_.push_back(std::move(sub));
 }
 
@@ -162,7 +192,7 @@ void Node::publish(const std::string& channel, T& msg) {
       reportError("publish_failures", channel + ": publish failed");
       return;
     }
-    ++out_[channel].messages;
+    status_.sent(channel);
   } catch (const std::exception& e) {
     reportError("publish_failures", channel + ": " + e.what());
   }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "complement/messages.hpp"
+#include "stages/inputs.hpp"
 
 namespace lasonic {
 
@@ -15,35 +16,28 @@ ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
 }
 
+bool ComplementStage::timeOk(int64_t utime, const char* channel) {
+  const ClockCheck c = checkClock(node_, clock_, utime, channel);
+  if (c == ClockCheck::Restarted) {
+    poses_.clear();
+    radar_map_.reset();
+    last_scan_utime_.reset();
+  }
+  return c != ClockCheck::Bad;
+}
+
 void ComplementStage::onOdometry(const odometry_t& m) {
-  node_.noteMessageTime(m.utime);
-  if (!(std::isfinite(m.pose.x) && std::isfinite(m.pose.y) && std::isfinite(m.pose.theta))) {
-    node_.reportError("rejected.odometry_pose", "ODOMETRY.pose is not finite (utime " +
-                                                    std::to_string(m.utime) + "): dropped");
-    return;
-  }
-  switch (poses_.add(m.utime, {m.pose.x, m.pose.y, m.pose.theta})) {
-    case PoseHistory::AddResult::Ok: break;
-    case PoseHistory::AddResult::Duplicate: node_.count("odometry_duplicates"); break;
-    case PoseHistory::AddResult::WentBackwards:
-      node_.reportError("rejected.odometry_backwards",
-                        "ODOMETRY.utime = " + std::to_string(m.utime) + " is older than the newest (" +
-                            std::to_string(poses_.newestTime()) + "): dropped");
-      break;
-  }
+  if (!timeOk(m.utime, channels::ODOMETRY)) return;
+  acceptOdometry(node_, poses_, m);
 }
 
 void ComplementStage::onLaserScan(const laser_scan_t& m) {
+  if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
-  if (last_scan_utime_ && m.utime <= *last_scan_utime_) {
-    node_.reportError("rejected.laser_backwards",
-                      "LASER_SCAN.utime = " + std::to_string(m.utime) + " is not newer than the previous scan (" +
-                          std::to_string(*last_scan_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<cp::InputProblem> problems;
   const auto scan = cp::laserScanFromMessage(m, problems);
-  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
 
@@ -64,10 +58,11 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 }
 
 void ComplementStage::onSonarRing(const sonar_ring_t& m) {
+  if (!timeOk(m.utime, channels::SONAR_RING)) return;
   node_.noteMessageTime(m.utime);
   std::vector<cp::InputProblem> problems;
   const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
-  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  reportProblems(node_, problems);
 
   const auto robot = poses_.at(m.utime);
   if (!robot)

@@ -20,10 +20,13 @@
 //   for its time) leaves the previous Radar Map in place; bad sonar readings (NaN, negative or
 //   huge range, sensor id outside [0, num_sensors), non-finite mount) and every reading of a
 //   group fired when no odometry is known are classified Invalid.
+// - An input whose time jumps back by more than TimeReset::kJumpUs (a restarted simulator or
+//   driver, a looping log) resets the stage to its start state (counted: time_resets).
 #include "complement/complement_config.hpp"
 #include "complement/radar_map.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/odometry_t.hpp>
@@ -44,12 +47,16 @@ class ComplementStage {
   void onOdometry(const odometry_t& m);
   void onLaserScan(const laser_scan_t& m);
   void onSonarRing(const sonar_ring_t& m);
+  // Every input first: false for an absurd time (drop the message); a clock that jumped back
+  // (lcmio/time_reset.hpp) -> start afresh.
+  bool timeOk(int64_t utime, const char* channel);
 
   Node& node_;
   ComplementConfig cfg_;
   PoseHistory poses_;
   std::optional<complement::RadarMap> radar_map_;
   std::optional<int64_t> last_scan_utime_;
+  TimeReset clock_;
 };
 
 }  // namespace lasonic

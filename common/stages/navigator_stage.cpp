@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "stages/stage_inputs.hpp"
+#include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
 
 namespace lasonic {
@@ -49,26 +49,44 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
 }
 
+bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
+  const ClockCheck c = checkClock(node_, clock_, utime, channel);
+  if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
+  poses_.clear();
+  speed_ = 0;
+  agm_ = AccumulativeGridMap(cfg_.agm);
+  placer_ = EchoPlacer(cfg_.placement);
+  csm_ = CurrentSensorMap();
+  std::fill(cycle_utime_.begin(), cycle_utime_.end(), 0);
+  pending_.clear();
+  rm_.clear();
+  rm_source_utime_.reset();
+  last_complement_utime_.reset();
+  last_rm_utime_.reset();
+  last_publish_.reset();
+  now_ = 0;
+  return true;
+}
+
 void NavigatorStage::onOdometry(const odometry_t& m) {
-  if (acceptOdometry(node_, poses_, m)) speed_ = m.v;
+  if (!timeOk(m.utime, channels::ODOMETRY)) return;
+  if (const auto odo = acceptOdometry(node_, poses_, m)) speed_ = odo->v;
 }
 
 void NavigatorStage::onRadarMap(const line_map_t& m) {
+  if (!timeOk(m.utime, channels::RADAR_MAP)) return;
   node_.noteMessageTime(m.utime);
-  if (last_rm_utime_ && m.utime <= *last_rm_utime_) {
-    node_.reportError("rejected.radar_map_backwards", "RADAR_MAP.utime = " + std::to_string(m.utime) +
-                                                          " is not newer than the previous one (" +
-                                                          std::to_string(*last_rm_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_rm_utime_, m.utime, channels::RADAR_MAP, "radar_map")) return;
   last_rm_utime_ = m.utime;
   std::vector<CsmLine> lines;
   lines.reserve(m.segments.size());
   for (size_t i = 0; i < m.segments.size(); ++i) {
     const line_segment_t& s = m.segments[i];
-    if (!(std::isfinite(s.x0) && std::isfinite(s.y0) && std::isfinite(s.x1) && std::isfinite(s.y1))) {
-      node_.reportError("rejected.radar_map_segment",
-                        "RADAR_MAP.segments[" + std::to_string(i) + "] has a non-finite end point: skipped");
+    constexpr double kMax = complement::input_limits::kMaxCoordinate;
+    if (!(std::abs(s.x0) <= kMax && std::abs(s.y0) <= kMax && std::abs(s.x1) <= kMax && std::abs(s.y1) <= kMax)) {
+      node_.reportError("rejected.radar_map_segment", "RADAR_MAP.segments[" + std::to_string(i) +
+                                                          "] has an end point that is not finite or farther than " +
+                                                          std::to_string(kMax) + " m: skipped");
       continue;
     }
     const int64_t support = s.last_supported_utime > 0 ? std::min(s.last_supported_utime, m.utime) : m.utime;
@@ -83,16 +101,15 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
 }
 
 void NavigatorStage::onComplement(const complement_t& m) {
+  if (!timeOk(m.utime, channels::SONAR_COMPLEMENT)) return;
   node_.noteMessageTime(m.utime);
-  if (last_complement_utime_ && m.utime <= *last_complement_utime_) {
-    node_.reportError("rejected.complement_backwards", "SONAR_COMPLEMENT.utime = " + std::to_string(m.utime) +
-                                                           " is not newer than the previous group (" +
-                                                           std::to_string(*last_complement_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
 
-  std::vector<GroupReading> group = complementGroup(node_, m);
+  std::vector<complement::InputProblem> problems;
+  const auto readings = complement::complementFromMessage(m, problems);
+  reportProblems(node_, problems);
+  std::vector<GroupReading> group = toGroupReadings(readings, m.utime);
   if (!cfg_.verify_with_next_scan) {
     integrate(std::move(group), m.utime);
   } else {

@@ -33,8 +33,10 @@
 //
 // Time comes only from the messages, so a replay is deterministic. Bad input is reported
 // (node.reportError, naming the field) and never stops the stage: ODOMETRY and SONAR_COMPLEMENT
-// as the pilot checks them (stages/stage_inputs.hpp); a RADAR_MAP not newer than the previous
-// one is dropped; a Radar Map segment with a non-finite coordinate is skipped.
+// as every stage checks them (stages/inputs.hpp); a RADAR_MAP not newer than the previous one is
+// dropped; a Radar Map segment with a non-finite or absurd coordinate is skipped. An input whose
+// time jumps back by more than TimeReset::kJumpUs (a restarted simulator, a looping log) resets
+// the stage to its start state (counted: time_resets).
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -48,6 +50,7 @@
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
 #include "tactical/current_sensor_map.hpp"
@@ -82,6 +85,7 @@ class NavigatorStage {
   void onOdometry(const odometry_t& m);
   void onRadarMap(const line_map_t& m);
   void onComplement(const complement_t& m);
+  bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, int64_t utime);
   void flushPending();
   void advance(int64_t utime);
@@ -107,6 +111,7 @@ class NavigatorStage {
   std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
   int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed
+  TimeReset clock_;
 };
 
 }  // namespace lasonic

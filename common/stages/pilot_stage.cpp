@@ -11,7 +11,7 @@
 
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
-#include "stages/stage_inputs.hpp"
+#include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
 
 namespace lasonic {
@@ -24,8 +24,9 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
 
 PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
-                                   "sonar_stale_s", "agm_publish_hz", "sonar_cell_point", "copy_rule",
-                                   "copy_confirm_tolerance", "laser_explains_radius", "remembered", "remembered_stale_s"};
+                                   "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
+                                   "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
+                                   "remembered_stale_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -38,6 +39,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
+  p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::positive());
   p.placement = echoPlacementConfig(c, p.placement);
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
@@ -59,11 +61,7 @@ PilotConfig pilotConfig(const Config& c) {
 }
 
 PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
-    : node_(node),
-      cfg_(cfg),
-      agm_(cfg.agm),
-      sector_map_(cfg.sector_map),
-      placer_(cfg.placement) {
+    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map), placer_(cfg.placement) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -74,12 +72,8 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
 void PilotStage::onTacticalMap(const grid_map_t& m) {
   // Not a sensor: it does not advance the map's time (a navigator ahead of the pilot's clock is
   // simply fresh), and a bad one is dropped whole -- memory may only add what is sure.
-  if (last_tactical_utime_ && m.utime <= *last_tactical_utime_) {
-    node_.reportError("rejected.tactical_backwards", "AGM_TACTICAL.utime = " + std::to_string(m.utime) +
-                                                         " is not newer than the previous map (" +
-                                                         std::to_string(*last_tactical_utime_) + "): dropped");
-    return;
-  }
+  if (!timeOk(m.utime, channels::AGM_TACTICAL)) return;
+  if (!isNewer(node_, last_tactical_utime_, m.utime, channels::AGM_TACTICAL, "tactical")) return;
   const int64_t cells = int64_t{m.width} * int64_t{m.height};
   if (m.width <= 0 || m.height <= 0 || cells != static_cast<int64_t>(m.gp.size()) || !(m.cell_size > 0) ||
       !std::isfinite(m.cell_size) || !std::isfinite(m.origin_x) || !std::isfinite(m.origin_y)) {
@@ -101,21 +95,44 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
   node_.count("remembered.maps");
 }
 
+bool PilotStage::timeOk(int64_t utime, const char* channel) {
+  const ClockCheck c = checkClock(node_, clock_, utime, channel);
+  if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
+  poses_.clear();
+  speed_ = 0;
+  agm_ = AccumulativeGridMap(cfg_.agm);
+  sector_map_ = SectorMap(cfg_.sector_map);
+  placer_ = EchoPlacer(cfg_.placement);
+  last_tactical_utime_.reset();
+  last_scan_utime_.reset();
+  last_complement_utime_.reset();
+  last_agm_publish_.reset();
+  last_map_utime_.reset();
+  now_ = 0;
+  return true;
+}
+
 void PilotStage::onOdometry(const odometry_t& m) {
-  if (acceptOdometry(node_, poses_, m)) speed_ = m.v;
+  if (!timeOk(m.utime, channels::ODOMETRY)) return;
+  const auto odo = acceptOdometry(node_, poses_, m);
+  if (!odo) return;
+  speed_ = odo->v;
+  // No sensor made a map for too long: odometry does, so the ages (and stale flags) move on.
+  const auto interval_us = static_cast<int64_t>(cfg_.map_max_interval_s * 1e6);
+  if (last_map_utime_ && odo->utime - *last_map_utime_ >= interval_us) {
+    now_ = std::max(now_, odo->utime);
+    node_.count("sector_map.on_odometry");
+    publishSectorMap();
+  }
 }
 
 void PilotStage::onLaserScan(const laser_scan_t& m) {
+  if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
-  if (last_scan_utime_ && m.utime <= *last_scan_utime_) {
-    node_.reportError("rejected.laser_backwards", "LASER_SCAN.utime = " + std::to_string(m.utime) +
-                                                      " is not newer than the previous scan (" +
-                                                      std::to_string(*last_scan_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
   const auto scan = complement::laserScanFromMessage(m, problems);
-  for (const auto& p : problems) node_.reportError(p.counter, p.message);
+  reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
 
@@ -141,16 +158,15 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
 }
 
 void PilotStage::onComplement(const complement_t& m) {
+  if (!timeOk(m.utime, channels::SONAR_COMPLEMENT)) return;
   node_.noteMessageTime(m.utime);
-  if (last_complement_utime_ && m.utime <= *last_complement_utime_) {
-    node_.reportError("rejected.complement_backwards", "SONAR_COMPLEMENT.utime = " + std::to_string(m.utime) +
-                                                           " is not newer than the previous group (" +
-                                                           std::to_string(*last_complement_utime_) + "): dropped");
-    return;
-  }
+  if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
 
-  const std::vector<geom::Vec2> hits = placer_.place(complementGroup(node_, m), agm_);
+  std::vector<complement::InputProblem> problems;
+  const std::vector<complement::ComplementInput> readings = complement::complementFromMessage(m, problems);
+  reportProblems(node_, problems);
+  const std::vector<geom::Vec2> hits = placer_.place(toGroupReadings(readings, m.utime), agm_);
 
   if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
     node_.count("agm.recentred");
@@ -192,6 +208,7 @@ void PilotStage::publishSectorMap() {
   msg.remembered_stale = s.remembered_stale ? 1 : 0;
   msg.remembered_age_s = static_cast<float>(s.remembered_age_s);
   node_.publish(channels::SECTOR_MAP, msg);
+  last_map_utime_ = s.utime;
 }
 
 void PilotStage::publishAgm(int64_t utime) {

@@ -3,7 +3,8 @@
 //
 // In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group), and with
 //      `remembered` the navigator's AGM_TACTICAL.
-// Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan;
+// Out: SECTOR_MAP after every SONAR_COMPLEMENT message and every laser scan, and on ODOMETRY
+//      when no map was made for map_max_interval_s of message time (a sensor died);
 //      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
 //      passed since the last one (the first cycle always publishes).
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
@@ -29,6 +30,8 @@
 // SONAR_COMPLEMENT not newer than the previous one is dropped; bad laser readings are skipped
 // (the complement stage's validation); a complement reading with an unknown class, or a
 // complementary one with a non-finite range or end point or a negative range, is skipped.
+// An input whose time jumps back by more than TimeReset::kJumpUs (a restarted simulator or
+// driver, a looping log) resets the stage to its start state (counted: time_resets).
 #include <cstdint>
 #include <optional>
 
@@ -40,8 +43,9 @@
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
-#include "operational/agm.hpp"
+#include "lcmio/time_reset.hpp"
 #include "operational/echo_placer.hpp"
+#include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
@@ -52,6 +56,11 @@ struct PilotConfig {
   AgmParams agm;             // library defaults are the operational ones
   SectorMapParams sector_map;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
+  // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
+  // silent, or the sonar dead and the next scan not yet due), ODOMETRY does, so a dead sensor is
+  // flagged stale in time. Above the longest gap of a normal run (a firing group, 30 ms, plus an
+  // odometry tick, 20 ms): normal runs never trigger it.
+  double map_max_interval_s = 0.1;
   // The one cell a complementary reading increments (operational/echo_placer.hpp).
   EchoPlacementConfig placement;
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
@@ -70,6 +79,7 @@ class PilotStage {
   void onLaserScan(const laser_scan_t& m);
   void onComplement(const complement_t& m);
   void onTacticalMap(const grid_map_t& m);
+  bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void publishSectorMap();
   void publishAgm(int64_t utime);
 
@@ -80,8 +90,10 @@ class PilotStage {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
-  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_tactical_utime_;
+  std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,
+      last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
+  TimeReset clock_;
 };
 
 }  // namespace lasonic

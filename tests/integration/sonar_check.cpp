@@ -44,7 +44,7 @@ int checkLog(const std::string& file) {
   std::map<std::string, int64_t> count;
   std::map<int, int64_t> causes;
   std::map<int32_t, sonar_ring_t> rings;  // by seq, until its truth arrives
-  int64_t readings = 0, decode_errors = -1, rejected = 0;
+  int64_t readings = 0, decode_errors = -1, rejected = 0, time_resets = 0;
   int num_groups = -1, num_sensors = -1;
   try {
     LogReader log(file);
@@ -86,6 +86,7 @@ int checkLog(const std::string& file) {
           if (c.channel == "SIM_STATE") decode_errors = c.decode_errors;
         for (int i = 0; i < s->ncounters; ++i)
           if (s->counter_names[i] == "rejected.sim_state") rejected = s->counter_values[i];
+          else if (s->counter_names[i] == "time_resets") time_resets = s->counter_values[i];
       }
     }
   } catch (const LogError& e) {
@@ -100,6 +101,7 @@ int checkLog(const std::string& file) {
     std::printf("cause.%s %.4f\n", names[c], readings ? static_cast<double>(causes[c]) / static_cast<double>(readings) : 0.0);
   std::printf("driver.decode_errors.SIM_STATE %lld\n", static_cast<long long>(decode_errors));
   std::printf("driver.rejected.sim_state %lld\n", static_cast<long long>(rejected));
+  std::printf("driver.time_resets %lld\n", static_cast<long long>(time_resets));
   return 0;
 }
 

@@ -5,9 +5,11 @@
 
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
 
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
+#include <lasonic/process_status_t.hpp>
 
 using namespace lasonic;
 
@@ -86,4 +88,138 @@ TEST(EventLog, WriteThenReadBack) {
   EXPECT_FALSE(decodeAs<laser_scan_t>(events[0].data));
   std::remove(path.c_str());
   EXPECT_THROW(LogReader("/nonexistent/x.lcmlog"), LogError);
+}
+
+// ---- array caps before decoding (lcmio/lengths.hpp)
+
+namespace {
+// A message's bytes with its count field overwritten (big-endian int32 at the measured offset).
+template <typename T>
+std::vector<uint8_t> withClaimedCount(T msg, int32_t claimed) {
+  std::vector<uint8_t> b = encodeMsg(msg);
+  const auto off = static_cast<size_t>(wireShape<T>().count_offset);
+  const auto u = static_cast<uint32_t>(claimed);
+  for (int i = 0; i < 4; ++i) b[off + static_cast<size_t>(i)] = static_cast<uint8_t>(u >> (24 - 8 * i));
+  return b;
+}
+template <typename T>
+void expectCountAtMeasuredOffset() {
+  T m{};
+  WireArrays<T>::one(m);
+  const std::vector<uint8_t> b = encodeMsg(m);
+  const auto off = static_cast<size_t>(wireShape<T>().count_offset);
+  ASSERT_LT(off + 4, b.size() + 1);
+  const int32_t count = static_cast<int32_t>((uint32_t{b[off]} << 24) | (uint32_t{b[off + 1]} << 16) |
+                                             (uint32_t{b[off + 2]} << 8) | uint32_t{b[off + 3]});
+  EXPECT_EQ(count, 1) << T::getTypeName();
+  EXPECT_EQ(static_cast<int64_t>(b.size()), wireShape<T>().fixed + wireShape<T>().per_element) << T::getTypeName();
+  EXPECT_EQ(checkWireArrays<T>(b.data(), b.size()).result, WireCheck::Ok) << T::getTypeName();
+}
+}  // namespace
+
+TEST(WireArrays, CountSitsWhereMeasuredForEveryCheckedType) {
+  expectCountAtMeasuredOffset<laser_scan_t>();
+  expectCountAtMeasuredOffset<sonar_ring_t>();
+  expectCountAtMeasuredOffset<complement_t>();
+  expectCountAtMeasuredOffset<sim_state_t>();
+  expectCountAtMeasuredOffset<line_map_t>();
+  expectCountAtMeasuredOffset<grid_map_t>();
+}
+
+TEST(WireArrays, ClaimsBeyondTheBytesOrTheCapAreRefusedBeforeDecoding) {
+  laser_scan_t s{};
+  s.ranges = {1, 2};
+  s.flags = {0, 0};
+  s.offset_us = {0, 1};
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(encodeMsg(s).data(), encodeMsg(s).size()).result, WireCheck::Ok);
+  const auto huge = withClaimedCount(s, 2'000'000'000);
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(huge.data(), huge.size()).result, WireCheck::TooMany);
+  const auto three = withClaimedCount(s, 3);  // bytes for 2
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(three.data(), three.size()).result, WireCheck::Truncated);
+  const auto negative = withClaimedCount(s, -1);
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(negative.data(), negative.size()).result, WireCheck::Truncated);
+  odometry_t o{};
+  const auto other = encodeMsg(o);
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(other.data(), other.size()).result, WireCheck::NotThisType);
+  // Exactly at the cap with the bytes present: accepted.
+  laser_scan_t big{};
+  big.ranges.assign(static_cast<size_t>(limits::kLaserReadings), 1.f);
+  big.flags.assign(big.ranges.size(), 0);
+  big.offset_us.assign(big.ranges.size(), 0);
+  const auto at_cap = encodeMsg(big);
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(at_cap.data(), at_cap.size()).result, WireCheck::Ok);
+  big.ranges.push_back(1.f);
+  big.flags.push_back(0);
+  big.offset_us.push_back(0);
+  const auto over = encodeMsg(big);
+  EXPECT_EQ(checkWireArrays<laser_scan_t>(over.data(), over.size()).result, WireCheck::TooMany);
+}
+
+TEST(Node, HugeClaimedArraysAreCountedNotAllocated) {
+  Node node("test", "memq://", Node::Options{false, false});
+  int got = 0;
+  node.subscribe<laser_scan_t>("LASER_SCAN", [&](const laser_scan_t&) { ++got; });
+  laser_scan_t s{};
+  s.ranges = {1};
+  s.flags = {0};
+  s.offset_us = {0};
+  // Without the check, decode() would resize to 2^31-1 readings (~19 GB) before noticing.
+  const auto huge = withClaimedCount(s, 2'147'483'647);
+  const auto lying = withClaimedCount(s, 1000);
+  const auto negative = withClaimedCount(s, -5);
+  node.lcm().publish("LASER_SCAN", huge.data(), static_cast<unsigned>(huge.size()));
+  node.lcm().publish("LASER_SCAN", lying.data(), static_cast<unsigned>(lying.size()));
+  node.lcm().publish("LASER_SCAN", negative.data(), static_cast<unsigned>(negative.size()));
+  node.publish("LASER_SCAN", s);
+  while (node.spinOnce(0) > 0) {
+  }
+  EXPECT_EQ(got, 1);
+  EXPECT_EQ(node.counter("oversize.LASER_SCAN"), 1);
+  EXPECT_EQ(node.counter("decode_errors.LASER_SCAN"), 2);
+  EXPECT_EQ(node.errors(), 3);
+}
+
+TEST(Node, AnUnusableUrlThrowsLcmUrlError) {
+  EXPECT_THROW(Node("test", "bogus://nothing", Node::Options{false, false}), LcmUrlError);
+  EXPECT_THROW(Node("test", "udpm://999.1.1.1:7667", Node::Options{false, false}), LcmUrlError);
+}
+
+TEST(StatusBoard, SnapshotCarriesCountersErrorsAndChannels) {
+  StatusBoard b("p");
+  b.declareInput("IN");
+  b.received("IN");
+  b.received("IN");
+  b.decodeError("IN");
+  b.sent("OUT");
+  b.count("x", 3);
+  b.reportError("rejected.y", "Y is bad");
+  b.noteMessageTime(42);
+  b.noteMessageTime(7);  // older: the newest stays
+  const process_status_t st = b.snapshot();
+  EXPECT_EQ(st.process, "p");
+  EXPECT_EQ(st.errors, 1);
+  EXPECT_EQ(st.last_error, "Y is bad");
+  EXPECT_EQ(st.last_msg_utime, 42);
+  ASSERT_EQ(st.channels.size(), 2u);
+  EXPECT_EQ(st.channels[0].channel, "IN");
+  EXPECT_EQ(st.channels[0].messages, 2);
+  EXPECT_EQ(st.channels[0].decode_errors, 1);
+  EXPECT_EQ(int{st.channels[1].direction}, int{channel_stat_t::DIR_OUT});
+  ASSERT_EQ(st.counter_names.size(), 2u);
+  EXPECT_EQ(st.counter_names[0], "rejected.y");
+  EXPECT_EQ(st.counter_values[1], 3);
+}
+
+TEST(TimeReset, PerChannelJumpsOfMoreThanASecond) {
+  TimeReset c;
+  EXPECT_FALSE(c.jumpedBack("A", 5'000'000));
+  EXPECT_FALSE(c.jumpedBack("B", 1'000'000));  // another channel may lag behind
+  EXPECT_FALSE(c.jumpedBack("A", 4'500'000));  // late, not a restart
+  EXPECT_TRUE(c.jumpedBack("A", 3'000'000));   // 2 s back: restarted
+  // After a reset every channel starts afresh: B's old time does not count any more.
+  EXPECT_FALSE(c.jumpedBack("B", 100'000));
+  EXPECT_FALSE(c.jumpedBack("A", 3'020'000));
+  EXPECT_TRUE(plausibleUtime(0));
+  EXPECT_FALSE(plausibleUtime(-1));
+  EXPECT_FALSE(plausibleUtime(kMaxUtime + 1));
 }

@@ -170,7 +170,7 @@ TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
   EXPECT_EQ(node.errors(), 4);
 
   odometry_t back{};
-  back.utime = 500'000;  // older than the newest (2 s)
+  back.utime = 1'500'000;  // older than the newest (2 s), by less than a restarted clock (1 s)
   back.pose = {1.0, 2.0, 0.0};
   node.publish(channels::ODOMETRY, back);
   drain();
@@ -319,4 +319,46 @@ TEST(PilotStageBearing, AxisIsThePapersEndPointNeighboursUseTheBeamEdge) {
   EXPECT_EQ(occupiedCell(axis[1], first), cellOf(axis[1], 1.35 * std::cos(a), 1.35 * std::sin(a)));
   EXPECT_EQ(occupiedCell(nb[1], first), cellOf(nb[1], 0.35 * std::cos(a) + std::cos(e), 0.35 * std::sin(a) + std::sin(e)));
   EXPECT_NE(occupiedCell(nb[1], first), occupiedCell(axis[1], first));
+}
+
+TEST_F(PilotFixture, OdometryMakesMapsWhenNoSensorDoesSoADeadSonarIsFlagged) {
+  odometry();  // 0 .. 2 s: no sensor yet, so no map (nothing to age)
+  EXPECT_TRUE(maps.empty());
+  laserScan(100'000);
+  complement(330'000);
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_FALSE(maps.back().sonar_stale);
+  // The sonar falls silent; odometry goes on to 3 s: a map at least every 0.1 s of odometry.
+  for (int64_t t = 2'020'000; t <= 3'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, 0.0};
+    node.publish(channels::ODOMETRY, o);
+  }
+  drain();
+  ASSERT_GE(maps.size(), 10u);
+  EXPECT_EQ(node.counter("sector_map.on_odometry"), static_cast<int64_t>(maps.size()) - 2);
+  for (size_t i = 3; i < maps.size(); ++i) EXPECT_LE(maps[i].utime - maps[i - 1].utime, 100'000 + 20'000);
+  EXPECT_TRUE(maps.back().sonar_stale);
+  EXPECT_TRUE(maps.back().laser_stale);
+}
+
+TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
+  odometry();
+  complement(330'000);
+  complement(1'900'000);
+  EXPECT_EQ(node.counter("agm.cycles"), 2);
+  // The sources restarted: a complement 1.5 s older than the newest on its channel.
+  complement(400'000);
+  EXPECT_EQ(node.counter("time_resets"), 1);
+  EXPECT_EQ(node.counter("rejected.complement_backwards"), 0);
+  EXPECT_EQ(node.counter("agm.cycles"), 3);  // used, on a fresh grid
+  // A small step back is a late message, not a restart.
+  complement(300'000);
+  EXPECT_EQ(node.counter("rejected.complement_backwards"), 1);
+  // Absurd times are dropped and counted.
+  complement(-5);
+  complement(std::numeric_limits<int64_t>::max());
+  EXPECT_EQ(node.counter("rejected.time"), 2);
+  EXPECT_EQ(node.counter("time_resets"), 1);
 }

@@ -297,7 +297,7 @@ TEST(SonarModel, RangeNoiseHasTheConfiguredSpread) {
 
 TEST(SonarDriver, FiresGroupsInOrderEveryGroupPeriod) {
   const Scenario s = scenario(kRoom);
-  const SonarConfig c = sonarConfig(Config());
+  const SonarConfig c = sonarConfig(Config::fromString("group_jitter_s: 0"));
   SonarDriverCore core(s, c, s.seed);
   std::vector<SonarDriverCore::Output> all;
   const int64_t t0 = 1'000'000;
@@ -337,7 +337,7 @@ TEST(SonarDriver, FiresGroupsInOrderEveryGroupPeriod) {
 TEST(SonarDriver, FiresWithTheTruthInterpolatedToTheFiringTime) {
   const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [3,-2], to: [3,2]}\n");
   SonarConfig c = sonarConfig(Config::fromString("ring: {groups: 1}\nnoise_std: 0\nnoise_rel: 0\n"
-                                                 "crosstalk_prob: 0\nforeign_prob: 0\n"));
+                                                 "crosstalk_prob: 0\nforeign_prob: 0\ngroup_jitter_s: 0\n"));
   SonarDriverCore core(s, c, 1);
   core.onSimState(state(1'000'000, 0.0));
   const auto out = core.onSimState(state(1'100'000, 1.0));  // 10 m/s, to make the point
@@ -433,7 +433,7 @@ TEST(SonarDriver, ScenarioOverridesLayerOverTheFileConfig) {
 
 TEST(SonarDriver, RefusesBadSimStates) {
   const Scenario s = scenario(kRoom);
-  SonarDriverCore core(s, sonarConfig(Config()), 1);
+  SonarDriverCore core(s, sonarConfig(Config::fromString("group_jitter_s: 0")), 1);
   core.onSimState(state(2'000'000));
   EXPECT_THROW(core.onSimState(state(1'000'000)), std::invalid_argument);  // backwards
   EXPECT_THROW(core.onSimState(state(2'000'000)), std::invalid_argument);  // repeated

@@ -232,14 +232,40 @@ TEST(SonarPhysical, LateEchoesFromAFarWallRepeatAndVanishWithALongGroupPeriod) {
     return late;
   };
   std::map<int, int> per_sensor;
-  EXPECT_GT(run("", per_sensor), 10);
+  EXPECT_GT(run("group_jitter_s: 0\n", per_sensor), 10);
   int most = 0;
   for (const auto& [id, n] : per_sensor) most = std::max(most, n);
   EXPECT_GE(most, 9) << "the same sensor hears it every ring cycle (11 cycles in 2 s)";
   std::map<int, int> none;
-  EXPECT_EQ(run("group_period_s: 0.065\n", none), 0);
+  EXPECT_EQ(run("group_jitter_s: 0\ngroup_period_s: 0.065\n", none), 0);
   // The random crosstalk model has no late echoes either.
-  EXPECT_EQ(run("crosstalk: random\ncrosstalk_prob: 0\n", none), 0);
+  EXPECT_EQ(run("group_jitter_s: 0\ncrosstalk: random\ncrosstalk_prob: 0\n", none), 0);
+}
+
+TEST(SonarPhysical, VariedFiringDelaysSpreadTheLateEchoesOverRange) {
+  // The wall of the test above, with each group fired 0-8 ms late at random: the late echo of
+  // the earlier ping arrives at a different time after each firing, so it reads a different
+  // range every ring cycle (343 m/s * 8 ms / 2 = 1.4 m apart at most) instead of one.
+  const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [7, -20], to: [7, 20]}\n");
+  SonarDriverCore core(s, clean("group_jitter_s: 0.008\n"), 3);
+  std::vector<double> late;
+  int64_t last = 0, min_gap = 1'000'000, max_gap = 0;
+  for (int64_t t = 1'000'000; t <= 5'000'000; t += 20'000)
+    for (const auto& o : core.onSimState(state(t, 0, 0, deg2rad(7.5)))) {
+      if (last > 0) {
+        min_gap = std::min(min_gap, o.ring.utime - last);
+        max_gap = std::max(max_gap, o.ring.utime - last);
+      }
+      last = o.ring.utime;
+      for (size_t i = 0; i < o.truth.causes.size(); ++i)
+        if (o.truth.causes[i].cause == kLateEcho) late.push_back(o.ring.range[i]);
+    }
+  EXPECT_GE(min_gap, 30'000);
+  EXPECT_LE(max_gap, 38'000);
+  EXPECT_GT(max_gap, 34'000);  // the delays really vary
+  ASSERT_GT(late.size(), 5u);
+  const auto [lo, hi] = std::minmax_element(late.begin(), late.end());
+  EXPECT_GT(*hi - *lo, 0.5) << "late echoes still at one range";
 }
 
 TEST(SonarPhysical, ArrivalsOfAnotherPingFollowTheMirrorPath) {

@@ -1,0 +1,56 @@
+#include "lcmio/process.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+#include "core/logging.hpp"
+
+namespace lasonic {
+
+ProcessMain::ProcessMain(std::string name, const std::string& description)
+    : name_(std::move(name)), app_(description) {
+  app_.add_option("--config", config_file_, "lasonic YAML configuration (deploy/config/lasonic.yaml)");
+  app_.add_option("--lcm-url", lcm_url_, "LCM URL")->capture_default_str();
+}
+
+int ProcessMain::run(int argc, char** argv, const std::function<void(const Config& root)>& configure,
+                     const std::function<int(Node& node)>& body, Node::Options node_options) {
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app_.exit(e);  // prints the reason
+    return exit_code::kBadConfig;
+  }
+  setupLogging(name_);
+  // Start-up errors go to stderr as one plain line (the launcher's log shows it as it is).
+  try {
+    const Config root = config_file_.empty() ? Config{} : Config::loadFile(config_file_);
+    configure(root);
+  } catch (const ConfigError& e) {
+    std::cerr << name_ << ": " << e.what() << "\n";
+    return exit_code::kBadConfig;
+  } catch (const std::exception& e) {
+    std::cerr << name_ << ": start-up failed: " << e.what() << "\n";
+    return exit_code::kFailure;
+  }
+  try {
+    Node node(name_, lcm_url_, node_options);
+    return body(node);
+  } catch (const LcmUrlError& e) {
+    std::cerr << name_ << ": " << e.what() << "\n";
+    return exit_code::kFailure;
+  } catch (const ConfigError& e) {
+    std::cerr << name_ << ": " << e.what() << "\n";
+    return exit_code::kBadConfig;
+  } catch (const std::exception& e) {
+    spdlog::critical("{}: {}", name_, e.what());
+    return exit_code::kFailure;
+  }
+}
+
+}  // namespace lasonic

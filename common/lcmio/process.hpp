@@ -1,0 +1,61 @@
+#pragma once
+// ProcessMain: the one way a live lasonic process starts and ends (every main in procs/ that
+// talks LCM goes through it):
+//   - command line (CLI11): --config FILE, --lcm-url URL, --help, plus the process's own options;
+//   - logging (spdlog, named after the process; LASONIC_LOG_LEVEL);
+//   - configuration: the --config file loaded, then the process's configure step; a ConfigError
+//     (a message naming file and key) exits 2;
+//   - the Node on --lcm-url: an unusable URL exits 1 with a clear message (LCM 1.3.1 reports a
+//     bad URL by !good(), never by aborting);
+//   - SIGINT / SIGTERM: the Node's loop ends, a last PROCESS_STATUS goes out, exit 0;
+//   - anything else thrown: logged, exit 1.
+// Exit codes: 0 done or stopped by a signal; 1 LCM unusable or an unexpected failure; 2 bad
+// command line, configuration or scenario.
+//
+//   int main(int argc, char** argv) {
+//     ProcessMain pm("lasonic-pilot", "lasonic-pilot: operational AGM and Sector Map");
+//     PilotConfig cfg;
+//     return pm.run(argc, argv,
+//                   [&](const Config& root) { cfg = pilotConfig(root.section("pilot")); },
+//                   [&](Node& node) { PilotStage stage(node, cfg); return node.run(); });
+//   }
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+#include "core/config.hpp"
+#include "lcmio/node.hpp"
+
+namespace lasonic {
+
+namespace exit_code {
+inline constexpr int kOk = 0;
+inline constexpr int kFailure = 1;  // LCM unusable, or an unexpected failure
+inline constexpr int kBadConfig = 2;  // bad command line, configuration or scenario
+}  // namespace exit_code
+
+class ProcessMain {
+ public:
+  ProcessMain(std::string name, const std::string& description);
+
+  // Add the process's own options here before run().
+  CLI::App& app() { return app_; }
+  const std::string& name() const { return name_; }
+  const std::string& configFile() const { return config_file_; }
+  const std::string& lcmUrl() const { return lcm_url_; }
+
+  // configure: reads what the process needs from the --config root (an empty map without
+  // --config); throw ConfigError for bad values. body: runs the process on its Node and returns
+  // its exit code (usually node.run()).
+  int run(int argc, char** argv, const std::function<void(const Config& root)>& configure,
+          const std::function<int(Node& node)>& body, Node::Options node_options = {});
+
+ private:
+  std::string name_;
+  CLI::App app_;
+  std::string config_file_;
+  std::string lcm_url_ = kDefaultLcmUrl;
+};
+
+}  // namespace lasonic

@@ -1,0 +1,72 @@
+#include "stages/inputs.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <limits>
+#include <string>
+
+namespace lasonic {
+
+void reportProblems(Node& node, const std::vector<complement::InputProblem>& problems) {
+  for (const auto& p : problems) node.reportError(p.counter, p.message);
+}
+
+std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory& poses, const odometry_t& m) {
+  node.noteMessageTime(m.utime);
+  std::vector<complement::InputProblem> problems;
+  const auto odo = complement::odometryFromMessage(m, problems);
+  reportProblems(node, problems);
+  if (!odo) return std::nullopt;
+  switch (poses.add(odo->utime, odo->pose)) {
+    case PoseHistory::AddResult::Ok: return odo;
+    case PoseHistory::AddResult::Duplicate: node.count("odometry_duplicates"); break;
+    case PoseHistory::AddResult::WentBackwards:
+      node.reportError("rejected.odometry_backwards", "ODOMETRY.utime = " + std::to_string(m.utime) +
+                                                          " is older than the newest (" +
+                                                          std::to_string(poses.newestTime()) + "): dropped");
+      break;
+  }
+  return std::nullopt;
+}
+
+bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what) {
+  if (last && utime <= *last) {
+    node.reportError(std::string("rejected.") + what + "_backwards",
+                     std::string(channel) + ".utime = " + std::to_string(utime) +
+                         " is not newer than the previous one (" + std::to_string(*last) + "): dropped");
+    return false;
+  }
+  return true;
+}
+
+ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel) {
+  if (!plausibleUtime(utime)) {
+    node.reportError("rejected.time", std::string(channel) + ".utime = " + std::to_string(utime) +
+                                          " us is not a time (outside [0, " + std::to_string(kMaxUtime) + "]): dropped");
+    return ClockCheck::Bad;
+  }
+  if (!clock.jumpedBack(channel, utime)) return ClockCheck::Ok;
+  node.count("time_resets");
+  spdlog::warn("{}.utime = {} jumps back by more than {} s: the clock restarted; starting afresh [time_resets: {}]",
+               channel, utime, TimeReset::kJumpUs / 1e6, node.counter("time_resets"));
+  return ClockCheck::Restarted;
+}
+
+std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::vector<GroupReading> group;
+  group.reserve(readings.size());
+  for (const complement::ComplementInput& r : readings) {
+    GroupReading g;
+    g.sensor_id = r.sensor_id;
+    g.echo = r.cls == complement::SonarClass::Complementary && r.usable;
+    if (g.echo) {
+      g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN})};
+      g.axis_end = r.end;
+    }
+    group.push_back(g);
+  }
+  return group;
+}
+
+}  // namespace lasonic

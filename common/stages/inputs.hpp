@@ -1,0 +1,42 @@
+#pragma once
+// What every stage does with its inputs before its own work, in one place: report the problems
+// the message checks found (complement/messages.hpp), add ODOMETRY to the pose history, and drop
+// messages that go back in time. Counter names:
+//   rejected.odometry_nan, rejected.odometry_backwards, odometry_duplicates (not an error),
+//   rejected.<what>_backwards for LASER_SCAN (laser), SONAR_COMPLEMENT (complement), ...
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <lasonic/odometry_t.hpp>
+
+#include "complement/messages.hpp"
+#include "core/pose_history.hpp"
+#include "lcmio/node.hpp"
+#include "lcmio/time_reset.hpp"
+#include "operational/echo_placer.hpp"
+
+namespace lasonic {
+
+void reportProblems(Node& node, const std::vector<complement::InputProblem>& problems);
+
+// Checks ODOMETRY and adds it to `poses`; returns it when it was added (not a duplicate, not
+// older than the newest, all finite).
+std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory& poses, const odometry_t& m);
+
+// True when utime is newer than `last` (or there is none); else reports
+// rejected.<what>_backwards naming the channel and both times. The caller moves `last` on once
+// the message was used.
+bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what);
+
+// Every input's time first: Bad = outside [0, kMaxUtime] (reported as rejected.time; drop the
+// message); Restarted = the sources' clock restarted (TimeReset; counted under time_resets and
+// logged: start afresh, then use the message); Ok.
+enum class ClockCheck { Ok, Restarted, Bad };
+ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel);
+
+// SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading
+// is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
+std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime);
+
+}  // namespace lasonic

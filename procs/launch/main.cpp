@@ -1,0 +1,86 @@
+// lasonic-launch PROFILE: starts the processes of one host from a host profile
+// (deploy/hosts/*.yaml), restarts any that dies (with back-off), writes each one's output to
+// <log dir>/<name>.txt, and stops them all on SIGINT / SIGTERM. The launcher for development,
+// demos, tests and machines without systemd; on a robot, deploy/systemd/ holds the units.
+// See common/launch/ and the README, "Deploying on two computers".
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "core/config.hpp"
+#include "launch/profile.hpp"
+#include "launch/supervisor.hpp"
+
+using namespace lasonic;
+
+namespace {
+std::string selfDir() {
+  std::error_code ec;
+  const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : p.parent_path().string();
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"lasonic-launch: run the processes of one host from a host profile (deploy/hosts/*.yaml)"};
+  std::string profile_file, log_dir = "logs", lcm_url;
+  std::vector<std::string> sets;
+  std::string bin = selfDir();
+  bool check = false;
+  double max_time = 0;
+  app.add_option("profile", profile_file, "host profile (YAML)")->required();
+  app.add_option("--set", sets, "VAR=VALUE: define ${VAR} for the profile (repeatable)");
+  app.add_option("--log-dir", log_dir, "directory for each process's output (<name>.txt)")->capture_default_str();
+  app.add_option("--lcm-url", lcm_url, "override the profile's lcm_url");
+  app.add_option("--bin", bin, "where executables named without a path are looked for first (then $PATH)")
+      ->capture_default_str();
+  app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--check", check, "check the profile and the executables, print the commands, start nothing");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+
+  std::map<std::string, std::string> overrides;
+  for (const std::string& s : sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      std::cerr << "lasonic-launch: --set " << s << ": expected VAR=VALUE\n";
+      return 2;
+    }
+    overrides[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  if (!lcm_url.empty()) overrides["lcm_url"] = lcm_url;
+  const std::map<std::string, std::string> builtins = {{"bin", bin}, {"log_dir", log_dir}};
+
+  launch::HostProfile profile;
+  try {
+    profile = launch::loadProfile(Config::loadFile(profile_file), overrides, builtins);
+  } catch (const ConfigError& e) {
+    std::cerr << "lasonic-launch: " << e.what() << "\n";
+    return 2;
+  }
+  launch::Supervisor sup(profile, log_dir, {bin});
+  const bool ready = sup.prepare(!check);
+  if (check) {
+    std::cout << "host " << profile.host << ", LCM " << profile.lcm_url << "\n";
+    for (const auto& p : profile.processes) {
+      std::cout << (p.enabled ? "  " : "  (disabled) ") << p.name << ":";
+      for (const auto& a : p.command) std::cout << " " << a;
+      std::cout << "\n";
+    }
+    return ready ? 0 : 2;
+  }
+  if (!ready) return 2;
+  return sup.run(max_time);
+}

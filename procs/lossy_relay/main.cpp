@@ -1,0 +1,130 @@
+// lasonic-lossy-relay: message loss on purpose, for testing (this project's kernels have no
+// netem). Live: subscribes every channel on --from URL and republishes each message on --to URL,
+// dropping a share --loss of the messages of the lossy channels. Offline (--in-log/--out-log):
+// the same on a log file. Which messages are dropped is a pure function of (--seed, channel,
+// index of the message on its channel): the same stream and seed drop the same messages, live or
+// offline, whatever the timing.
+//
+//   lasonic-lossy-relay --from URL1 --to URL2 --loss 0.2 --seed 1
+//   lasonic-lossy-relay --in-log raw.lcmlog --out-log lossy.lcmlog --loss 0.2 --seed 1
+//
+// By default the robot's own channels lose messages and the simulator's truth (SIM_STATE,
+// SONAR_TRUTH, LASER_TRUTH: evaluation only, not part of a robot's network) passes untouched;
+// --lossy REGEX chooses otherwise.
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <regex>
+#include <string>
+
+#include "lcmio/eventlog.hpp"
+#include "lcmio/signals.hpp"
+
+namespace {
+
+// splitmix64: a good 64-bit mix, so neighbouring indices give independent draws.
+uint64_t mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+uint64_t hashString(const std::string& s) {
+  uint64_t h = 1469598103934665603ULL;  // FNV-1a
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+struct Dropper {
+  double loss = 0;
+  uint64_t seed = 1;
+  std::regex lossy;
+  std::map<std::string, int64_t> index, passed, dropped;
+  // True: drop this message.
+  bool drop(const std::string& channel) {
+    const int64_t i = index[channel]++;
+    bool d = false;
+    if (loss > 0 && std::regex_match(channel, lossy)) {
+      const uint64_t r = mix(mix(seed ^ hashString(channel)) + static_cast<uint64_t>(i));
+      d = static_cast<double>(r >> 11) * 0x1.0p-53 < loss;
+    }
+    ++(d ? dropped : passed)[channel];
+    return d;
+  }
+  void report() const {
+    for (const auto& [ch, n] : index) {
+      const auto get = [&](const std::map<std::string, int64_t>& m) {
+        const auto it = m.find(ch);
+        return it == m.end() ? int64_t{0} : it->second;
+      };
+      std::printf("%s %lld passed %lld dropped\n", ch.c_str(), static_cast<long long>(get(passed)),
+                  static_cast<long long>(get(dropped)));
+    }
+  }
+};
+
+struct Relay {
+  lcm::LCM* to = nullptr;
+  Dropper* dropper = nullptr;
+  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    if (channel == "LCM_SELF_TEST" || dropper->drop(channel)) return;
+    to->publish(channel, rbuf->data, rbuf->data_size);
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"lasonic-lossy-relay: relay LCM messages (live or log to log), dropping a seeded share of them"};
+  std::string from, to, in_log, out_log, lossy = "^(?!SIM_STATE$|SONAR_TRUTH$|LASER_TRUTH$).*";
+  Dropper d;
+  app.add_option("--from", from, "LCM URL to listen on (live)");
+  app.add_option("--to", to, "LCM URL to publish on (live); must differ from --from");
+  app.add_option("--in-log", in_log, "input log (offline)");
+  app.add_option("--out-log", out_log, "output log (offline)");
+  app.add_option("--loss", d.loss, "share of the lossy channels' messages to drop")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--seed", d.seed, "seed of the drops")->capture_default_str();
+  app.add_option("--lossy", lossy, "regex of the channels that lose messages (default: all but the truth)")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    d.lossy = std::regex(lossy, std::regex::ECMAScript);
+  } catch (const std::regex_error& e) {
+    std::fprintf(stderr, "lasonic-lossy-relay: --lossy %s: %s\n", lossy.c_str(), e.what());
+    return 2;
+  }
+  const bool live = !from.empty() || !to.empty();
+  const bool offline = !in_log.empty() || !out_log.empty();
+  if (live == offline || (live && (from.empty() || to.empty() || from == to)) ||
+      (offline && (in_log.empty() || out_log.empty()))) {
+    std::fprintf(stderr, "lasonic-lossy-relay: give either --from URL1 --to URL2 (different) or --in-log and --out-log\n");
+    return 2;
+  }
+  if (offline) {
+    try {
+      lasonic::LogReader in(in_log);
+      lasonic::LogWriter out(out_log);
+      while (auto ev = in.next())
+        if (!d.drop(ev->channel)) out.writeRaw(ev->channel, ev->timestamp, ev->data);
+    } catch (const lasonic::LogError& e) {
+      std::fprintf(stderr, "lasonic-lossy-relay: %s\n", e.what());
+      return 1;
+    }
+    d.report();
+    return 0;
+  }
+  lcm::LCM src(from), dst(to);
+  if (!src.good() || !dst.good()) {
+    std::fprintf(stderr, "lasonic-lossy-relay: cannot open LCM (%s)\n", !src.good() ? from.c_str() : to.c_str());
+    return 1;
+  }
+  Relay relay{&dst, &d};
+  src.subscribe(".*", &Relay::onMessage, &relay);
+  lasonic::shutdown::installHandlers();
+  while (!lasonic::shutdown::requested()) src.handleTimeout(100);
+  d.report();
+  return 0;
+}

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# launch.sh: lasonic-launch's process handling, with plain shell processes (no LCM, no network).
+# Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
+#  1. a profile naming a missing executable: exit 2, the message names it; optional: started anyway;
+#  2. a process that always fails is restarted with a doubling back-off (0.2, 0.4, 0.8 s);
+#     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
+#     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
+#     no process left over; one that ignores SIGINT is killed after stop_timeout_s;
+#  3. SIGTERM to the launcher stops every process and exits 0.
+set -euo pipefail
+source "$(dirname "$0")/lib.sh"
+launch=$bin/lasonic-launch
+die_globs+=('launch*.txt' 'logs*/*.txt')
+
+# 1. Missing executables.
+cat >"$tmp/missing.yaml" <<'YAML'
+lcm_url: memq://
+processes:
+  - {name: real, command: [sleep, "0.2"], restart: never}
+  - {name: ghost, command: [lasonic-no-such-program]}
+YAML
+rc=0
+"$launch" "$tmp/missing.yaml" --log-dir "$tmp/logs1" 2>"$tmp/launch1.txt" || rc=$?
+((rc == 2)) || die "a missing executable: exit $rc, expected 2"
+grep -q "ghost: executable 'lasonic-no-such-program' not found" "$tmp/launch1.txt" || die "the missing executable is not named"
+sed -i 's/command: \[lasonic-no-such-program\]}/command: [lasonic-no-such-program], optional: true}/' "$tmp/missing.yaml"
+"$launch" "$tmp/missing.yaml" --log-dir "$tmp/logs1" 2>"$tmp/launch1b.txt" || die "optional missing: exit $?"
+grep -q "optional, not started" "$tmp/launch1b.txt" || die "the optional missing executable is not reported"
+echo "$test_name: (1) ok"
+
+# 2. Restarts, back-off, kill -9, finish, stop order, SIGINT ignored.
+cat >"$tmp/host.yaml" <<'YAML'
+host: test
+lcm_url: memq://
+restart: {initial_delay_s: 0.2, max_delay_s: 0.8, reset_after_s: 30}
+stop_timeout_s: 1
+finish_grace_s: 0.2
+processes:
+  - {name: first, command: [sh, -c, 'trap "echo first got INT; exit 0" INT; while :; do sleep 0.05; done']}
+  - {name: crasher, command: [sh, -c, 'echo crashing; exit 3'], restart: on-failure}
+  - {name: stubborn, command: [sh, -c, 'trap "" INT; while :; do sleep 0.05; done']}
+  - {name: victim, command: [sleep, "60"]}
+  - {name: done, command: [sleep, "4"], restart: never, finish: true}
+YAML
+"$launch" "$tmp/host.yaml" --log-dir "$tmp/logs2" --max-time 30 2>"$tmp/launch2.txt" &
+lpid=$!
+pids+=("$lpid")
+for _ in $(seq 50); do grep -q "victim started" "$tmp/launch2.txt" && break; sleep 0.1; done
+victim=$(sed -n 's/.*victim started (pid \([0-9]*\)).*/\1/p' "$tmp/launch2.txt" | head -1)
+[[ -n $victim ]] || die "victim was not started"
+sleep 0.5
+kill -9 "$victim"
+t_kill=$(date +%s.%N)
+for _ in $(seq 50); do grep -q "victim started.*restart 1" "$tmp/launch2.txt" && break; sleep 0.05; done
+t_back=$(date +%s.%N)
+grep -q "victim started.*restart 1" "$tmp/launch2.txt" || die "victim was not restarted after kill -9"
+awk -v a="$t_kill" -v b="$t_back" 'BEGIN { printf "victim restarted %.2f s after kill -9\n", b - a }'
+rc=0
+wait "$lpid" || rc=$?
+cat "$tmp/launch2.txt"
+((rc == 0)) || die "the run ended by its finish process: exit $rc, expected 0"
+grep -q "victim killed by signal 9" "$tmp/launch2.txt" || die "the kill -9 is not reported"
+grep -q "victim.*restarting in 0.2 s" "$tmp/launch2.txt" || die "no 0.2 s restart delay after the first crash"
+# The crasher: 0.2, 0.4, 0.8, 0.8 ... s
+delays=$(sed -n 's/.*crasher exited with status 3 after .* restarting in \([0-9.]*\) s/\1/p' "$tmp/launch2.txt" | head -4 | tr '\n' ' ')
+[[ $delays == "0.2 0.4 0.8 0.8 " ]] || die "crasher's back-off: '$delays', expected '0.2 0.4 0.8 0.8 '"
+[[ $(grep -c '^\[lasonic-launch.*start' "$tmp/logs2/victim.txt") -eq 2 ]] || die "victim.txt does not show two starts"
+grep -q crashing "$tmp/logs2/crasher.txt" || die "crasher's output is not in its log"
+grep -q "first got INT" "$tmp/logs2/first.txt" || die "first was not stopped with SIGINT"
+grep -q "stubborn (pid [0-9]*) ignored SIGINT for 1.0 s: killing it" "$tmp/launch2.txt" || die "stubborn was not killed"
+# Reverse order: victim, stubborn, crasher, first.
+order=$(sed -n 's/.*\] \([a-z]*\) stopped$/\1/p; s/.*\] \([a-z]*\) killed by signal 9 (Killed) on stopping/\1/p' "$tmp/launch2.txt" | tr '\n' ' ')
+[[ $order == "victim stubborn first " ]] || die "stop order '$order', expected 'victim stubborn first ' (crasher between restarts)"
+if pgrep -f 'while :; do sleep 0.05' >/dev/null 2>&1; then
+  pgrep -af 'while :; do sleep 0.05' >&2
+  die "processes left over after the run"
+fi
+echo "$test_name: (2) ok"
+
+# 3. SIGTERM to the launcher.
+cat >"$tmp/term.yaml" <<'YAML'
+lcm_url: memq://
+processes:
+  - {name: a, command: [sleep, "60"]}
+  - {name: b, command: [sleep, "61"]}
+YAML
+"$launch" "$tmp/term.yaml" --log-dir "$tmp/logs3" 2>"$tmp/launch3.txt" &
+lpid=$!
+for _ in $(seq 50); do grep -q "b started" "$tmp/launch3.txt" && break; sleep 0.1; done
+a=$(sed -n 's/.*\] a started (pid \([0-9]*\)).*/\1/p' "$tmp/launch3.txt")
+kill -TERM "$lpid"
+rc=0
+wait "$lpid" || rc=$?
+((rc == 0)) || die "SIGTERM: exit $rc, expected 0"
+! kill -0 "$a" 2>/dev/null || die "a (pid $a) still runs after the launcher stopped"
+grep -q "signal received: stopping every process" "$tmp/launch3.txt" || die "no stop message"
+echo "$test_name: (3) ok"
+echo "$test_name: PASS"

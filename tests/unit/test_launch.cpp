@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "launch/profile.hpp"
+#include "launch/supervisor.hpp"
+
+using namespace lasonic;
+using namespace lasonic::launch;
+
+namespace {
+HostProfile load(const std::string& yaml, std::map<std::string, std::string> set = {}) {
+  return loadProfile(Config::fromString(yaml, "host.yaml"), set, {{"bin", "/opt/bin"}});
+}
+std::string errorOf(const std::string& yaml) {
+  try {
+    load(yaml);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(HostProfile, ParsesAndExpandsVariables) {
+  const auto p = load(R"(
+host: pilot
+lcm_url: "udpm://239.255.76.67:7667?ttl=1"
+vars: {config: c.yaml}
+processes:
+  - name: a
+    command: ["${bin}/a", --config, "${config}", --lcm-url, "${lcm_url}", "$$HOME"]
+    restart: on-failure
+    start_delay_s: 1.5
+  - name: b
+    command: [b, "${scenario}"]
+    optional: true
+    finish: true
+)",
+                      {{"scenario", "s.yaml"}});
+  EXPECT_EQ(p.host, "pilot");
+  ASSERT_EQ(p.processes.size(), 2u);
+  EXPECT_EQ(p.processes[0].command,
+            (std::vector<std::string>{"/opt/bin/a", "--config", "c.yaml", "--lcm-url", "udpm://239.255.76.67:7667?ttl=1",
+                                      "$HOME"}));
+  EXPECT_EQ(p.processes[0].restart, RestartPolicy::OnFailure);
+  EXPECT_DOUBLE_EQ(p.processes[0].start_delay_s, 1.5);
+  EXPECT_EQ(p.processes[1].command[1], "s.yaml");
+  EXPECT_TRUE(p.processes[1].optional);
+  EXPECT_TRUE(p.processes[1].finish);
+  EXPECT_EQ(p.processes[1].restart, RestartPolicy::Always);
+}
+
+TEST(HostProfile, SetOverridesVarsAndTheUrl) {
+  const auto p = load("lcm_url: u1\nvars: {x: 1}\nprocesses: [{name: a, command: [a, '${x}', '${lcm_url}']}]\n",
+                      {{"x", "2"}, {"lcm_url", "u2"}});
+  EXPECT_EQ(p.processes[0].command[1], "2");
+  EXPECT_EQ(p.processes[0].command[2], "u2");
+  EXPECT_EQ(p.lcm_url, "u2");
+}
+
+TEST(HostProfile, EnvironmentFillsUnknownVariables) {
+  ::setenv("LASONIC_TEST_LAUNCH_VAR", "from-env", 1);
+  const auto p = load("lcm_url: u\nprocesses: [{name: a, command: [a, '${LASONIC_TEST_LAUNCH_VAR}']}]\n");
+  EXPECT_EQ(p.processes[0].command[1], "from-env");
+}
+
+TEST(HostProfile, EnabledTakesAVariable) {
+  const std::string yaml = "lcm_url: u\nprocesses: [{name: a, command: [a], enabled: '${spy}'}]\n";
+  EXPECT_FALSE(load(yaml, {{"spy", "0"}}).processes[0].enabled);
+  EXPECT_TRUE(load(yaml, {{"spy", "1"}}).processes[0].enabled);
+}
+
+TEST(HostProfile, ErrorsNameTheKey) {
+  EXPECT_NE(errorOf("processes: [{name: a, command: [a]}]").find("lcm_url: is required"), std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a, '${nope_not_set}']}]")
+                .find("processes[0].command[1]: unknown variable ${nope_not_set}"),
+            std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: a, command: []}]").find("processes[0].command"), std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a]}, {name: a, command: [b]}]")
+                .find("processes[1].name: \"a\" is used twice"),
+            std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a], restart: sometimes}]")
+                .find("processes[0].restart: must be one of always, on-failure, never"),
+            std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a], colour: red}]").find("colour"), std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: [{name: ../x, command: [a]}]").find("plain file name"), std::string::npos);
+  EXPECT_NE(errorOf("lcm_url: u\nprocesses: []").find("at least one process"), std::string::npos);
+}
+
+TEST(Backoff, DoublesUpToTheCap) {
+  const BackoffParams p{0.5, 10, 30};
+  EXPECT_DOUBLE_EQ(restartDelay(p, 1), 0.5);
+  EXPECT_DOUBLE_EQ(restartDelay(p, 2), 1.0);
+  EXPECT_DOUBLE_EQ(restartDelay(p, 3), 2.0);
+  EXPECT_DOUBLE_EQ(restartDelay(p, 6), 10.0);
+  EXPECT_DOUBLE_EQ(restartDelay(p, 1000), 10.0);
+}
+
+TEST(ResolveExecutable, SearchesDirsThenPath) {
+  EXPECT_FALSE(resolveExecutable("sh", {"/nonexistent"}).empty());  // from $PATH
+  EXPECT_EQ(resolveExecutable("/bin/sh", {}), "/bin/sh");
+  EXPECT_EQ(resolveExecutable("no-such-program-lasonic", {"/usr/bin"}), "");
+  EXPECT_EQ(resolveExecutable("/etc/passwd", {}), "");  // not executable
+}
