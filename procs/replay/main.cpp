@@ -13,6 +13,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "core/config.hpp"
 #include "core/logging.hpp"
@@ -83,16 +84,17 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
-  std::string in_path, out_path, config_file;
+  std::string in_path, out_path;
+  std::vector<std::string> config_files;
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
-  app.add_option("--config", config_file, "YAML configuration (sections complement, pilot, navigator)")
+  app.add_option("--config", config_files,
+                 "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides")
       ->check(CLI::ExistingFile);
   CLI11_PARSE(app, argc, argv);
   lasonic::setupLogging("lasonic-replay");
   try {
-    const lasonic::Config root =
-        config_file.empty() ? lasonic::Config{} : lasonic::Config::loadFile(config_file);
+    const lasonic::Config root = lasonic::Config::loadFiles(config_files);
     return replay(in_path, out_path, root);
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-replay: " << e.what() << "\n";
