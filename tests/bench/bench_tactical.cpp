@@ -102,7 +102,7 @@ robot: {radius: 0.35, path: [[1.0, 1.2], [7.0, 1.2], [7.0, 3.8], [1.0, 3.8]], sp
       sim_state_t st = world.stateAt(t);
       odometry_t od = world.odometry();
       publish(channels::ODOMETRY, od);
-      for (laser_scan_t& s : laser.onSimState(st)) publish(channels::LASER_SCAN, s);
+      for (auto& o : laser.onSimState(st)) publish(channels::LASER_SCAN, o.scan);
       for (auto& o : sonar.onSimState(st)) publish(channels::SONAR_RING, o.ring);
     }
     return r;

@@ -81,7 +81,7 @@ PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = tr
     run.truth.push_back(st);
     odometry_t od = world.odometry();
     publish(channels::ODOMETRY, od);
-    for (laser_scan_t& s : laser.onSimState(st)) publish(channels::LASER_SCAN, s);
+    for (auto& o : laser.onSimState(st)) publish(channels::LASER_SCAN, o.scan);
     for (auto& o : sonar.onSimState(st)) publish(channels::SONAR_RING, o.ring);
   }
   run.navigator_errors = nav_node.errors();
