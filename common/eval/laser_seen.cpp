@@ -118,12 +118,19 @@ bool LaserSeen::saw(int scan, int obstacle, const geom::Vec2& p, double radius, 
 }
 
 std::optional<double> LaserSeen::nearestInSector(int scan, const geom::Sector& sec) const {
-  if (scan < 0 || static_cast<size_t>(scan) >= scans_.size()) return std::nullopt;
+  if (scan < 0 || static_cast<size_t>(scan) >= scans_.size() || !(sec.radius >= 0)) return std::nullopt;
+  // Inside: within the radius, and within half the opening of the axis (dot products: this runs
+  // for every point of a scan, for every echo).
+  const geom::Vec2 axis = geom::unitVector(sec.heading);
+  const double cos_half = std::cos(0.5 * sec.opening), r2 = sec.radius * sec.radius;
   std::optional<double> best;
   for (const Point& pt : scans_[static_cast<size_t>(scan)].points) {
-    if (!sec.contains(pt.world)) continue;
-    const double d = (pt.world - sec.apex).norm();
-    if (!best || d < *best) best = d;
+    const geom::Vec2 d = pt.world - sec.apex;
+    const double d2 = d.squaredNorm();
+    if (d2 > r2 || (best && d2 >= *best * *best)) continue;
+    const double r = std::sqrt(d2);
+    if (r > 0 && d.dot(axis) < r * cos_half - 1e-12) continue;
+    best = r;
   }
   return best;
 }
