@@ -40,6 +40,11 @@ int main(int argc, char** argv) {
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     const auto metrics = lasonic::eval::evaluate(log, scenario, {}, &baselines);
+    // Never silently: without the laser's truth "laser-invisible" falls back to the material.
+    if (metrics.has("sensors.laser_truth") && metrics.number("sensors.laser_truth") == 0 &&
+        (!log.sonar_truths.empty() || !log.agm_tactical.empty() || !log.agm_operational.empty()))
+      std::cerr << "lasonic-eval: warning: " << log_path << " holds no LASER_TRUTH (or no SIM_STATE): "
+                << "laser-invisible is decided by material, not by what the laser saw (sensors.laser_truth = 0)\n";
     if (json_path == "-") {
       std::cout << metrics.toJson();
       return 0;
