@@ -60,7 +60,9 @@ PilotConfig pilotConfig(const Config& c) {
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
   s.copy_rule = c.getChoice("copy_rule", s.copy_rule,
-                            {{"paper", CopyRule::Paper}, {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed}});
+                            {{"paper", CopyRule::Paper},
+                             {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed},
+                             {"cell_extent", CopyRule::CellExtent}});
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
   p.remembered = c.get<bool>("remembered", p.remembered);
