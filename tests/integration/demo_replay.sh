@@ -15,7 +15,7 @@
 #     an ODOMETRY message after a sensor message the logger recorded after it, and then
 #     extrapolates the pose where the replay interpolates; README "Recording and replaying");
 #  4. the demo's raw channels (sensors and truth) are played with lcm-logplayer into a fresh, live
-#     lasonic-complement and lasonic-pilot, recorded by lcm-logger: the live processes' scores
+#     lasonic-complement, lasonic-pilot and lasonic-navigator, recorded by lcm-logger: the live processes' scores
 #     must match lasonic-replay's on the same log within a stated tolerance (the live processes
 #     see their inputs interleaved as the network delivers them, not in the log's order):
 #     sector_map.missed_rate and false_alarm_rate within 0.01, maps within 3 %.
@@ -121,11 +121,18 @@ PY
   start_logger played.lcmlog logger3.txt
   start complement "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
   start pilot "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
+  live=("${pids[-1]}" "${pids[-2]}")
+  # The navigator too, when built: the shipped pilot uses its AGM_TACTICAL (remembered), and
+  # lasonic-replay runs it.
+  if [[ -x $bin/lasonic-navigator ]]; then
+    start navigator "$bin/lasonic-navigator" --config "$config" --lcm-url "$url"
+    live+=("${pids[-1]}")
+  fi
   sleep 1
   lcm-logplayer --lcm-url="$url" -e "$raw" "$tmp/live.lcmlog" >"$tmp/player2.err" 2>&1 || die "lcm-logplayer failed"
   sleep 0.5
-  kill -INT "${pids[-1]}" "${pids[-2]}"
-  wait "${pids[-1]}" "${pids[-2]}" || true
+  kill -INT "${live[@]}"
+  wait "${live[@]}" || true
   stop_logger
   "$bin/lasonic-eval" --log "$tmp/played.lcmlog" --scenario "$scenario" --json - >"$tmp/played.json" ||
     die "lasonic-eval failed on the played log"
