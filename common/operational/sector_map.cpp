@@ -41,6 +41,33 @@ void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_utime_ = utime;
   have_laser_ = true;
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
+  laser_bucket_size_ = 0;
+}
+
+void SectorMap::rebuildLaserBuckets(double rho) {
+  laser_buckets_.clear();
+  laser_bucket_size_ = rho;
+  for (const auto& p : laser_points_)
+    laser_buckets_.push_back({{static_cast<int64_t>(std::clamp(std::floor(p.x() / rho), -1e15, 1e15)),
+                               static_cast<int64_t>(std::clamp(std::floor(p.y() / rho), -1e15, 1e15))},
+                              p});
+  std::sort(laser_buckets_.begin(), laser_buckets_.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+}
+
+bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
+  if (!(rho > 0) || laser_buckets_.empty()) return false;
+  const int64_t bx = static_cast<int64_t>(std::clamp(std::floor(p.x() / rho), -1e15, 1e15));
+  const int64_t by = static_cast<int64_t>(std::clamp(std::floor(p.y() / rho), -1e15, 1e15));
+  for (int64_t x = bx - 1; x <= bx + 1; ++x)
+    for (int64_t y = by - 1; y <= by + 1; ++y) {
+      const std::pair<int64_t, int64_t> key{x, y};
+      auto it = std::lower_bound(laser_buckets_.begin(), laser_buckets_.end(), key,
+                                 [](const auto& e, const auto& k) { return e.first < k; });
+      for (; it != laser_buckets_.end() && it->first == key; ++it)
+        if ((it->second - p).norm() <= rho) return true;
+    }
+  return false;
 }
 
 void SectorMap::rebuildExplained(double c) {
@@ -81,14 +108,16 @@ bool SectorMap::explained(const geom::Vec2& p) const {
   return std::binary_search(explained_.begin(), explained_.end(), std::make_pair(global(p.x()), global(p.y())));
 }
 
-void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out) const {
+void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
   std::fill(out.begin(), out.end(), Value{});
   const double reach = p_.robot_radius + p_.max_range;
   for (const auto& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
     const double r = d.norm();
     if (!(r <= reach)) continue;
-    if (explained(p)) continue;  // the laser reports it, at its own bearing
+    // The laser reports it, at its own bearing.
+    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
+      continue;
     const double dist = std::max(0.0, r - p_.robot_radius);
     if (dist > p_.max_range) continue;
     Value& v = out[static_cast<size_t>(sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
@@ -218,7 +247,11 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   hold(s_.sonar_stale, sonar_now_, held_sonar_);
   // Memory is not held: stale (or never received), it is simply not used.
   if (s_.remembered_stale) std::fill(remembered_now_.begin(), remembered_now_.end(), Value{});
-  else rememberedValues(pose, remembered_now_);
+  else {
+    if (p_.remembered_explains_radius > 0 && laser_bucket_size_ != p_.remembered_explains_radius)
+      rebuildLaserBuckets(p_.remembered_explains_radius);
+    rememberedValues(pose, remembered_now_, !s_.laser_stale);
+  }
 
   for (size_t k = 0; k < n; ++k) {
     const Value& l = laser_now_[k];

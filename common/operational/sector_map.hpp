@@ -64,6 +64,9 @@ struct SectorMapParams {
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
   double remembered_stale_s = 2.0;  // [s] a remembered (tactical) map older than this is not used
+  // [m] a remembered cell within this of a point of the newest (not stale) scan is the obstacle
+  // the laser reports already (0: laser_explains_radius, as for the AGM's cells).
+  double remembered_explains_radius = 0;
 };
 
 // Any grid of obstacle cells laid out like the AGM -- global cell (gx, gy) covers
@@ -136,8 +139,11 @@ class SectorMap {
   };
   int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
-  void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out) const;
+  void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
+  // A point of the newest scan within rho of p (buckets of size rho, rebuilt once per scan).
+  bool laserNear(const geom::Vec2& p, double rho) const;
+  void rebuildLaserBuckets(double rho);
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
                    std::vector<Value>& spread) const;
@@ -151,6 +157,8 @@ class SectorMap {
   std::vector<geom::Vec2> laser_points_;
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted global cells (gx, gy)
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
+  std::vector<std::pair<std::pair<int64_t, int64_t>, geom::Vec2>> laser_buckets_;  // sorted by bucket
+  double laser_bucket_size_ = 0;                                                   // 0: to be rebuilt
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;

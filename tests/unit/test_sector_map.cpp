@@ -309,3 +309,52 @@ TEST(SectorMap, CellExtentCopiesOnlyIntoTheSectorsTheCellReaches) {
   const auto& q = paper.update(0, {0.05, 0.05, 0.0}, agm);
   EXPECT_EQ(q.source[25], SectorSource::SonarCopied);
 }
+
+TEST(SectorMap, RememberedOnlyAddsAndIsUnusedWhenStale) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  agm.centreOn({0.0, 0.0});
+  const Pose2 pose{0.0, 0.0, 0.0};
+  s.setSonarTime(0);
+  s.setLaserPoints(0, {pointAt(pose, 3.75 * kDeg, 0.50)});   // sector 24: the laser at 0.5 m
+  s.setRemembered(0, {pointAt(pose, 3.75 * kDeg, 1.20),      // sector 24: farther than the laser
+                      pointAt(pose, 90.0 * kDeg + 3.75 * kDeg, 0.80)});  // sector 36: nothing else
+  const auto& m = s.update(100'000, pose, agm);
+  EXPECT_FALSE(m.remembered_stale);
+  EXPECT_NEAR(m.remembered_age_s, 0.1, 1e-9);
+  // Never frees: sector 24 keeps the laser's 0.5 m.
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  EXPECT_NEAR(m.distance[24], 0.50, 1e-5);
+  EXPECT_NEAR(m.remembered[24], 1.20, 1e-5);
+  // Adds: sector 36 reports the remembered obstacle.
+  EXPECT_EQ(m.source[36], SectorSource::Remembered);
+  EXPECT_NEAR(m.distance[36], 0.80, 1e-5);
+  // Older than remembered_stale_s (2 s): flagged and not used at all.
+  s.setLaserPoints(2'500'000, {pointAt(pose, 3.75 * kDeg, 0.50)});
+  s.setSonarTime(2'500'000);
+  const auto& later = s.update(2'500'000, pose, agm);
+  EXPECT_TRUE(later.remembered_stale);
+  EXPECT_EQ(later.source[36], SectorSource::None);
+  EXPECT_FLOAT_EQ(later.remembered[36], -1.0f);
+}
+
+TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
+  const Pose2 pose{0.0, 0.0, 0.0};
+  const Vec2 seen = pointAt(pose, 3.75 * kDeg, 1.0);
+  const Vec2 cell = seen + Vec2(-0.15, 0.0);  // a remembered cell 0.15 m in front of what the laser sees
+  for (const double radius : {0.0, 0.2}) {
+    SectorMapParams p;
+    p.laser_explains_radius = 0.10;
+    p.remembered_explains_radius = radius;
+    SectorMap s(p);
+    AccumulativeGridMap agm(agmParams01());
+    agm.centreOn({0.0, 0.0});
+    s.setSonarTime(0);
+    s.setLaserPoints(0, {seen});
+    s.setRemembered(0, {cell});
+    const auto& m = s.update(0, pose, agm);
+    // 0: laser_explains_radius (0.10 m) applies, the cell is 0.15 m away: used, nearer than the laser.
+    // 0.2 m: the scan explains it.
+    EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
+  }
+}
