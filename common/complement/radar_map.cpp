@@ -28,12 +28,33 @@ class CachedRotation {
  private:
   double theta_ = std::numeric_limits<double>::quiet_NaN(), c_ = 0, s_ = 0;
 };
+
+
+// cos/sin of each reading's angle, kept from the previous scan: a scanner's angles are the same
+// scan after scan, and a value is reused only for the very same angle (bit for bit).
+class UnitVectors {
+ public:
+  Vec2 at(size_t i, double angle) {
+    if (i >= cache_.size()) cache_.resize(i + 1, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
+    Entry& e = cache_[i];
+    if (std::memcmp(&e.angle, &angle, sizeof angle) != 0) e = {angle, geom::unitVector(angle)};
+    return e.u;
+  }
+
+ private:
+  struct Entry {
+    double angle;
+    Vec2 u;
+  };
+  std::vector<Entry> cache_;
+};
 }  // namespace
 
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
   std::vector<ScanPoint> out(scan.readings.size());
   int missing = 0;
   CachedRotation mount_rot, robot_rot;
+  thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
   for (size_t i = 0; i < scan.readings.size(); ++i) {
     const LaserReading& r = scan.readings[i];
     if (!r.valid) continue;
@@ -42,7 +63,7 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
       ++missing;
       continue;
     }
-    const Vec2 local = mount_rot.transform(scan.mount, r.range * geom::unitVector(r.angle));
+    const Vec2 local = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
     out[i] = {robot_rot.transform(*robot, local), r.range, true};
   }
   if (no_pose) *no_pose = missing;
