@@ -66,11 +66,12 @@ per_s=$(awk 'BEGIN{print 1767/60}')  # fig7_lab: firing groups per simulated sec
 dur=$(awk -v g="$groups" -v r="$per_s" 'BEGIN{printf("%d", g / r * 1.12 + 5)}')
 say "latency: $dur s of fig7_lab at ${speed}x in a private network namespace"
 "$bin/lasonic-sim" --scenario "$src/deploy/scenarios/fig7_lab.yaml" --duration "$dur" --out "$tmp/long.lcmlog" >/dev/null 2>&1
+load_before=$(cut -d' ' -f1 /proc/loadavg)
 if line=$("$src/tests/netns/in-netns.sh" env LASONIC_BIN="$bin" LASONIC_SOURCE="$src" \
   "$src/tests/bench/latency.sh" "$tmp/long.lcmlog" "$speed" "$groups" "$out_dir/latency-samples.txt"); then
   read -r _ n _ m _ p50 _ p99 _ pmax <<<"$line"
   row "SONAR_RING -> SECTOR_MAP, live (p50 / p99 / max)" "$p50 / $p99 / $pmax ms" \
-    "$m of $n firing groups matched; complement, pilot, navigator over LCM; log played at ${speed}x"
+    "$m of $n firing groups matched; complement, pilot, navigator over LCM; log played at ${speed}x; load average $load_before -> $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores"
 else
   row "SONAR_RING -> SECTOR_MAP, live" "failed" "${line:-see stderr}"
 fi
