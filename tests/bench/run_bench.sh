@@ -34,16 +34,22 @@ stats() {
 rows=()
 row() { rows+=("| $1 | $2 | $3 |"); }
 
-# ---- 1. per stage
+# ---- 1. per stage (JSON: the CSV reporter rejects benchmarks with differing counters)
 for b in "$bench_dir"/bench_*; do
   [[ -x $b ]] || continue
   say "$(basename "$b")"
-  "$b" --benchmark_repetitions="$runs" --benchmark_format=csv 2>/dev/null >"$tmp/gb.csv" || true
-  # name,iterations,real_time,cpu_time,time_unit,...: the repetitions (not the aggregates)
-  for name in $(awk -F, 'NR>1 && $1 !~ /_(mean|median|stddev|cv)"?$/ {gsub(/"/,"",$1); print $1}' "$tmp/gb.csv" | sort -u); do
-    unit=$(awk -F, -v n="$name" '{gsub(/"/,"",$1)} $1==n {print $5; exit}' "$tmp/gb.csv")
-    val=$(awk -F, -v n="$name" '{gsub(/"/,"",$1)} $1==n {print $4}' "$tmp/gb.csv" | stats '%.3g')
-    row "stage: $(basename "$b" | sed 's/^bench_//') $name" "$val $unit" "CPU time per iteration, $runs repetitions"
+  "$b" --benchmark_repetitions="$runs" --benchmark_out="$tmp/gb.json" --benchmark_out_format=json >/dev/null 2>&1 || true
+  # One "name cpu_time unit" line per repetition (run_type iteration), times in microseconds.
+  awk -F': ' '
+    /"name":/ {n=$2; gsub(/[",]/, "", n)}
+    /"run_type":/ {it = ($2 ~ /iteration/)}
+    /"cpu_time":/ {t=$2; gsub(/,/, "", t)}
+    /"time_unit":/ {u=$2; gsub(/[",]/, "", u); if (it) {f = (u=="ns") ? 1e-3 : (u=="ms") ? 1e3 : (u=="s") ? 1e6 : 1; print n, t * f}}
+    /"us_per_group":/ {v=$2; gsub(/,/, "", v); if (it) print n "(per_firing_group)", v * 1e6}
+  ' "$tmp/gb.json" >"$tmp/gb.txt"
+  for name in $(awk '{print $1}' "$tmp/gb.txt" | sort -u); do
+    val=$(awk -v n="$name" '$1==n {print $2}' "$tmp/gb.txt" | stats '%.3g')
+    row "stage: $(basename "$b" | sed 's/^bench_//') $name" "$val µs" "CPU time per iteration, $runs repetitions"
   done
 done
 
@@ -66,15 +72,22 @@ per_s=$(awk 'BEGIN{print 1767/60}')  # fig7_lab: firing groups per simulated sec
 dur=$(awk -v g="$groups" -v r="$per_s" 'BEGIN{printf("%d", g / r * 1.12 + 5)}')
 say "latency: $dur s of fig7_lab at ${speed}x in a private network namespace"
 "$bin/lasonic-sim" --scenario "$src/deploy/scenarios/fig7_lab.yaml" --duration "$dur" --out "$tmp/long.lcmlog" >/dev/null 2>&1
-load_before=$(cut -d' ' -f1 /proc/loadavg)
-if line=$("$src/tests/netns/in-netns.sh" env LASONIC_BIN="$bin" LASONIC_SOURCE="$src" \
-  "$src/tests/bench/latency.sh" "$tmp/long.lcmlog" "$speed" "$groups" "$out_dir/latency-samples.txt"); then
-  read -r _ n _ m _ p50 _ p99 _ pmax <<<"$line"
-  row "SONAR_RING -> SECTOR_MAP, live (p50 / p99 / max)" "$p50 / $p99 / $pmax ms" \
-    "$m of $n firing groups matched; complement, pilot, navigator over LCM; log played at ${speed}x; load average $load_before -> $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores"
-else
-  row "SONAR_RING -> SECTOR_MAP, live" "failed" "${line:-see stderr}"
-fi
+latency() {  # LABEL [ENV...]: one latency row
+  local label=$1 line n m p50 p99 pmax load_before
+  shift
+  load_before=$(cut -d' ' -f1 /proc/loadavg)
+  if line=$("$src/tests/netns/in-netns.sh" env LASONIC_BIN="$bin" LASONIC_SOURCE="$src" "$@" \
+    "$src/tests/bench/latency.sh" "$tmp/long.lcmlog" "$speed" "$groups"); then
+    read -r _ n _ m _ p50 _ p99 _ pmax <<<"$line"
+    row "SONAR_RING -> SECTOR_MAP, live$label (p50 / p99 / max)" "$p50 / $p99 / $pmax ms" \
+      "$m of $n firing groups matched; complement, pilot, navigator over LCM; log played at ${speed}x; load average $load_before -> $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores"
+  else
+    row "SONAR_RING -> SECTOR_MAP, live$label" "failed" "${line:-see stderr}"
+  fi
+}
+latency ""
+say "latency again with real-time priority (SCHED_FIFO)"
+latency ", SCHED_FIFO" LASONIC_LATENCY_RT=1
 
 # ---- 4. scale case
 say "scale case"
