@@ -1,5 +1,9 @@
 #include "complement/radar_map.hpp"
 
+#include <cmath>
+#include <cstring>
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,9 +11,50 @@ namespace lasonic::complement {
 
 using geom::Vec2;
 
+namespace {
+// Pose2::transform with cos/sin computed only when the angle changes (bit for bit the same
+// values: the mount's angle is the same for a whole scan, the robot's while it does not turn).
+class CachedRotation {
+ public:
+  Vec2 transform(const geom::Pose2& f, const Vec2& l) {
+    if (std::memcmp(&f.theta, &theta_, sizeof theta_) != 0) {
+      theta_ = f.theta;
+      c_ = std::cos(theta_);
+      s_ = std::sin(theta_);
+    }
+    return {f.x + c_ * l.x() - s_ * l.y(), f.y + s_ * l.x() + c_ * l.y()};
+  }
+
+ private:
+  double theta_ = std::numeric_limits<double>::quiet_NaN(), c_ = 0, s_ = 0;
+};
+
+
+// cos/sin of each reading's angle, kept from the previous scan: a scanner's angles are the same
+// scan after scan, and a value is reused only for the very same angle (bit for bit).
+class UnitVectors {
+ public:
+  Vec2 at(size_t i, double angle) {
+    if (i >= cache_.size()) cache_.resize(i + 1, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
+    Entry& e = cache_[i];
+    if (std::memcmp(&e.angle, &angle, sizeof angle) != 0) e = {angle, geom::unitVector(angle)};
+    return e.u;
+  }
+
+ private:
+  struct Entry {
+    double angle;
+    Vec2 u;
+  };
+  std::vector<Entry> cache_;
+};
+}  // namespace
+
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
   std::vector<ScanPoint> out(scan.readings.size());
   int missing = 0;
+  CachedRotation mount_rot, robot_rot;
+  thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
   for (size_t i = 0; i < scan.readings.size(); ++i) {
     const LaserReading& r = scan.readings[i];
     if (!r.valid) continue;
@@ -18,8 +63,8 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
       ++missing;
       continue;
     }
-    const Vec2 local = scan.mount.transform(r.range * geom::unitVector(r.angle));
-    out[i] = {robot->transform(local), r.range, true};
+    const Vec2 local = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
+    out[i] = {robot_rot.transform(*robot, local), r.range, true};
   }
   if (no_pose) *no_pose = missing;
   return out;

@@ -1,20 +1,88 @@
 #include "lcmio/eventlog.hpp"
 
+#include <cstring>
+#include <iostream>
+
 namespace lasonic {
 
+namespace {
+constexpr uint32_t kSync = 0xEDA1DA01u;  // LCM's event-log sync word
+constexpr size_t kReadChunk = 1 << 20;
+constexpr size_t kWriteChunk = 1 << 16;
+
+uint32_t be32(const uint8_t* p) {
+  return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+}
+uint64_t be64(const uint8_t* p) { return (uint64_t{be32(p)} << 32) | be32(p + 4); }
+void put32(std::vector<uint8_t>& b, uint32_t v) {
+  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<uint8_t>(v >> s));
+}
+void put64(std::vector<uint8_t>& b, uint64_t v) {
+  put32(b, static_cast<uint32_t>(v >> 32));
+  put32(b, static_cast<uint32_t>(v));
+}
+}  // namespace
+
 LogReader::LogReader(const std::string& path) : path_(path) {
-  log_ = std::make_unique<lcm::LogFile>(path, "r");
-  if (!log_->good()) throw LogError(path + ": cannot open LCM log for reading");
+  f_.reset(std::fopen(path.c_str(), "rb"));
+  if (!f_) throw LogError(path + ": cannot open LCM log for reading");
+  if (std::fseek(f_.get(), 0, SEEK_END) == 0) {
+    file_size_ = std::ftell(f_.get());
+    std::fseek(f_.get(), 0, SEEK_SET);
+  }
+  std::setvbuf(f_.get(), nullptr, _IONBF, 0);  // buffered here
+}
+
+bool LogReader::fill(size_t need) {
+  if (end_ - pos_ >= need) return true;
+  if (pos_ > 0) {  // keep the unread bytes at the front
+    std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
+    end_ -= pos_;
+    pos_ = 0;
+  }
+  if (buf_.size() < need + kReadChunk) buf_.resize(need + kReadChunk);
+  while (end_ < need) {
+    const size_t got = std::fread(buf_.data() + end_, 1, buf_.size() - end_, f_.get());
+    if (got == 0) return false;
+    end_ += got;
+    file_offset_ += static_cast<int64_t>(got);
+  }
+  return true;
 }
 
 std::optional<LogRecord> LogReader::next() {
-  const lcm::LogEvent* ev = log_->readNextEvent();
-  if (!ev) return std::nullopt;
+  // The sync word, byte by byte (skipping anything before it), as LCM does.
+  uint32_t magic = 0;
+  do {
+    if (!fill(1)) return std::nullopt;
+    magic = (magic << 8) | buf_[pos_++];
+  } while (magic != kSync);
+  if (!fill(24)) return std::nullopt;
+  const uint8_t* h = buf_.data() + pos_;
   LogRecord r;
-  r.timestamp = ev->timestamp;
-  r.channel = ev->channel;
-  const auto* p = static_cast<const uint8_t*>(ev->data);
-  r.data.assign(p, p + ev->datalen);
+  r.timestamp = static_cast<int64_t>(be64(h + 8));
+  const auto channellen = static_cast<int32_t>(be32(h + 16));
+  const auto datalen = static_cast<int32_t>(be32(h + 20));
+  pos_ += 24;
+  if (channellen <= 0 || channellen >= 1000) {
+    std::cerr << "Log event has invalid channel length: " << channellen << "\n";
+    return std::nullopt;
+  }
+  if (datalen < 0) {
+    std::cerr << "Log event has invalid data length: " << datalen << "\n";
+    return std::nullopt;
+  }
+  const size_t body = static_cast<size_t>(channellen) + static_cast<size_t>(datalen);
+  if (!fill(body)) return std::nullopt;
+  r.channel.assign(reinterpret_cast<const char*>(buf_.data() + pos_), static_cast<size_t>(channellen));
+  r.data.assign(buf_.data() + pos_ + channellen, buf_.data() + pos_ + body);
+  pos_ += body;
+  // After the data: the next event's sync word or the end of the file; anything else ends the log.
+  if (fill(4) && be32(buf_.data() + pos_) != kSync) {
+    std::cerr << "Invalid header after log data\n";
+    pos_ = end_;
+    return std::nullopt;
+  }
   return r;
 }
 
@@ -26,19 +94,44 @@ std::vector<LogRecord> LogReader::readAll(const std::string& path) {
 }
 
 LogWriter::LogWriter(const std::string& path) : path_(path) {
-  log_ = std::make_unique<lcm::LogFile>(path, "w");
-  if (!log_->good()) throw LogError(path + ": cannot open LCM log for writing");
+  f_ = std::fopen(path.c_str(), "wb");
+  if (!f_) throw LogError(path + ": cannot open LCM log for writing");
+  std::setvbuf(f_, nullptr, _IONBF, 0);  // buffered here
+  buf_.reserve(2 * kWriteChunk);
+}
+
+LogWriter::~LogWriter() {
+  try {
+    flush();
+  } catch (const LogError& e) {
+    std::cerr << e.what() << "\n";
+  }
+  if (std::fclose(f_) != 0) std::cerr << path_ << ": closing the LCM log failed\n";
+}
+
+void LogWriter::flush() {
+  if (buf_.empty()) return;
+  const size_t n = buf_.size();
+  const size_t written = std::fwrite(buf_.data(), 1, n, f_);
+  buf_.clear();
+  if (written != n) throw LogError(path_ + ": write failed");
+}
+
+void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {
+  if (size > 0x7fffffff) throw LogError(path_ + ": event on channel '" + channel + "' too large for an LCM log");
+  put32(buf_, kSync);
+  put64(buf_, static_cast<uint64_t>(events_));
+  put64(buf_, static_cast<uint64_t>(timestamp));
+  put32(buf_, static_cast<uint32_t>(channel.size()));
+  put32(buf_, static_cast<uint32_t>(size));
+  buf_.insert(buf_.end(), channel.begin(), channel.end());
+  buf_.insert(buf_.end(), data, data + size);
+  ++events_;
+  if (buf_.size() >= kWriteChunk) flush();
 }
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const std::vector<uint8_t>& data) {
-  lcm::LogEvent ev;
-  ev.eventnum = events_;
-  ev.timestamp = timestamp;
-  ev.channel = channel;
-  ev.datalen = static_cast<int32_t>(data.size());
-  ev.data = const_cast<uint8_t*>(data.data());
-  if (log_->writeEvent(&ev) != 0) throw LogError(path_ + ": write failed");
-  ++events_;
+  writeRaw(channel, timestamp, data.data(), data.size());
 }
 
 }  // namespace lasonic

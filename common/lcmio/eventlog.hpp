@@ -1,8 +1,17 @@
 #pragma once
 // LCM event-log (lcm-logger format) reading and writing for the offline tools.
+//
+// The format is LCM's (lcm/eventlog.c): per event a sync word 0xEDA1DA01, event number and
+// timestamp (int64), channel and data lengths (int32), all big-endian, then the channel name and
+// the data. Read and written here with large buffers rather than through lcm::LogFile, whose
+// reader seeks back after every event (one lseek and one buffer refill per event: most of
+// lasonic-replay's time on small messages). The reader keeps LCM 1.3.1's rules exactly: it
+// scans for the sync word; a channel length outside 1..999 or a negative data length, a short
+// read, or anything but a sync word or the end of the file after an event's data end the log.
 #include <lcm/lcm-cpp.hpp>
 
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -59,25 +68,43 @@ class LogReader {
   std::optional<LogRecord> next();
   // All events of the log, in order.
   static std::vector<LogRecord> readAll(const std::string& path);
+  // Bytes read from the file so far (for progress reports).
+  int64_t bytesRead() const { return file_offset_ - static_cast<int64_t>(end_ - pos_); }
+  // Size of the file when it was opened.
+  int64_t fileSize() const { return file_size_; }
 
  private:
-  std::unique_ptr<lcm::LogFile> log_;
+  bool fill(size_t need);  // at least `need` unread bytes buffered; false at the end of the file
+  struct Closer {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  std::unique_ptr<std::FILE, Closer> f_;
   std::string path_;
+  std::vector<uint8_t> buf_;
+  size_t pos_ = 0, end_ = 0;
+  int64_t file_offset_ = 0, file_size_ = 0;
 };
 
 class LogWriter {
  public:
   explicit LogWriter(const std::string& path);  // throws LogError
+  ~LogWriter();                                 // flushes; a failure is reported on stderr
+  LogWriter(const LogWriter&) = delete;
+  LogWriter& operator=(const LogWriter&) = delete;
+  void writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size);
   void writeRaw(const std::string& channel, int64_t timestamp, const std::vector<uint8_t>& data);
   template <typename T>
   void write(const std::string& channel, int64_t timestamp, T& msg) {
     writeRaw(channel, timestamp, encodeMsg(msg));
   }
   int64_t events() const { return events_; }
+  // Writes the buffered events to the file (throws LogError on failure).
+  void flush();
 
  private:
-  std::unique_ptr<lcm::LogFile> log_;
+  std::FILE* f_ = nullptr;
   std::string path_;
+  std::vector<uint8_t> buf_;
   int64_t events_ = 0;
 };
 

@@ -26,6 +26,12 @@ Node::Node(std::string process_name, std::shared_ptr<lcm::LCM> lcm, Options opts
   init();
 }
 
+Node::Node(std::string process_name, std::shared_ptr<LocalBus> bus, Options opts)
+    : bus_(std::move(bus)), opts_(opts), status_(std::move(process_name)) {
+  if (!bus_) throw LcmUrlError("no LocalBus given");
+  init();
+}
+
 Node::~Node() = default;
 
 void Node::init() {
@@ -48,14 +54,15 @@ void Node::oversize(const std::string& channel, const char* type, int64_t claime
 }
 
 int Node::spinOnce(int timeout_ms) {
-  const int r = lcm_->handleTimeout(timeout_ms);
+  const int r = bus_ ? bus_->handleOne() : lcm_->handleTimeout(timeout_ms);
   maybeHeartbeat();
   return r > 0 ? 1 : 0;
 }
 
 int Node::run() {
   spdlog::info("{} running", name());
-  while (!shutdown::requested() && !stop_requested_) {
+  while (bus_ && !shutdown::requested() && !stop_requested_ && bus_->handleOne() > 0) maybeHeartbeat();
+  while (lcm_ && !shutdown::requested() && !stop_requested_) {
     // A signal interrupts the wait (EINTR): that is shutdown, not an LCM failure.
     if (lcm_->handleTimeout(100) < 0 && !shutdown::requested()) {
       reportError("lcm_failures", "LCM handle failed");

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "lcmio/lengths.hpp"
+#include "lcmio/local_bus.hpp"
 #include "lcmio/signals.hpp"
 #include "lcmio/status.hpp"
 
@@ -72,6 +73,9 @@ class Node {
   Node(std::string process_name, const std::string& lcm_url, Options opts);
   // Shares an LCM instance (offline replay runs several stages on one memq:// instance).
   Node(std::string process_name, std::shared_ptr<lcm::LCM> lcm, Options opts);
+  // Shares an in-process LocalBus (offline replay: LCM's memq:// order without its system calls).
+  // Such a Node has no LCM instance; spinOnce/run are for LCM nodes (the bus's owner drives it).
+  Node(std::string process_name, std::shared_ptr<LocalBus> bus, Options opts);
   ~Node();
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
@@ -104,7 +108,7 @@ class Node {
 
   void publishStatus();
   const std::string& name() const { return status_.name(); }
-  lcm::LCM& lcm() { return *lcm_; }
+  lcm::LCM& lcm() { return *lcm_; }  // LCM nodes only
   int64_t errors() const { return status_.errors(); }
   const StatusBoard& status() const { return status_; }
 
@@ -127,7 +131,9 @@ class Node {
   void decodeFailed(const std::string& channel, const char* type, size_t bytes, const std::string& why);
   void oversize(const std::string& channel, const char* type, int64_t claimed, int64_t cap);
 
-  std::shared_ptr<lcm::LCM> lcm_;
+  std::shared_ptr<lcm::LCM> lcm_;   // exactly one of lcm_ and bus_ is set
+  std::shared_ptr<LocalBus> bus_;
+  std::vector<uint8_t> encoded_;    // publish buffer (bus only)
   Options opts_;
   StatusBoard status_;
   Heartbeat heartbeat_;
@@ -178,9 +184,14 @@ void Node::subscribe(const std::string& channel, std::function<void(const T&)> h
   sub->node = this;
   sub->handler = std::move(handler);
   status_.declareInput(channel);
-  lcm::Subscription* s =
-      lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
-  if (s) s->setQueueCapacity(kQueueCapacity);
+  if (bus_) {
+    SubscriptionBase* base = sub.get();
+    bus_->subscribe(channel, [base](const lcm::ReceiveBuffer* rbuf, const std::string& ch) { base->onMessage(rbuf, ch); });
+  } else {
+    lcm::Subscription* s =
+        lcm_->subscribe(channel, &SubscriptionBase::onMessage, static_cast<SubscriptionBase*>(sub.get()));
+    if (s) s->setQueueCapacity(kQueueCapacity);
+  }
   subs_.push_back(std::move(sub));
 }
 
@@ -188,7 +199,15 @@ template <typename T>
 void Node::publish(const std::string& channel, T& msg) {
   try {
     setLengths(msg);
-    if (lcm_->publish(channel, &msg) != 0) {
+    int rc = -1;
+    if (bus_) {  // as lcm::LCM::publish: encode, then hand over the bytes
+      const int size = msg.getEncodedSize();
+      encoded_.resize(static_cast<size_t>(size));
+      if (msg.encode(encoded_.data(), 0, size) == size) rc = bus_->publish(channel, encoded_.data(), encoded_.size());
+    } else {
+      rc = lcm_->publish(channel, &msg);
+    }
+    if (rc != 0) {
       reportError("publish_failures", channel + ": publish failed");
       return;
     }

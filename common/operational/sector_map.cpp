@@ -8,6 +8,15 @@ namespace lasonic {
 
 namespace {
 bool known(float d) { return d >= 0; }
+
+// The largest double t with std::sqrt(t) <= r (r >= 0, finite).
+double sqrtBound(double r) {
+  double t = r * r;
+  while (std::sqrt(t) > r) t = std::nextafter(t, 0.0);
+  while (std::sqrt(std::nextafter(t, std::numeric_limits<double>::infinity())) <= r)
+    t = std::nextafter(t, std::numeric_limits<double>::infinity());
+  return t;
+}
 }  // namespace
 
 SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
@@ -27,6 +36,43 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   s_.laser.assign(n, -1);
   s_.sonar.assign(n, -1);
   s_.source.assign(n, SectorSource::None);
+  for (size_t k = 0; k <= n; ++k) {
+    const double a = -geom::kPi + static_cast<double>(k) * (2.0 * geom::kPi / static_cast<double>(n));
+    bound_c_.push_back(std::cos(a));
+    bound_s_.push_back(std::sin(a));
+  }
+}
+
+namespace {
+// atan2 to within about 1e-5 rad (a candidate only: sectorOfDirection checks it).
+inline double roughAtan2(double y, double x) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (!(mx > 0)) return 0;
+  const double a = mn / mx, s = a * a;
+  double r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
+  if (ay > ax) r = 1.57079632679489662 - r;
+  if (x < 0) r = 3.14159265358979324 - r;
+  return y < 0 ? -r : r;
+}
+}  // namespace
+
+// Exactness: the sector computed from atan2 differs from the geometric sector (the wedge between
+// two edge directions) only for directions within a few ulp of an edge. A candidate from a rough
+// atan2 is accepted when the direction lies inside its wedge by a relative margin of 1e-9 (both
+// edge cross products, which for a wedge under 180 deg define it); anything else -- near an
+// edge, the +-pi seam, zero, NaN -- takes the exact path.
+template <typename Exact>
+int SectorMap::sectorOfDirection(double x, double y, Exact&& exact) const {
+  const int n = p_.sectors;
+  int k = static_cast<int>(std::floor((roughAtan2(y, x) + geom::kPi) * (n / (2.0 * geom::kPi))));
+  if (k >= 0 && k < n) {
+    const double margin = 1e-9 * (std::abs(x) + std::abs(y));
+    const auto kk = static_cast<size_t>(k);
+    if (bound_c_[kk] * y - bound_s_[kk] * x > margin && x * bound_s_[kk + 1] - y * bound_c_[kk + 1] > margin)
+      return k;
+  }
+  return exact();
 }
 
 int SectorMap::sectorOf(double bearing) const { return sectorOfNormalized(geom::normalizeAngle(bearing)); }
@@ -73,20 +119,81 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
 void SectorMap::rebuildExplained(double c) {
   // Once per scan (not per map): the global cells whose centres lie within the radius of a point.
   explained_.clear();
+  explained_bits_.clear();
+  explained_w_ = explained_h_ = 0;
+  explained_any_ = false;
   explained_cell_size_ = c;
   const double rho = p_.laser_explains_radius;
-  if (!(rho > 0)) return;
+  if (!(rho > 0) || laser_points_.empty()) return;
   const auto global = [c](double v) { return static_cast<int64_t>(std::clamp(std::floor(v / c), -1e15, 1e15)); };
   const int64_t span = static_cast<int64_t>(std::ceil(rho / c)) + 1;
+  // norm() <= rho without the square root: sqrt is correctly rounded, hence monotonic, so
+  // sqrt(d2) <= rho exactly when d2 <= the largest double whose root is <= rho.
+  const double rho2 = sqrtBound(rho);
+  const auto within = [&](int64_t x, int64_t y, const geom::Vec2& p) {
+    return (geom::Vec2((static_cast<double>(x) + 0.5) * c, (static_cast<double>(y) + 0.5) * c) - p).squaredNorm() <=
+           rho2;
+  };
+  int64_t x0 = std::numeric_limits<int64_t>::max(), y0 = x0, x1 = std::numeric_limits<int64_t>::min(), y1 = x1;
+  for (const auto& p : laser_points_) {
+    const int64_t gx = global(p.x()), gy = global(p.y());
+    x0 = std::min(x0, gx - span);
+    x1 = std::max(x1, gx + span);
+    y0 = std::min(y0, gy - span);
+    y1 = std::max(y1, gy + span);
+  }
+  constexpr int64_t kMaxBits = int64_t{1} << 26;  // 8 MB: a 400 m square at 5 cm
+  const bool box_ok = x1 - x0 < (int64_t{1} << 31) && y1 - y0 < (int64_t{1} << 31) &&
+                      (x1 - x0 + 1) <= kMaxBits / (y1 - y0 + 1);
+  if (box_ok) {
+    explained_x0_ = x0;
+    explained_y0_ = y0;
+    explained_w_ = x1 - x0 + 1;
+    explained_h_ = y1 - y0 + 1;
+    explained_bits_.assign(static_cast<size_t>((explained_w_ * explained_h_ + 63) / 64), 0);
+    // Per point, only the cells whose centres can lie within rho (one cell of margin against
+    // rounding), inside the square of +-span cells that defines the set.
+    const auto first = [c, rho](double v, int64_t g, int64_t sp) {
+      return std::max(g - sp, static_cast<int64_t>(std::clamp(std::floor((v - rho) / c - 0.5), -1e15, 1e15)));
+    };
+    const auto last = [c, rho](double v, int64_t g, int64_t sp) {
+      return std::min(g + sp, static_cast<int64_t>(std::clamp(std::floor((v + rho) / c - 0.5), -1e15, 1e15)) + 1);
+    };
+    for (const auto& p : laser_points_) {
+      const int64_t gx = global(p.x()), gy = global(p.y());
+      const int64_t xa = first(p.x(), gx, span), xb = last(p.x(), gx, span);
+      const int64_t ya = first(p.y(), gy, span), yb = last(p.y(), gy, span);
+      for (int64_t y = ya; y <= yb; ++y)
+        for (int64_t x = xa; x <= xb; ++x) {
+          const auto bit = static_cast<size_t>((y - y0) * explained_w_ + (x - x0));
+          const uint64_t mask = uint64_t{1} << (bit & 63);
+          if ((explained_bits_[bit >> 6] & mask) == 0 && within(x, y, p)) {  // a set bit needs no test
+            explained_bits_[bit >> 6] |= mask;
+            explained_any_ = true;
+          }
+        }
+    }
+    return;
+  }
   for (const auto& p : laser_points_) {
     const int64_t gx = global(p.x()), gy = global(p.y());
     for (int64_t y = gy - span; y <= gy + span; ++y)
       for (int64_t x = gx - span; x <= gx + span; ++x)
-        if ((geom::Vec2((static_cast<double>(x) + 0.5) * c, (static_cast<double>(y) + 0.5) * c) - p).norm() <= rho)
-          explained_.emplace_back(x, y);
+        if (within(x, y, p)) explained_.emplace_back(x, y);
   }
   std::sort(explained_.begin(), explained_.end());
   explained_.erase(std::unique(explained_.begin(), explained_.end()), explained_.end());
+  explained_any_ = !explained_.empty();
+}
+
+bool SectorMap::explainedCell(int64_t gx, int64_t gy) const {
+  if (explained_w_ > 0) {
+    if (gx < explained_x0_ || gy < explained_y0_ || gx - explained_x0_ >= explained_w_ || gy - explained_y0_ >= explained_h_)
+      return false;
+    const auto bit = static_cast<size_t>((gy - explained_y0_) * explained_w_ + (gx - explained_x0_));
+    return (explained_bits_[bit >> 6] >> (bit & 63)) & 1;
+  }
+  return std::binary_search(explained_.begin(), explained_.end(), std::make_pair(gx, gy));
 }
 
 void SectorMap::setSonarTime(int64_t utime) {
@@ -101,11 +208,11 @@ void SectorMap::setRemembered(int64_t utime, std::vector<geom::Vec2> points) {
 }
 
 bool SectorMap::explained(const geom::Vec2& p) const {
-  if (explained_.empty() || !(explained_cell_size_ > 0)) return false;
+  if (!explained_any_ || !(explained_cell_size_ > 0)) return false;
   const auto global = [this](double v) {
     return static_cast<int64_t>(std::clamp(std::floor(v / explained_cell_size_), -1e15, 1e15));
   };
-  return std::binary_search(explained_.begin(), explained_.end(), std::make_pair(global(p.x()), global(p.y())));
+  return explainedCell(global(p.x()), global(p.y()));
 }
 
 void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
@@ -137,7 +244,7 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
     if (r2 > reach * reach) continue;
     const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
     const double d = std::max(0.0, std::sqrt(r2) - p_.robot_radius);
-    Value& v = out[static_cast<size_t>(sectorOfNormalized(std::atan2(ly, lx)))];
+    Value& v = out[static_cast<size_t>(sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); }))];
     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Laser};
   }
 }
@@ -149,19 +256,21 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   std::fill(spread.begin(), spread.end(), Value{});
   const bool extent = p_.copy_rule == CopyRule::CellExtent;
   const int n = p_.sectors;
-  const bool check = use_explained && !explained_.empty();
+  const bool check = use_explained && explained_any_;
   const int64_t ox = agm.originX(), oy = agm.originY();
   const double c = agm.cellSize();
   const double reach = p_.robot_radius + p_.max_range;
   const geom::Vec2 o = agm.originMetres();
   const geom::Vec2 robot = pose.position();
   const auto cell = [&](double v, double origin) { return static_cast<int>(std::floor((v - origin) / c)); };
+  // The cell's bearing in the robot frame by rotation (sectorOfDirection); for a heading far
+  // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
+  const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
+  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
   agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
-                    if (check && std::binary_search(explained_.begin(), explained_.end(),
-                                                    std::make_pair(ox + ix, oy + iy)))
-                      return;
+                    if (check && explainedCell(ox + ix, oy + iy)) return;
                     const geom::Vec2 lo = o + geom::Vec2(ix * c, iy * c);
                     const geom::Vec2 centre = lo + geom::Vec2(0.5 * c, 0.5 * c) - robot;
                     const geom::Vec2 nearest(std::clamp(robot.x(), lo.x(), lo.x() + c),
@@ -170,11 +279,14 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
                         p_.sonar_cell_point == CellPoint::Centre ? centre.norm() : (nearest - robot).norm();
                     const double d = std::max(0.0, r - p_.robot_radius);
                     if (d > p_.max_range) return;
-                    const double bearing = std::atan2(centre.y(), centre.x()) - pose.theta;
-                    const int k0 = sectorOf(bearing);
+                    const auto exact = [&] { return sectorOf(std::atan2(centre.y(), centre.x()) - pose.theta); };
+                    const int k0 = plain_theta ? sectorOfDirection(ct * centre.x() + st * centre.y(),
+                                                                   ct * centre.y() - st * centre.x(), exact)
+                                               : exact();
                     Value& v = out[static_cast<size_t>(k0)];
                     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
                     if (!extent) return;
+                    const double bearing = std::atan2(centre.y(), centre.x()) - pose.theta;  // k0 is its sector
                     // CellExtent: the obstacle is somewhere in the cell's square, so also in every
                     // other sector the square reaches (its half-diagonal seen from the robot).
                     const double half = std::asin(std::min(1.0, (c * 0.7071067811865476) / std::max(centre.norm(), c)));

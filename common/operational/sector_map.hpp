@@ -138,12 +138,17 @@ class SectorMap {
     SectorSource src = SectorSource::None;
   };
   int sectorOfNormalized(double bearing) const;  // bearing in [-pi, pi]
+  // The sector of direction (x, y), found without atan2 when the direction lies clearly inside
+  // a sector (see the definition); otherwise exact(), the defining computation.
+  template <typename Exact>
+  int sectorOfDirection(double x, double y, Exact&& exact) const;
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
   void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
   // A point of the newest scan within rho of p (buckets of size rho, rebuilt once per scan).
   bool laserNear(const geom::Vec2& p, double rho) const;
   void rebuildLaserBuckets(double rho);
+  bool explainedCell(int64_t gx, int64_t gy) const;
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
                    std::vector<Value>& spread) const;
@@ -154,8 +159,15 @@ class SectorMap {
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
 
   SectorMapParams p_;
+  std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
-  std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted global cells (gx, gy)
+  // The global cells (gx, gy) the newest scan explains: a bitmap over their bounding box
+  // [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_) (one bit per cell: a scan's
+  // box is at most the laser's range across), or, for a box too large for that, a sorted list.
+  std::vector<uint64_t> explained_bits_;
+  int64_t explained_x0_ = 0, explained_y0_ = 0, explained_w_ = 0, explained_h_ = 0;
+  std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
+  bool explained_any_ = false;
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
   std::vector<std::pair<std::pair<int64_t, int64_t>, geom::Vec2>> laser_buckets_;  // sorted by bucket
   double laser_bucket_size_ = 0;                                                   // 0: to be rebuilt

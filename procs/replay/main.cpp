@@ -1,8 +1,8 @@
 // lasonic-replay --in LOG --out LOG [--config FILE]
 //
 // Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
-// stage has its own Node on one shared memq:// LCM instance; each input event is published into
-// it and the queue drained before the next, so the stages see exactly the log's order. A
+// stage has its own Node on one shared in-process bus (LocalBus: LCM's memq:// delivery order);
+// each input event is published into it and the queue drained before the next, so the stages see exactly the log's order. A
 // recorder on ".*" writes every message it sees (inputs and outputs) to the output log; an
 // output event carries the timestamp of the input event that caused it. Channels that the
 // stages produce are dropped from the input (they are recomputed), as is PROCESS_STATUS.
@@ -19,6 +19,7 @@
 #include "core/logging.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/replay_meter.hpp"
 #include "stages/complement_stage.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
@@ -38,12 +39,12 @@ struct Recorder {
   int64_t timestamp = 0;  // of the input event being processed
   void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     const auto* p = static_cast<const uint8_t*>(rbuf->data);
-    out->writeRaw(channel, timestamp, std::vector<uint8_t>(p, p + rbuf->data_size));
+    out->writeRaw(channel, timestamp, p, rbuf->data_size);
   }
 };
 
 int replay(const std::string& in_path, const std::string& out_path, const Config& root) {
-  auto lcm = std::make_shared<lcm::LCM>("memq://");
+  auto lcm = std::make_shared<LocalBus>();
   const Node::Options offline{/*heartbeat=*/false, /*install_signal_handlers=*/false};
 
   // ---- the stages, in pipeline order. Add a stage here: its Node and its object.
@@ -58,23 +59,29 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 
   LogWriter out(out_path);
   Recorder recorder{&out};
-  lcm->subscribe(".*", &Recorder::handleMessage, &recorder);
+  lcm->subscribe(".*", [&recorder](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    recorder.handleMessage(rbuf, channel);
+  });
 
   LogReader in(in_path);
+  ReplayMeter meter(in.fileSize());  // progress and speed on stderr; never in the output log
   int64_t events = 0, dropped = 0;
   while (auto ev = in.next()) {
     ++events;
+    if (const std::string line = meter.update(ev->timestamp, in.bytesRead()); !line.empty())
+      std::cerr << "lasonic-replay: " << line << std::endl;
     if (kDerivedChannels.count(ev->channel)) {
       ++dropped;
       continue;
     }
     recorder.timestamp = ev->timestamp;
-    lcm->publish(ev->channel, ev->data.data(), static_cast<unsigned>(ev->data.size()));
-    while (lcm->handleTimeout(0) > 0) {
-    }
+    lcm->publish(ev->channel, ev->data.data(), ev->data.size());
+    lcm->handleAll();
   }
+  out.flush();
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
+  std::cerr << "lasonic-replay: " << meter.summary() << std::endl;
   for (const Node* n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
   return 0;

@@ -1,0 +1,39 @@
+#include "lcmio/replay_meter.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace lasonic {
+
+namespace {
+double seconds(ReplayMeter::Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+}  // namespace
+
+std::string ReplayMeter::update(int64_t event_utime, int64_t bytes_read, Clock::time_point now) {
+  if (events_ == 0) first_utime_ = last_utime_ = event_utime;
+  ++events_;
+  // Log time as the span of event times seen (a log need not be sorted).
+  first_utime_ = std::min(first_utime_, event_utime);
+  last_utime_ = std::max(last_utime_, event_utime);
+  if (total_bytes_ <= 0 || bytes_read * 10 < total_bytes_ * next_tenth_) return {};
+  const int tenth = static_cast<int>(std::min<int64_t>(10, bytes_read * 10 / total_bytes_));
+  if (seconds(now - last_line_) < 1.0) return {};
+  next_tenth_ = tenth + 1;
+  last_line_ = now;
+  const double wall = seconds(now - start_);
+  char line[160];
+  std::snprintf(line, sizeof line, "%3d %% of the log: %.1f s of log time in %.1f s (%.0fx real time)", tenth * 10,
+                logSeconds(), wall, realTimeFactor(logSeconds(), wall));
+  return line;
+}
+
+std::string ReplayMeter::summary(Clock::time_point now) const {
+  const double wall = seconds(now - start_);
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "%.1f s of log in %.3f s wall: real-time factor %.0f, %.0f input events/s", logSeconds(), wall,
+                realTimeFactor(logSeconds(), wall), wall > 0 ? static_cast<double>(events_) / wall : 0.0);
+  return line;
+}
+
+}  // namespace lasonic

@@ -1,0 +1,225 @@
+// The replay's fast parts against LCM's own: LogReader/LogWriter against lcm::LogFile (the same
+// bytes, the same events, also for corrupt logs), LocalBus against memq:// (the same delivery
+// order, also when handlers publish), ReplayMeter's progress rate.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <lasonic/odometry_t.hpp>
+
+#include "lcmio/eventlog.hpp"
+#include "lcmio/local_bus.hpp"
+#include "lcmio/node.hpp"
+#include "lcmio/replay_meter.hpp"
+
+using namespace lasonic;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string tmpPath(const std::string& name) {
+  return (fs::temp_directory_path() / ("lasonic_test_replay_io_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+void spit(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f << bytes;
+}
+
+struct Ev {
+  int64_t t;
+  std::string channel;
+  std::vector<uint8_t> data;
+};
+
+std::vector<Ev> sampleEvents() {
+  std::vector<Ev> ev;
+  for (int i = 0; i < 300; ++i) {
+    std::vector<uint8_t> d(static_cast<size_t>((i * 37) % 5000));  // 0 .. 4999 bytes, one empty
+    for (size_t k = 0; k < d.size(); ++k) d[k] = static_cast<uint8_t>(k * 7 + static_cast<size_t>(i));
+    ev.push_back({int64_t{1000} * i - 5, i % 3 ? "ODOMETRY" : "SONAR_RING", d});
+  }
+  ev.push_back({-1, std::string(999, 'C'), {1, 2, 3}});  // the longest channel LCM reads
+  return ev;
+}
+
+// Events as lcm::LogFile reads them.
+std::vector<LogRecord> readWithLcm(const std::string& path) {
+  std::vector<LogRecord> out;
+  lcm::LogFile f(path, "r");
+  if (!f.good()) return out;
+  while (const lcm::LogEvent* e = f.readNextEvent()) {
+    const auto* p = static_cast<const uint8_t*>(e->data);
+    out.push_back({e->timestamp, e->channel, std::vector<uint8_t>(p, p + e->datalen)});
+  }
+  return out;
+}
+
+void expectSame(const std::vector<LogRecord>& a, const std::vector<LogRecord>& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].timestamp, b[i].timestamp) << what << " event " << i;
+    EXPECT_EQ(a[i].channel, b[i].channel) << what << " event " << i;
+    EXPECT_TRUE(a[i].data == b[i].data) << what << " event " << i;
+  }
+}
+
+}  // namespace
+
+TEST(ReplayIo, LogWriterWritesWhatLcmWrites) {
+  const std::string ours = tmpPath("ours.lcmlog"), theirs = tmpPath("theirs.lcmlog");
+  {
+    LogWriter w(ours);
+    lcm::LogFile l(theirs, "w");
+    for (const Ev& e : sampleEvents()) {
+      w.writeRaw(e.channel, e.t, e.data);
+      lcm::LogEvent le;
+      le.timestamp = e.t;
+      le.channel = e.channel;
+      le.datalen = static_cast<int32_t>(e.data.size());
+      le.data = const_cast<uint8_t*>(e.data.data());
+      ASSERT_EQ(l.writeEvent(&le), 0);
+    }
+  }
+  const std::string a = slurp(ours);
+  EXPECT_GT(a.size(), 700000u);
+  EXPECT_TRUE(a == slurp(theirs)) << "LogWriter's bytes differ from lcm::LogFile's";
+  fs::remove(ours);
+  fs::remove(theirs);
+}
+
+TEST(ReplayIo, LogReaderReadsWhatLcmReadsAlsoWhenCorrupt) {
+  const std::string path = tmpPath("r.lcmlog");
+  {
+    LogWriter w(path);
+    for (const Ev& e : sampleEvents()) w.writeRaw(e.channel, e.t, e.data);
+  }
+  const std::string good = slurp(path);
+  ASSERT_EQ(LogReader::readAll(path).size(), sampleEvents().size());
+  // Corruptions: junk before the first sync word, a truncated event, junk between events (LCM
+  // stops: "Invalid header after log data"), bad lengths, an empty file, a lone sync word.
+  const size_t second = good.find("\xED\xA1\xDA\x01", 4);
+  ASSERT_NE(second, std::string::npos);
+  std::string bad_channel_len = good;
+  bad_channel_len[20] = '\x7f';
+  std::string neg_data_len = good;
+  neg_data_len[24] = '\xff';
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"junk before", std::string("xyz\xED\xA1", 5) + good},
+      {"truncated", good.substr(0, good.size() - 17)},
+      {"truncated header", good.substr(0, second + 10)},
+      {"junk between", good.substr(0, second) + "junk" + good.substr(second)},
+      {"channel length", bad_channel_len},
+      {"data length", neg_data_len},
+      {"empty", ""},
+      {"sync only", "\xED\xA1\xDA\x01"},
+  };
+  for (const auto& [what, bytes] : cases) {
+    spit(path, bytes);
+    const auto lcm_events = readWithLcm(path);
+    const auto ours = LogReader::readAll(path);
+    expectSame(ours, lcm_events, what);
+  }
+  fs::remove(path);
+}
+
+TEST(ReplayIo, LocalBusDeliversInMemqOrder) {
+  // Two "stages": A answers every IN with A_OUT and, every third, a second message; B answers
+  // A_OUT with B_OUT; a recorder on ".*" sees everything. The sequences must be identical.
+  const auto run = [](auto& publish, auto& subscribe, auto& drain) {
+    std::vector<std::string> seen;
+    int n = 0;
+    subscribe("IN", [&, n](const std::string&, const std::string& d) mutable {
+      publish("A_OUT", d + "a");
+      if (++n % 3 == 0) publish("A_EXTRA", d + "x");
+    });
+    subscribe("A_OUT", [&](const std::string&, const std::string& d) { publish("B_OUT", d + "b"); });
+    subscribe(".*", [&](const std::string& ch, const std::string& d) { seen.push_back(ch + ":" + d); });
+    subscribe("A_.*", [&](const std::string& ch, const std::string&) { seen.push_back("match " + ch); });
+    for (int i = 0; i < 10; ++i) {
+      publish("IN", std::to_string(i));
+      drain();
+    }
+    return seen;
+  };
+  using Fn = std::function<void(const std::string&, const std::string&)>;
+
+  lcm::LCM memq("memq://");
+  std::vector<std::unique_ptr<Fn>> keep;
+  struct Forward {
+    Fn* f;
+    void handle(const lcm::ReceiveBuffer* rbuf, const std::string& ch) {
+      (*f)(ch, std::string(static_cast<const char*>(rbuf->data), rbuf->data_size));
+    }
+  };
+  std::vector<std::unique_ptr<Forward>> fw;
+  auto lcm_pub = [&](const std::string& ch, const std::string& d) { memq.publish(ch, d.data(), static_cast<unsigned>(d.size())); };
+  auto lcm_sub = [&](const std::string& ch, Fn f) {
+    keep.push_back(std::make_unique<Fn>(std::move(f)));
+    fw.push_back(std::make_unique<Forward>(Forward{keep.back().get()}));
+    memq.subscribe(ch, &Forward::handle, fw.back().get());
+  };
+  auto lcm_drain = [&] {
+    while (memq.handleTimeout(0) > 0) {
+    }
+  };
+  const auto expected = run(lcm_pub, lcm_sub, lcm_drain);
+
+  LocalBus bus;
+  auto bus_pub = [&](const std::string& ch, const std::string& d) { bus.publish(ch, d.data(), d.size()); };
+  auto bus_sub = [&](const std::string& ch, Fn f) {
+    bus.subscribe(ch, [f](const lcm::ReceiveBuffer* rbuf, const std::string& c) {
+      f(c, std::string(static_cast<const char*>(rbuf->data), rbuf->data_size));
+    });
+  };
+  auto bus_drain = [&] { bus.handleAll(); };
+  const auto got = run(bus_pub, bus_sub, bus_drain);
+
+  EXPECT_GT(expected.size(), 40u);
+  EXPECT_EQ(got, expected);
+}
+
+TEST(ReplayIo, NodeOnLocalBusDecodesAndCounts) {
+  auto bus = std::make_shared<LocalBus>();
+  Node a("a", bus, Node::Options{false, false});
+  Node b("b", bus, Node::Options{false, false});
+  std::vector<int64_t> got;
+  b.subscribe<odometry_t>("ODOMETRY", [&](const odometry_t& m) { got.push_back(m.utime); });
+  odometry_t o{};
+  o.utime = 42;
+  a.publish("ODOMETRY", o);
+  const uint8_t junk[3] = {1, 2, 3};
+  bus->publish("ODOMETRY", junk, sizeof junk);
+  EXPECT_EQ(bus->handleAll(), 2);
+  EXPECT_EQ(got, std::vector<int64_t>{42});
+  EXPECT_EQ(b.counter("decode_errors.ODOMETRY"), 1);
+}
+
+TEST(ReplayIo, MeterPrintsAtMostEveryTenthAndSecond) {
+  using C = ReplayMeter::Clock;
+  const C::time_point t0{};
+  ReplayMeter m(1000, t0);
+  int lines = 0;
+  // 1000 bytes read over 100 events within 0.5 s of wall time: no line (too soon).
+  for (int i = 1; i <= 100; ++i) lines += !m.update(i * 1'000'000, i * 10, t0 + std::chrono::milliseconds(5 * i)).empty();
+  EXPECT_EQ(lines, 0);
+  // A slow run: 10 s per tenth -> a line per tenth, ten in all.
+  ReplayMeter slow(1000, t0);
+  lines = 0;
+  for (int i = 1; i <= 100; ++i) lines += !slow.update(i * 1'000'000, i * 10, t0 + std::chrono::seconds(i)).empty();
+  EXPECT_EQ(lines, 10);
+  EXPECT_NEAR(slow.logSeconds(), 99.0, 1e-9);
+  EXPECT_NE(slow.summary(t0 + std::chrono::seconds(100)).find("real-time factor 1,"), std::string::npos)
+      << slow.summary(t0 + std::chrono::seconds(100));
+}
