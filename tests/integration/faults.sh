@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
-# faults.sh: the pilot host (deploy/hosts/pilot.yaml, fig7_lab) under lasonic-launch, with faults
-# injected while lcm-logger records. Run it inside a private network namespace (ctest does).
+# faults.sh: the pilot host (deploy/hosts/pilot.yaml, fig7_lab) and the navigator host
+# (deploy/hosts/navigator.yaml), each under its own lasonic-launch, with faults injected while
+# lcm-logger records. Run it inside a private network namespace (ctest does).
 # Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
-#  - kill -9 of every process in turn (complement, pilot, laser driver, sonar driver, sim-world):
-#    the launcher restarts it; measured per process: the time from the kill to its first output
-#    (output_s) and until SECTOR_MAP is fresh again (both sensors fresh) for good (recovered_s);
-#    must be < 3 s;
+#  - kill -9 of every process in turn (complement, pilot, laser driver, sonar driver, navigator,
+#    sim-world): the launcher restarts it; measured per pilot-host process: the time from the kill
+#    to its first output (output_s) and until SECTOR_MAP is fresh again (both sensors fresh) for
+#    good (recovered_s); must be < 3 s;
+#  - the navigator: the time from its kill to its first AGM_TACTICAL, AGM_LINES and
+#    CURRENT_SENSOR_MAP (< 3 s); its outputs are correct again from then on: its tactical AGM is
+#    what `lasonic-replay --stages navigator` computes from the log from its restart on (at most 1 %
+#    differing occupied cells, 90 % of its maps matched by time); and, measured, how much of the
+#    memory an uninterrupted navigator (the replay of the whole log) has it has rebuilt since;
 #  - a sensor driver frozen (SIGSTOP) for 2 s, laser then sonar: SECTOR_MAP flags it stale (at an
 #    age within two sensor periods plus the map's own period) and never reports more free space
 #    than its last fresh map (lasonic-fault-check stale);
@@ -13,14 +19,18 @@
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 url+='&recv_buf_size=4194304'
-die_globs+=('launch.txt' 'out/*.txt')
+die_globs+=('launch*.txt' 'out*/*.txt' 'replay*.err')
 check=$bin/lasonic-fault-check
 cd "$src"   # the profile's paths are relative to the repository root
 
 now_us() { date +%s%6N; }
-pid_of() { sed -n "s/.*\] $1 started (pid \([0-9]*\)).*/\1/p" "$tmp/launch.txt" | tail -1; }
+pid_of() { sed -n "s/.*\] $1 started (pid \([0-9]*\)).*/\1/p" "$tmp/launch.txt" "$tmp/launch-nav.txt" | tail -1; }
 
 start_logger run.lcmlog
+"$bin/lasonic-launch" deploy/hosts/navigator.yaml --bin "$bin" --lcm-url "$url" --log-dir "$tmp/out-nav" \
+  --max-time 120 2>"$tmp/launch-nav.txt" &
+launcher_nav=$!
+pids+=("$launcher_nav")
 "$bin/lasonic-launch" deploy/hosts/pilot.yaml --bin "$bin" --lcm-url "$url" --log-dir "$tmp/out" \
   --max-time 120 2>"$tmp/launch.txt" &
 launcher=$!
@@ -39,7 +49,15 @@ declare -A kill_t
 at 4.0
 for i in "${!procs[@]}"; do
   p=${procs[$i]}
-  [[ $p == lasonic-sim-world ]] && at 24.0
+  if [[ $p == lasonic-sim-world ]]; then
+    at 22.0
+    pid=$(pid_of lasonic-navigator)
+    [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null || die "lasonic-navigator is not running before its kill"
+    kill -9 "$pid"
+    kill_nav=$(now_us)
+    echo "kill -9 lasonic-navigator (pid $pid)"
+    at 27.0
+  fi
   pid=$(pid_of "$p")
   [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null || die "$p is not running before its kill"
   kill -9 "$pid"
@@ -58,21 +76,23 @@ for i in "${!procs[@]}"; do
     at $((4 + 3 * (i + 1))).0
   fi
 done
-at 29.0
-kill -TERM "$launcher"
+at 32.0
+kill -TERM "$launcher" "$launcher_nav"
 rc=0
 wait "$launcher" || rc=$?
+rc_nav=0
+wait "$launcher_nav" || rc_nav=$?
 sleep 0.3
 stop_logger
-((rc == 0)) || die "lasonic-launch exited with status $rc after SIGTERM"
-cat "$tmp/launch.txt"
+((rc == 0 && rc_nav == 0)) || die "lasonic-launch exited with status $rc (pilot host), $rc_nav (navigator) after SIGTERM"
+cat "$tmp/launch.txt" "$tmp/launch-nav.txt"
 
 # Every kill was answered by exactly one restart, and nothing else died.
-for p in "${procs[@]}"; do
-  n=$(grep -c "\] $p started" "$tmp/launch.txt")
+for p in "${procs[@]}" lasonic-navigator; do
+  n=$(cat "$tmp/launch.txt" "$tmp/launch-nav.txt" | grep -c "\] $p started")
   [[ $n == 2 ]] || die "$p was started $n times, expected 2 (once, and once after its kill)"
 done
-grep -E 'exited with status [1-9]|on stopping' "$tmp/launch.txt" && die "a process failed (see above)"
+grep -E 'exited with status [1-9]|on stopping' "$tmp/launch.txt" "$tmp/launch-nav.txt" && die "a process failed (see above)"
 
 ends=("${kill_t[lasonic-pilot]}" "${kill_t[lasonic-laser-driver]}" "${kill_t[lasonic-sonar-driver]}" "$stop_laser"
       $((kill_t[lasonic-sim-world] + 4000000)))
@@ -101,9 +121,42 @@ for s in laser sonar; do
     die "$s: flagged stale at an age of $age s, expected within two periods ($period s) + 0.12 s"
 done
 
+# The navigator's kill: its outputs back, and correct (a navigator started when it restarted,
+# replayed offline from the same log, publishes the same maps), until the world's restart.
+for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP; do
+  s=$("$check" window "$tmp/run.lcmlog" "$ch" "$kill_nav" "${kill_t[lasonic-sim-world]}" | awk '$1 == "first_s" {print $2}')
+  echo "recovery lasonic-navigator $ch output_s $s"
+  awk -v s="$s" 'BEGIN { exit !(s > 0 && s < 3.0) }' || die "the navigator's $ch did not come back within 3 s of its kill ($s)"
+done
+# Its restart: the log time of its second "running" line (spdlog, local time, ms; it subscribes
+# just before). The restarted navigator received the log from then on.
+running=$(grep 'lasonic-navigator running' "$tmp/out-nav/lasonic-navigator.txt" | tail -1 | sed 's/^\[\([^]]*\)\].*/\1/')
+t_run=$(date -d "$running" +%s%6N) || die "cannot read the navigator's restart time from '$running'"
+echo "lasonic-navigator running again $(awk -v a="$t_run" -v b="$kill_nav" 'BEGIN { printf "%.3f", (a - b) / 1e6 }') s after its kill"
+"$check" slice "$tmp/run.lcmlog" "$tmp/nav-live.lcmlog" "$t_run" "${kill_t[lasonic-sim-world]}" >/dev/null
+"$bin/lasonic-replay" --stages navigator --in "$tmp/nav-live.lcmlog" --out "$tmp/nav-fresh.lcmlog" --config "$config" \
+  2>"$tmp/replay-fresh.err" || die "lasonic-replay failed on the log from the navigator's restart"
+"$bin/lasonic-replay" --stages navigator --in "$tmp/run.lcmlog" --out "$tmp/nav-whole.lcmlog" --config "$config" \
+  2>"$tmp/replay-whole.err" || die "lasonic-replay failed on the whole log"
+"$check" maps "$tmp/nav-live.lcmlog" "$tmp/nav-fresh.lcmlog" AGM_TACTICAL >"$tmp/fresh.txt"
+"$check" maps "$tmp/nav-live.lcmlog" "$tmp/nav-whole.lcmlog" AGM_TACTICAL >"$tmp/whole.txt"
+k() { awk -v k="$2" '$1 == k {print $2}' "$tmp/$1.txt"; }
+first=$(awk '$1 == "series" {print ($3 == $4 && $4 == $5) ? "same" : "different"; exit}' "$tmp/fresh.txt")
+echo "lasonic-navigator after its restart / lasonic-replay from the restart: maps $(k fresh maps_a), matched" \
+  "$(k fresh matched), identical $(k fresh identical), occupied cells $(k fresh union), differing $(k fresh differing)" \
+  "(share $(k fresh differing_share)); first map: $first occupied cells"
+awk -v a="$(k fresh maps_a)" -v m="$(k fresh matched)" -v d="$(k fresh differing_share)" \
+  'BEGIN { exit !(a >= 5 && m >= 0.9 * a && d <= 0.01) }' ||
+  die "the restarted navigator's tactical AGM differs from a fresh navigator's on the same log beyond the tolerance"
+# Memory: the uninterrupted navigator's occupied cells that the restarted one holds, over time.
+awk '$1 == "series" { if (!t0) t0 = $2; printf "  +%.1f s: %d of the uninterrupted map'"'"'s %d occupied cells (%d own)\n", ($2 - t0) / 1e6, $5, $4, $3 }' \
+  "$tmp/whole.txt" | awk 'NR == 1 || NR % 2 == 1' | sed 's/^/memory /'
+echo "memory: of the restarted navigator's occupied cells, the uninterrupted one has" \
+  "$(awk '$1 == "series" { a += $3; c += $5 } END { printf "%.3f", a ? c / a : 1 }' "$tmp/whole.txt")"
+
 # The world's restart: every process noticed the clock starting again.
 "$bin/lasonic-log-stats" "$tmp/run.lcmlog" >"$tmp/stats"
-for p in lasonic-complement lasonic-pilot lasonic-laser-driver lasonic-sonar-driver; do
+for p in lasonic-complement lasonic-pilot lasonic-laser-driver lasonic-sonar-driver lasonic-navigator; do
   n=$(stat "$p.time_resets")
   [[ -n $n && $n -ge 1 ]] || die "$p did not count a time reset after lasonic-sim-world restarted"
 done
