@@ -175,6 +175,31 @@ void Config::allowOnly(const std::vector<std::string>& allowed) const {
   }
 }
 
+namespace {
+YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over) {
+  if (!base || !base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string k = kv.first.as<std::string>();
+    const YAML::Node old = out[k];
+    out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+}  // namespace
+
+Config Config::loadFiles(const std::vector<std::string>& filenames) {
+  if (filenames.empty()) return Config{};
+  if (filenames.size() == 1) return loadFile(filenames.front());
+  YAML::Node merged(YAML::NodeType::Map);
+  std::string names;
+  for (const std::string& f : filenames) {
+    merged = deepMerge(merged, loadFile(f).node());
+    names += (names.empty() ? "" : " + ") + f;
+  }
+  return Config(merged, "", names);
+}
+
 Config Config::mergedWith(const Config& over) const {
   YAML::Node merged(YAML::NodeType::Map);
   for (const auto& kv : node_) merged[kv.first.as<std::string>()] = kv.second;

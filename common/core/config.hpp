@@ -45,6 +45,11 @@ class Config {
 
   // Reads and parses a YAML file whose root must be a map.
   static Config loadFile(const std::string& filename);
+  // Several files layered in order: maps are merged key by key at every depth, a later file's
+  // value (scalar or list) replaces an earlier one's. No files: an empty map. So a robot's file
+  // can override a few keys of the shipped configuration:
+  //   --config deploy/config/lasonic.yaml --config deploy/config/pioneer.yaml
+  static Config loadFiles(const std::vector<std::string>& filenames);
   static Config fromString(const std::string& yaml, const std::string& name = "<string>");
 
   const std::string& path() const { return path_; }

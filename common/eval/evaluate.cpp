@@ -7,6 +7,7 @@
 
 #include "core/geometry.hpp"
 #include "eval/baselines.hpp"
+#include "eval/laser_seen.hpp"
 #include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
@@ -160,33 +161,76 @@ void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m) {
 
 // ------------------------------------------------------------------------------ complement
 
+double hypothesisRangeLimit(const RunLog& log, const EvalOptions& o) {
+  if (!log.hypotheses.empty() && std::isfinite(log.hypotheses.front().range_limit) &&
+      log.hypotheses.front().range_limit > 0)
+    return log.hypotheses.front().range_limit;
+  return o.range_limit;
+}
+
+void evalLaserTruth(const LaserSeen& seen, Metrics& m) {
+  m.set("sensors.laser_truth", int64_t{seen.available() ? 1 : 0});
+  if (seen.available()) m.set("sensors.laser_scans_without_truth", seen.scansWithoutTruth());
+}
+
 void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
+  evalComplement(log, LaserSeen(log, o.seen_radius), o, m);
+}
+
+void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m) {
   if (log.complements.empty() || log.sonar_truths.empty()) return;
   using Key = std::pair<int64_t, int>;
   std::map<Key, const sonar_cause_t*> truth;
   for (const auto& t : log.sonar_truths)
     for (const auto& c : t.causes) truth[{t.utime, c.sensor_id}] = &c;
-  std::map<Key, std::pair<float, bool>> real;  // range, no_echo
+  struct Real {
+    float range;
+    bool no_echo;
+    pose2d_t mount;
+  };
+  std::map<Key, Real> real;
   for (const auto& r : log.sonar_rings)
-    for (size_t i = 0; i < r.range.size(); ++i) real[{r.utime, r.sensor_id[i]}] = {r.range[i], r.no_echo[i] != 0};
-  double limit = o.range_limit;
-  if (!log.hypotheses.empty()) limit = log.hypotheses.front().range_limit;
+    for (size_t i = 0; i < r.range.size() && i < r.sensor_id.size() && i < r.no_echo.size(); ++i)
+      real[{r.utime, r.sensor_id[i]}] = {r.range[i], r.no_echo[i] != 0, i < r.mount.size() ? r.mount[i] : pose2d_t{}};
+  const double limit = hypothesisRangeLimit(log, o);
+  const bool per_scan = seen.available();
+  const TruthTrack track(log.sim_states);
 
   Ratio invisible, informative, specular, redundant, precision;
   for (const auto& cm : log.complements) {
+    // The scan the complement compared this firing with: the one its Radar Map came from, else
+    // the newest completed at or before the firing.
+    int scan = per_scan ? seen.completedAt(cm.radar_map_utime) : -1;
+    if (per_scan && scan < 0) scan = seen.newestAt(cm.utime);
+    // Before the first scan there is nothing the laser saw to compare with: such firings are
+    // left out of the laser-based splits (specular_rejection and precision keep them).
+    const bool no_scan = per_scan && scan < 0;
+    const double beam = std::isfinite(cm.beam_width) && cm.beam_width > 0 && cm.beam_width < geom::kPi
+                            ? double(cm.beam_width)
+                            : geom::deg2rad(30.0);
     for (const auto& rd : cm.readings) {
       const Key k{cm.utime, rd.sensor_id};
       auto t = truth.find(k);
       auto r = real.find(k);
       if (t == truth.end() || r == real.end()) continue;
       const sonar_cause_t& c = *t->second;
-      const double range = r->second.first;
-      const bool echo = !r->second.second && std::isfinite(range);
+      const double range = r->second.range;
+      const bool echo = !r->second.no_echo && std::isfinite(range);
       const bool comp = rd.cls == complement_reading_t::CLASS_COMPLEMENTARY;
       const bool direct = c.cause == sonar_cause_t::CAUSE_DIRECT && echo;
-      const double visible = c.nearest_laser_visible < 0 ? limit : c.nearest_laser_visible;
-      const bool informative_echo = direct && range <= limit && range < visible - cm.tolerance;
-      if (direct && !c.laser_visible && range <= limit) invisible.add(comp);
+      // Laser-visible: the compared scan returned from the echoing obstacle within seen_radius
+      // of the echo's hit point (fallback: the material reflects the laser).
+      bool laser_saw = c.laser_visible != 0;
+      // The nearest surface the laser saw inside the ideal beam (fallback: the nearest
+      // laser-reflecting one, SONAR_TRUTH); none: the limit.
+      double visible = c.nearest_laser_visible < 0 ? limit : c.nearest_laser_visible;
+      if (per_scan && direct && !no_scan) {
+        laser_saw = seen.saw(scan, c.obstacle, {c.hit_x, c.hit_y}, o.seen_radius, cm.utime);
+        const geom::Pose2 sensor = track.robotAt(cm.utime).compose(toPose(r->second.mount));
+        visible = seen.nearestInSector(scan, geom::Sector{sensor.position(), sensor.theta, beam, limit}).value_or(limit);
+      }
+      const bool informative_echo = direct && !no_scan && range <= limit && range < visible - cm.tolerance;
+      if (direct && !no_scan && !laser_saw && range <= limit) invisible.add(comp);
       if (informative_echo) informative.add(comp);
       if (c.cause == sonar_cause_t::CAUSE_SPECULAR_LONG) specular.add(!comp);
       // "The RM holds it": the Radar Map has a surface inside the ideal beam no farther than the
@@ -194,7 +238,7 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
       // thus not held, and its complementary echo counts as correct, not as a failed drop.
       const bool rm_holds = std::isfinite(rd.hypothetical_range) && c.true_range >= 0 &&
                             rd.hypothetical_range <= c.true_range + cm.tolerance;
-      if (direct && c.laser_visible && rm_holds) redundant.add(!comp);
+      if (direct && !no_scan && laser_saw && rm_holds) redundant.add(!comp);
       if (comp) precision.add(direct && c.true_range >= 0 && !rm_holds);
     }
   }
@@ -204,7 +248,9 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
   setRatio(m, "complement.redundant_drop", redundant);
   setRatio(m, "complement.precision", precision);
   m.set("complement.samples.invisible", invisible.den);
+  m.set("complement.samples.informative", informative.den);
   m.set("complement.samples.specular_long", specular.den);
+  m.set("complement.samples.redundant", redundant.den);
   m.set("complement.samples.complementary", precision.den);
 }
 
@@ -243,12 +289,17 @@ void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalO
 // ------------------------------------------------------------------------------ AGM
 
 void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
+  evalAgmOperational(log, sc, LaserSeen(log, o.seen_radius), o, m);
+}
+
+void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                        Metrics& m) {
   if (log.agm_operational.empty() || log.sim_states.size() < 2) return;
   TruthTrack truth(log.sim_states);
   sim::WorldGeometry world(sc);
-  // Boundary samples of laser-invisible static obstacles: what the complement exists to find.
-  std::vector<geom::Vec2> invisible_pts;
-  for (const BoundaryPoint& b : laserInvisibleBoundary(sc)) invisible_pts.push_back(b.p);
+  // Boundary samples the sonar alone can provide: what the complement exists to find (those the
+  // newest scan saw are skipped below).
+  const std::vector<BoundaryPoint> candidates = sonarOnlyCandidates(sc, seen);
   Ratio precision, recall;
   for (const auto& g : log.agm_operational) {
     world.setMovers(truth.moversAt(g.utime));
@@ -275,21 +326,26 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOp
       precision.add(best <= tol);
     }
     const double reach = sc.robot.radius + o.range_limit;
-    for (const auto& q : invisible_pts) {
-      const geom::Vec2 d = q - true_robot.position();
+    const int scan = seen.newestAt(g.utime);
+    if (seen.available() && scan < 0) continue;  // before the first scan: nothing to compare with
+    for (const BoundaryPoint& b : candidates) {
+      const geom::Vec2 d = b.p - true_robot.position();
       const double dist = d.norm();
       if (dist > reach || dist < 1e-6) continue;
+      // What the newest scan saw is the Radar Map's, not the AGM's.
+      if (seen.saw(scan, b.obstacle, b.p, o.seen_radius)) continue;
       // Only boundary the sonar can see: nothing else in the line of sight.
       const auto hit = world.castRay(geom::Ray{true_robot.position(), d / dist}, dist + 0.05);
       if (hit && hit->range < dist - 0.03) continue;
       bool found = false;
-      for (const auto& c : occupied) found = found || (c - q).norm() <= tol;
+      for (const auto& c : occupied) found = found || (c - b.p).norm() <= tol;
       recall.add(found);
     }
   }
   m.set("agm_operational.maps", static_cast<int64_t>(log.agm_operational.size()));
   setRatio(m, "agm_operational.precision", precision);
   setRatio(m, "agm_operational.recall", recall);
+  m.set("agm_operational.samples.boundary", recall.den);
 }
 
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, const BaselinesConfig* baselines) {
@@ -300,15 +356,17 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
     duration = static_cast<double>(log.sim_states.back().utime - log.sim_states.front().utime) * 1e-6;
   m.set("duration_s", duration);
   evalSensors(log, sc, m);
-  evalComplement(log, o, m);
+  const LaserSeen seen(log, o.seen_radius);
+  evalLaserTruth(seen, m);
+  evalComplement(log, seen, o, m);
   if (!log.sector_maps.empty() && log.sim_states.size() >= 2) {
-    const SectorTruthTable truth = sectorTruthTable(log, sc, o);
+    const SectorTruthTable truth = sectorTruthTable(log, sc, seen, o);
     evalSectorMap(log, truth, o, m);
     evalBaselines(log, truth, baselines ? *baselines : baselinesConfig(Config{}), o, m);
   }
-  evalAgmOperational(log, sc, o, m);
-  evalAgmTactical(log, sc, o, m);
-  evalLines(log, sc, o, m);
+  evalAgmOperational(log, sc, seen, o, m);
+  evalAgmTactical(log, sc, seen, o, m);
+  evalLines(log, sc, seen, o, m);
   return m;
 }
 

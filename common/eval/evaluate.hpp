@@ -2,6 +2,7 @@
 // Scoring a run against the simulator's ground truth (DESIGN.md "Evaluation"). Each section
 // is a function of the decoded log and the scenario, so it can be tested on hand-made data.
 // The definitions are in README.md, section "Evaluation"; keep both in step.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,9 +50,11 @@ struct EvalOptions {
   double located_radius = 0.30;    // [m] a direct echo's hit point this close locates a boundary point
   double line_tolerance = 0.10;    // [m] lines: within this of a boundary point / a true surface
   double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
+  double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
 };
 
 struct SectorTruthTable;  // eval/observability.hpp
+class LaserSeen;          // eval/laser_seen.hpp
 struct BaselinesConfig;   // eval/baselines.hpp
 
 // The truth at any time, interpolated between SIM_STATE messages.
@@ -70,7 +73,14 @@ class TruthTrack {
 // Sensor statistics: counts, sonar causes and reflector kinds (SONAR_TRUTH), laser returns by
 // the material that returned them (LASER_TRUTH; needs the scenario to name the materials).
 void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m);
+// "Laser-invisible" means, scan by scan, that the laser did not see it (eval/laser_seen.hpp);
+// without LASER_TRUTH (or SIM_STATE) the functions below fall back to the material rule
+// (Scenario::laserVisible, SONAR_TRUTH laser_visible / nearest_laser_visible). Each overload
+// without a LaserSeen builds one from the log.
+// sensors.laser_truth (1: per scan, 0: by material) and sensors.laser_scans_without_truth.
+void evalLaserTruth(const LaserSeen& seen, Metrics& m);
 void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m);
+void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m);
 // True free distance per sector (from the robot's boundary; +inf when nothing within
 // max_range), for the robot at `robot` with the world's movers already placed.
 std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,
@@ -79,26 +89,45 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
 // The same with the truth computed once (eval/observability.hpp).
 void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m);
 void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                        Metrics& m);
 
-// Boundary points (every `spacing` metres) of the scenario's static obstacles that do not reflect
-// the laser, each with its obstacle index and the surface (index into Scenario::statics: one side
-// of a box or polyline, or a circle) it lies on.
+// Boundary points (every `spacing` metres) of the scenario's static obstacles, each with its
+// obstacle index and the surface (index into Scenario::statics: one side of a box or polyline,
+// or a circle) it lies on.
 struct BoundaryPoint {
   geom::Vec2 p;
   int obstacle = -1;
   int surface = -1;
 };
+std::vector<BoundaryPoint> staticBoundary(const sim::Scenario& sc, double spacing = 0.05);
+// Only the obstacles whose material does not reflect the laser (the material rule).
 std::vector<BoundaryPoint> laserInvisibleBoundary(const sim::Scenario& sc, double spacing = 0.05);
-// For each point, the earliest firing time of a DIRECT echo whose hit point lies on the point's
-// own surface (within 1 cm of it: a corner lies on both sides) and within `radius` of the point
-// (SONAR_TRUTH), or INT64_MAX if none ever did: when the point was located. An echo locates the
-// surface that answered, not the back of a box behind it.
+// The boundary the sonar-only scores look at: every static obstacle when the laser's truth says
+// per scan what it saw (a point counts only while the laser does not see it), else the
+// laser-invisible materials' (the fallback).
+std::vector<BoundaryPoint> sonarOnlyCandidates(const sim::Scenario& sc, const LaserSeen& seen, double spacing = 0.05);
+// For each point, the earliest firing time of a DIRECT echo (SONAR_TRUTH) with a measured range
+// within range_limit (what the complement can keep) whose hit point lies on the point's own
+// surface (within 1 cm of it: a corner lies on both sides) and within `radius` of the point, the
+// point in the transducer's line of sight (SONAR_RING mount on the true pose; nothing static in
+// between), or INT64_MAX if none ever did: when the point was located. An echo locates the
+// surface that answered, not the back of a bin or of a box behind it. With `seen` (and its truth
+// available) the sonar alone must have located it: the newest scan at the firing saw neither the
+// echo's hit point nor the point (no return of their obstacle within seen_radius), and echoes
+// before the first scan locate nothing.
 std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts,
-                                  double radius);
+                                  double radius, const LaserSeen* seen = nullptr, double seen_radius = 0.10,
+                                  double range_limit = std::numeric_limits<double>::infinity());
+// The hypothetical scan's range limit: SONAR_HYPOTHESIS's, else the option's.
+double hypothesisRangeLimit(const RunLog& log, const EvalOptions& o);
 
 // Tactical level (AGM_TACTICAL, CURRENT_SENSOR_MAP); definitions in the README.
 void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                     Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
+void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o, Metrics& m);
 
 // baselines: the baseline mappers' configuration (nullptr: the code's defaults).
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {},

@@ -6,6 +6,8 @@
 
 #include <lasonic/sector_map_t.hpp>
 
+#include "eval/laser_seen.hpp"
+
 namespace lasonic::eval {
 
 std::vector<SectorTruth> trueSectorHits(const sim::WorldGeometry& world, const geom::Pose2& robot,
@@ -82,6 +84,11 @@ bool LocatedPoints::located(int obstacle, const geom::Vec2& p, int64_t utime) co
 // ------------------------------------------------------------------------------ truth table
 
 SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o) {
+  return sectorTruthTable(log, sc, LaserSeen(log, o.seen_radius), o);
+}
+
+SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen,
+                                  const EvalOptions& o) {
   SectorTruthTable table;
   table.offset.push_back(0);
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return table;
@@ -105,6 +112,7 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
     const auto hits = trueSectorHits(world, truth.robotAt(sm.utime), sm.robot_radius, sm.nsectors,
                                      o.sector_range + 1.0);
     table.maps.push_back(i);
+    const int scan = seen.newestAt(sm.utime);
     for (const SectorTruth& h : hits) {
       SectorSample s;
       s.truth = static_cast<float>(h.distance);
@@ -113,8 +121,12 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
         auto [it, fresh] = material_index.emplace(mat.name, static_cast<int16_t>(table.materials.size()));
         if (fresh) table.materials.push_back(mat.name);
         s.material = it->second;
-        s.observable = h.distance <= o.sector_range &&
-                       (mat.laser == sim::LaserBehaviour::Reflect || located.located(h.primitive->obstacle, h.point, sm.utime));
+        // The laser saw the point (the newest scan returned from its obstacle near it; without
+        // LASER_TRUTH: its material reflects the laser), or an echo located it.
+        const int obstacle = h.primitive->obstacle;
+        const bool laser = seen.available() ? seen.saw(scan, obstacle, h.point, o.seen_radius, sm.utime)
+                                            : mat.laser == sim::LaserBehaviour::Reflect;
+        s.observable = h.distance <= o.sector_range && (laser || located.located(obstacle, h.point, sm.utime));
       }
       table.samples.push_back(s);
     }

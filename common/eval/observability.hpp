@@ -4,10 +4,12 @@
 //
 // A scored sample is one sector of one SECTOR_MAP. Its truth is the nearest true surface point
 // inside the sector (static obstacles and the movers at the map's time). A sample whose truth
-// lies within sector_range of the robot's boundary is *observable* when that point's surface
-// reflects the laser, or when a DIRECT sonar echo (SONAR_TRUTH, cause DIRECT) located that same
-// obstacle within observe_radius of the point at or before the map's time (the echo's hit
-// point, true world frame; a mover's echo counts where the mover was then).
+// lies within sector_range of the robot's boundary is *observable* when the laser saw that point
+// (the newest scan completed at or before the map's time returned from its obstacle within
+// seen_radius of it, eval/laser_seen.hpp; without LASER_TRUTH: its material reflects the laser),
+// or when a DIRECT sonar echo (SONAR_TRUTH, cause DIRECT) located that same obstacle within
+// observe_radius of the point at or before the map's time (the echo's hit point, true world
+// frame; a mover's echo counts where the mover was then).
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -84,6 +86,9 @@ struct SectorTruthTable {
   const SectorSample* mapSamples(size_t i) const { return samples.data() + offset[i]; }
   int sectors(size_t i) const { return static_cast<int>(offset[i + 1] - offset[i]); }
 };
+SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen,
+                                  const EvalOptions& o);
+// The same with a LaserSeen built from the log.
 SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o);
 
 // Scores of one sector-map source against the samples (README "Evaluation", sector map).

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "eval/evaluate.hpp"
+#include "eval/laser_seen.hpp"
 
 namespace lasonic::eval {
 
@@ -100,11 +102,13 @@ const Grid* sameTime(const std::vector<Grid>& v, int64_t utime) {
 }
 }  // namespace
 
-std::vector<BoundaryPoint> laserInvisibleBoundary(const sim::Scenario& sc, double spacing) {
+namespace {
+std::vector<BoundaryPoint> boundary(const sim::Scenario& sc, double spacing, bool laser_invisible_only) {
   std::vector<BoundaryPoint> out;
+  spacing = spacing > 0 ? spacing : 0.05;
   for (size_t k = 0; k < sc.statics.size(); ++k) {
     const sim::Primitive& p = sc.statics[k];
-    if (sc.laserVisible(p.obstacle)) continue;
+    if (laser_invisible_only && sc.laserVisible(p.obstacle)) continue;
     const int surface = static_cast<int>(k);
     if (p.kind == sim::Primitive::Kind::Segment) {
       const int n = std::max(1, static_cast<int>(std::ceil(p.segment.length() / spacing)));
@@ -118,10 +122,25 @@ std::vector<BoundaryPoint> laserInvisibleBoundary(const sim::Scenario& sc, doubl
   }
   return out;
 }
+}  // namespace
+
+std::vector<BoundaryPoint> staticBoundary(const sim::Scenario& sc, double spacing) {
+  return boundary(sc, spacing, false);
+}
+
+std::vector<BoundaryPoint> laserInvisibleBoundary(const sim::Scenario& sc, double spacing) {
+  return boundary(sc, spacing, true);
+}
+
+std::vector<BoundaryPoint> sonarOnlyCandidates(const sim::Scenario& sc, const LaserSeen& seen, double spacing) {
+  return boundary(sc, spacing, !seen.available());
+}
 
 std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts,
-                                  double radius) {
+                                  double radius, const LaserSeen* seen, double seen_radius, double range_limit) {
   constexpr double kOnSurface = 0.01;  // [m]
+  constexpr double kSightSlack = 0.03;  // [m] a ray that meets a surface this short of the point still reaches it
+  const bool per_scan = seen && seen->available();
   std::vector<int64_t> first(pts.size(), kNever);
   // Points per surface, and the surfaces of each obstacle, so each echo is compared only with
   // the boundary of the surfaces it hit.
@@ -131,27 +150,74 @@ std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, co
     if (by_surface[pts[i].surface].empty()) surfaces[pts[i].obstacle].push_back(pts[i].surface);
     by_surface[pts[i].surface].push_back(i);
   }
-  for (const auto& t : log.sonar_truths)
+  // Each reading's measured range and where its transducer was (true frame: its mount, SONAR_RING,
+  // on the true robot pose).
+  struct Reading {
+    float range;
+    pose2d_t mount;
+  };
+  std::map<std::pair<int64_t, int>, Reading> readings;
+  for (const auto& r : log.sonar_rings)
+    for (size_t i = 0; i < r.sensor_id.size() && i < r.mount.size() && i < r.range.size(); ++i)
+      readings[{r.utime, r.sensor_id[i]}] = {r.range[i], r.mount[i]};
+  const TruthTrack truth(log.sim_states);
+  const sim::WorldGeometry world(sc);  // static only: what hides a surface point from a transducer
+  for (const auto& t : log.sonar_truths) {
+    const int scan = per_scan ? seen->newestAt(t.utime) : -1;
+    // Before the first scan nothing says what the laser would have seen (and the complement has
+    // no Radar Map to classify against): such echoes locate nothing.
+    if (per_scan && scan < 0) continue;
     for (const auto& c : t.causes) {
       if (c.cause != sonar_cause_t::CAUSE_DIRECT || c.true_range < 0) continue;
       auto it = surfaces.find(c.obstacle);
       if (it == surfaces.end()) continue;
       const geom::Vec2 hit(c.hit_x, c.hit_y);
+      // An echo from a surface the laser saw (its hit point) is redundant: the Radar Map has that
+      // surface, and the echo is no evidence of anything only the sonar knows.
+      if (per_scan && seen->saw(scan, c.obstacle, hit, seen_radius)) continue;
+      const auto reading = readings.find({t.utime, c.sensor_id});
+      // Only what the complement can keep reaches a grid: echoes within the hypothetical scan's limit.
+      const double range = reading != readings.end() ? double(reading->second.range) : double(c.true_range);
+      if (!(range <= range_limit)) continue;
+      std::optional<geom::Vec2> sensor;
+      if (reading != readings.end() && !truth.empty())
+        sensor = truth.robotAt(t.utime).compose(toPose(reading->second.mount)).position();
       for (int k : it->second) {
         if (distanceTo(sc.statics[static_cast<size_t>(k)], hit) > kOnSurface) continue;
-        for (size_t i : by_surface[k])
-          if (t.utime < first[i] && (pts[i].p - hit).norm() <= radius) first[i] = t.utime;
+        for (size_t i : by_surface[k]) {
+          if (t.utime >= first[i] || (pts[i].p - hit).norm() > radius) continue;
+          // Where the newest scan saw the point, the laser had it: not the sonar's alone.
+          if (per_scan && seen->saw(scan, pts[i].obstacle, pts[i].p, seen_radius)) continue;
+          // A point hidden from the transducer (the back of a bin, the far side of a box's
+          // corner, a wall behind a box) was not located by this echo.
+          if (sensor) {
+            const geom::Vec2 d = pts[i].p - *sensor;
+            const double dist = d.norm();
+            if (dist > 1e-6) {
+              const auto h = world.castRay(geom::Ray{*sensor, d / dist}, dist + kSightSlack);
+              if (h && h->range < dist - kSightSlack) continue;
+            }
+          }
+          first[i] = t.utime;
+        }
       }
     }
+  }
   return first;
 }
 
 void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
+  evalAgmTactical(log, sc, LaserSeen(log, o.seen_radius), o, m);
+}
+
+void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                     Metrics& m) {
   if (log.agm_tactical.empty() || log.sim_states.size() < 2) return;
   TruthTrack truth(log.sim_states);
   const MoverTracks movers(log.sim_states);
-  const auto boundary = laserInvisibleBoundary(sc);
-  const auto located = locatedTimes(log, sc, boundary, o.located_radius);
+  const auto boundary = sonarOnlyCandidates(sc, seen);
+  const auto located =
+      locatedTimes(log, sc, boundary, o.located_radius, &seen, o.seen_radius, hypothesisRangeLimit(log, o));
   Ratio precision, recall, mover_share;
   for (const auto& g : log.agm_tactical) {
     const geom::Pose2 true_from_odom = truth.robotAt(g.utime).compose(toPose(g.robot_pose).inverse());
@@ -163,8 +229,11 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptio
       mover_share.add(!on_static && movers.onTrack(c, g.utime, tol));
     }
     const Window win(g, true_from_odom);
+    const int scan = seen.newestAt(g.utime);
     for (size_t i = 0; i < boundary.size(); ++i) {
       if (located[i] >= g.utime || !win.contains(boundary[i].p)) continue;
+      // What the newest scan sees now is the Radar Map's, not the tactical level's memory.
+      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
       bool found = false;
       for (const auto& c : occupied)
         if ((c - boundary[i].p).norm() <= tol) {
@@ -183,11 +252,16 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptio
 }
 
 void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m) {
+  evalLines(log, sc, LaserSeen(log, o.seen_radius), o, m);
+}
+
+void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o, Metrics& m) {
   if (log.current_sensor_maps.empty() || log.sim_states.size() < 2) return;
   TruthTrack truth(log.sim_states);
   sim::WorldGeometry world(sc);
-  const auto boundary = laserInvisibleBoundary(sc);
-  const auto located = locatedTimes(log, sc, boundary, o.located_radius);
+  const auto boundary = sonarOnlyCandidates(sc, seen);
+  const auto located =
+      locatedTimes(log, sc, boundary, o.located_radius, &seen, o.seen_radius, hypothesisRangeLimit(log, o));
   constexpr double kStep = 0.01;  // [m] line samples for the precision
   int64_t maps = 0, lines = 0;
   Ratio coverage, precision;
@@ -215,8 +289,10 @@ void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o,
     const grid_map_t* g = sameTime(log.agm_tactical, csm.utime);
     if (!g) continue;
     const Window win(*g, true_from_odom);
+    const int scan = seen.newestAt(csm.utime);
     for (size_t i = 0; i < boundary.size(); ++i) {
       if (located[i] >= csm.utime || !win.contains(boundary[i].p)) continue;
+      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;  // the laser's now
       bool covered = false;
       for (const auto& s : sonar)
         if (geom::distance(s, boundary[i].p) <= o.line_tolerance) {

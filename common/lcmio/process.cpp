@@ -10,7 +10,9 @@ namespace lasonic {
 
 ProcessMain::ProcessMain(std::string name, const std::string& description)
     : name_(std::move(name)), app_(description) {
-  app_.add_option("--config", config_file_, "lasonic YAML configuration (deploy/config/lasonic.yaml)");
+  app_.add_option("--config", config_files_,
+                  "lasonic YAML configuration (deploy/config/lasonic.yaml); repeat to layer a robot's overrides on it")
+      ->check(CLI::ExistingFile);
   app_.add_option("--lcm-url", lcm_url_, "LCM URL")->capture_default_str();
 }
 
@@ -29,7 +31,7 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   setupLogging(name_);
   // Start-up errors go to stderr as one plain line (the launcher's log shows it as it is).
   try {
-    const Config root = config_file_.empty() ? Config{} : Config::loadFile(config_file_);
+    const Config root = Config::loadFiles(config_files_);
     configure(root);
   } catch (const ConfigError& e) {
     std::cerr << name_ << ": " << e.what() << "\n";

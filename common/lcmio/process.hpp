@@ -1,7 +1,8 @@
 #pragma once
 // ProcessMain: the one way a live lasonic process starts and ends (every main in procs/ that
 // talks LCM goes through it):
-//   - command line (CLI11): --config FILE, --lcm-url URL, --help, plus the process's own options;
+//   - command line (CLI11): --config FILE (repeatable: later files override earlier ones' keys),
+//     --lcm-url URL, --help, plus the process's own options;
 //   - logging (spdlog, named after the process; LASONIC_LOG_LEVEL);
 //   - configuration: the --config file loaded, then the process's configure step; a ConfigError
 //     (a message naming file and key) exits 2;
@@ -23,6 +24,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/config.hpp"
 #include "lcmio/node.hpp"
@@ -42,7 +44,7 @@ class ProcessMain {
   // Add the process's own options here before run().
   CLI::App& app() { return app_; }
   const std::string& name() const { return name_; }
-  const std::string& configFile() const { return config_file_; }
+  const std::vector<std::string>& configFiles() const { return config_files_; }
   const std::string& lcmUrl() const { return lcm_url_; }
 
   // configure: reads what the process needs from the --config root (an empty map without
@@ -54,7 +56,7 @@ class ProcessMain {
  private:
   std::string name_;
   CLI::App app_;
-  std::string config_file_;
+  std::vector<std::string> config_files_;
   std::string lcm_url_ = kDefaultLcmUrl;
 };
 

@@ -3,6 +3,7 @@
 // the sensor configs with their precedence: code defaults <- the --config file's section <- the
 // scenario's override section. Every step throws ConfigError naming file and key.
 #include <string>
+#include <vector>
 
 #include "core/config.hpp"
 #include "sim/drivers.hpp"
@@ -15,9 +16,9 @@ struct SimSetup {
   Scenario scenario;
 };
 
-inline SimSetup loadSimSetup(const std::string& config_file, const std::string& scenario_file) {
+inline SimSetup loadSimSetup(const std::vector<std::string>& config_files, const std::string& scenario_file) {
   SimSetup s;
-  if (!config_file.empty()) s.config = Config::loadFile(config_file);
+  s.config = Config::loadFiles(config_files);
   s.scenario = loadScenario(scenario_file);
   return s;
 }

@@ -7,23 +7,27 @@
 
 #include "core/config.hpp"
 #include "eval/baselines.hpp"
+#include <string>
+#include <vector>
+
 #include "eval/evaluate.hpp"
 #include "lcmio/eventlog.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-eval: score an LCM log against the simulator's ground truth"};
-  std::string log_path, scenario_path, json_path, config_path;
+  std::string log_path, scenario_path, json_path;
+  std::vector<std::string> config_files;
   app.add_option("--log", log_path, "LCM log (from lasonic-sim, lasonic-replay or lcm-logger)")->required();
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from")->required();
   app.add_option("--json", json_path, "also write the metrics as JSON to FILE ('-' = standard output)");
-  app.add_option("--config", config_path,
+  app.add_option("--config", config_files,
                  "YAML configuration the log was replayed with (sections pilot and baselines: the baselines' "
-                 "parameters and read-out); without it the code's defaults");
+                 "parameters and read-out; repeat to layer overrides); without it the code's defaults")
+      ->check(CLI::ExistingFile);
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
   try {
-    baselines = lasonic::eval::baselinesConfig(config_path.empty() ? lasonic::Config{}
-                                                                   : lasonic::Config::loadFile(config_path));
+    baselines = lasonic::eval::baselinesConfig(lasonic::Config::loadFiles(config_files));
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-eval: bad config: " << e.what() << "\n";
     return 2;
@@ -36,6 +40,11 @@ int main(int argc, char** argv) {
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     const auto metrics = lasonic::eval::evaluate(log, scenario, {}, &baselines);
+    // Never silently: without the laser's truth "laser-invisible" falls back to the material.
+    if (metrics.has("sensors.laser_truth") && metrics.number("sensors.laser_truth") == 0 &&
+        (!log.sonar_truths.empty() || !log.agm_tactical.empty() || !log.agm_operational.empty()))
+      std::cerr << "lasonic-eval: warning: " << log_path << " holds no LASER_TRUTH (or no SIM_STATE): "
+                << "laser-invisible is decided by material, not by what the laser saw (sensors.laser_truth = 0)\n";
     if (json_path == "-") {
       std::cout << metrics.toJson();
       return 0;

@@ -25,6 +25,8 @@
 #include <fstream>
 #include <iostream>
 #include <numeric>
+#include <string>
+#include <vector>
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -294,14 +296,17 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-mrpt-peer: MRPT's occupancy grid on the same log, scored and timed beside lasonic"};
-  std::string log_path, scenario_path, json_path, config_path;
+  std::string log_path, scenario_path, json_path;
+  std::vector<std::string> config_files;
   app.add_option("--log", log_path, "LCM log run through lasonic-replay (raw channels, SECTOR_MAP, truth)")->required();
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from")->required();
-  app.add_option("--config", config_path, "YAML configuration (pilot, complement and baselines sections)");
+  app.add_option("--config", config_files,
+                 "YAML configuration (pilot, complement and baselines sections); repeat to layer overrides")
+      ->check(CLI::ExistingFile);
   app.add_option("--json", json_path, "also write the results as JSON to FILE ('-' = standard output)");
   CLI11_PARSE(app, argc, argv);
   try {
-    const Config root = config_path.empty() ? Config{} : Config::loadFile(config_path);
+    const Config root = Config::loadFiles(config_files);
     return run(log_path, scenario_path, root, json_path);
   } catch (const ConfigError& e) {
     std::cerr << "lasonic-mrpt-peer: " << e.what() << "\n";

@@ -1,4 +1,4 @@
-// lasonic-replay --in LOG --out LOG [--config FILE] [--stages LIST]
+// lasonic-replay --in LOG --out LOG [--config FILE]...  [--stages LIST]
 //
 // Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
 // stage has its own Node on one shared memq:// LCM instance; each input event is published into
@@ -20,6 +20,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "core/config.hpp"
 #include "core/logging.hpp"
@@ -113,10 +114,12 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
-  std::string in_path, out_path, config_file, stage_list = "complement,pilot,navigator";
+  std::string in_path, out_path, stage_list = "complement,pilot,navigator";
+  std::vector<std::string> config_files;
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
-  app.add_option("--config", config_file, "YAML configuration (sections complement, pilot, navigator)")
+  app.add_option("--config", config_files,
+                 "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides")
       ->check(CLI::ExistingFile);
   app.add_option("--stages", stage_list,
                  "stages to run, comma-separated (complement, pilot, navigator); only their outputs are "
@@ -136,8 +139,7 @@ int main(int argc, char** argv) {
   }
   lasonic::setupLogging("lasonic-replay");
   try {
-    const lasonic::Config root =
-        config_file.empty() ? lasonic::Config{} : lasonic::Config::loadFile(config_file);
+    const lasonic::Config root = lasonic::Config::loadFiles(config_files);
     return replay(in_path, out_path, root, stages);
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-replay: " << e.what() << "\n";

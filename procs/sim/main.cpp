@@ -12,6 +12,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <vector>
 
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
@@ -22,7 +23,8 @@ using namespace lasonic;
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-sim: simulate a scenario faster than real time into an LCM log"};
-  std::string config_file, scenario_file, out_file;
+  std::string scenario_file, out_file;
+  std::vector<std::string> config_files;
   std::optional<double> duration;
   std::optional<uint64_t> seed;
   std::string profile;
@@ -30,7 +32,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_file, "LCM log file to write")->required();
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
   app.add_option("--seed", seed, "random seed (default: the scenario's)");
-  app.add_option("--config", config_file, "lasonic YAML config (sections odometry, laser, sonar)");
+  app.add_option("--config", config_files,
+                 "lasonic YAML config (sections odometry, laser, sonar); repeat to layer overrides")
+      ->check(CLI::ExistingFile);
   app.add_option("--profile", profile,
                  "sensor profile of both laser and sonar, overriding config and scenario: physical (the default) "
                  "or ideal (the method's idealised sensors)")
@@ -42,7 +46,7 @@ int main(int argc, char** argv) {
   sim::LaserConfig laser_cfg;
   sim::SonarConfig sonar_cfg;
   try {
-    setup = sim::loadSimSetup(config_file, scenario_file);
+    setup = sim::loadSimSetup(config_files, scenario_file);
     odo_cfg = sim::odometryConfigFor(*setup);
     laser_cfg = sim::laserConfigFor(*setup);
     sonar_cfg = sim::sonarConfigFor(*setup);

@@ -2,7 +2,8 @@
 # eval_baselines.sh: lasonic-eval with --config on a short offline run (no network). Env:
 # LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 #  1. lasonic-sim -> lasonic-replay -> lasonic-eval --config (the shipped file): exit 0, the
-#     observability keys and every baseline's keys are in the JSON, all rates in [0, 1];
+#     observability keys and every baseline's keys are in the JSON, all rates in [0, 1], and
+#     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file and a bad baselines value exit 2 and name the file and key path.
 set -euo pipefail
@@ -29,6 +30,9 @@ for k in missed_rate observable_missed_rate unobservable_share false_alarm_rate 
   check "sector_map.$k" 1
 done
 check sector_map.mae_m 10
+# A simulated log has LASER_TRUTH: "laser-invisible" is decided per scan, not by material.
+[[ $(value sensors.laser_truth) == 1 ]] || die "sensors.laser_truth = '$(value sensors.laser_truth)', expected 1"
+grep -q "LASER_TRUTH" "$tmp/eval.err" && die "lasonic-eval warns about LASER_TRUTH on a simulated log"
 grep -q '^ *sector_map\.missed_by_material\.' "$tmp/table1.txt" || die "no sector_map.missed_by_material.*"
 for name in laser_only sonar_himm naive_fusion log_odds; do
   for k in missed_rate observable_missed_rate false_alarm_rate false_alarm_share_of_reports; do

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "core/config.hpp"
 
 using lasonic::Config;
@@ -74,4 +76,22 @@ TEST(Config, RejectsNonFinite) {
   const Config c = Config::fromString("a: .nan\nb: .inf\n");
   EXPECT_NE(errorOf([&] { c.get("a", 0.0, Range::any()); }), "");
   EXPECT_NE(errorOf([&] { c.get("b", 0.0, Range::any()); }), "");
+}
+
+TEST(Config, LayeredFilesMergeKeyByKey) {
+  const std::string dir = ::testing::TempDir();
+  const std::string a = dir + "/layer_a.yaml", b = dir + "/layer_b.yaml";
+  {
+    std::ofstream(a) << "pilot: {robot_radius: 0.25, agm: {g_t: 5, h_max: 12}}\nsonar: {beam: 30}\nlist: [1, 2]\n";
+    std::ofstream(b) << "pilot: {robot_radius: 0.27, agm: {h_max: 15}}\nlist: [3]\n";
+  }
+  const Config c = Config::loadFiles({a, b});
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::any()), 0.27);
+  EXPECT_EQ(c.section("pilot").section("agm").get("g_t", 0, Range::any()), 5);   // kept from a
+  EXPECT_EQ(c.section("pilot").section("agm").get("h_max", 0, Range::any()), 15);  // replaced by b
+  EXPECT_EQ(c.section("sonar").get("beam", 0, Range::any()), 30);
+  EXPECT_EQ(c.node()["list"].size(), 1u);  // lists are replaced, not appended
+  EXPECT_TRUE(Config::loadFiles({}).node().IsMap());
+  EXPECT_NE(errorOf([&] { Config::loadFiles({a, "/nonexistent/over.yaml"}); }).find("cannot open"),
+            std::string::npos);
 }
