@@ -1,4 +1,4 @@
-// lasonic-replay --in LOG --out LOG [--config FILE]...  [--stages LIST]
+// lasonic-replay --in LOG --out LOG [--config FILE]... [--stages LIST]
 //
 // Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
 // stage has its own Node on one shared memq:// LCM instance; each input event is published into
