@@ -20,7 +20,12 @@
 //                                    union, differing (in one map only), differing_share (pooled),
 //                                    worst_share (the worst map), b_in_a (of B's occupied cells, the
 //                                    share A has: what a restarted process has rebuilt of its memory);
-//                                    one "series UTIME occupied_a occupied_b common" line per map
+//                                    one "series UTIME occupied_a occupied_b common identical" line
+//                                    per matched map
+//   memory LOG_A LOG_B CHANNEL [FROM_UTIME]
+//                                    as maps, but each map of A is matched with B's latest one at or
+//                                    before it (within 1 s): a restarted process (A) against one
+//                                    that ran throughout (B), whose maps have another phase
 //   same LOG_A LOG_B CHANNEL [FROM_UTIME]
 //                                    any channel whose messages start with their utime: matched,
 //                                    identical (bytes)
@@ -184,14 +189,22 @@ Cells occupied(const grid_map_t& g) {
   return c;
 }
 
+// nearest: match each map of A with B's latest at or before it (within 1 s) instead of B's of the
+// same utime: two processes started at different times publish at different phases.
 int compareMaps(const std::string& a_file, const std::string& b_file, const std::string& channel, int64_t from,
-                bool grid) {
-  const auto a = byUtime(a_file, channel, from), b = byUtime(b_file, channel, from);
+                bool grid, bool nearest = false) {
+  const auto a = byUtime(a_file, channel, from), b = byUtime(b_file, channel, nearest ? 0 : from);
   int64_t matched = 0, identical = 0, uni = 0, differing = 0, b_total = 0, common_total = 0;
   double worst = 0;
   std::vector<std::string> series;
   for (const auto& [t, da] : a) {
-    const auto it = b.find(t);
+    auto it = b.find(t);
+    if (nearest) {
+      it = b.upper_bound(t);
+      if (it == b.begin()) continue;
+      --it;
+      if (t - it->first > 1'000'000) continue;
+    }
     if (it == b.end()) continue;
     ++matched;
     if (da == it->second) ++identical;
@@ -209,7 +222,7 @@ int compareMaps(const std::string& a_file, const std::string& b_file, const std:
     common_total += common;
     if (u > 0) worst = std::max(worst, static_cast<double>(d) / static_cast<double>(u));
     series.push_back("series " + std::to_string(t) + " " + std::to_string(ca.size()) + " " + std::to_string(cb.size()) +
-                     " " + std::to_string(common));
+                     " " + std::to_string(common) + " " + (da == it->second ? "1" : "0"));
   }
   std::printf("maps_a %zu\nmaps_b %zu\nmatched %lld\nidentical %lld\n", a.size(), b.size(),
               static_cast<long long>(matched), static_cast<long long>(identical));
@@ -279,8 +292,8 @@ int main(int argc, char** argv) {
     if (mode == "recovery" && argc == 6) return recovery(argv[2], arg64(argv[3]), arg64(argv[4]), argv[5]);
     if (mode == "stale" && argc == 6 && (std::string(argv[5]) == "laser" || std::string(argv[5]) == "sonar"))
       return stale(argv[2], arg64(argv[3]), arg64(argv[4]), std::string(argv[5]) == "laser");
-    if ((mode == "maps" || mode == "same") && (argc == 5 || argc == 6))
-      return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode == "maps");
+    if ((mode == "maps" || mode == "same" || mode == "memory") && (argc == 5 || argc == 6))
+      return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "memory");
     if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
     if (mode == "slice" && (argc == 5 || argc == 6))
       return slice(argv[2], argv[3], arg64(argv[4]), argc == 6 ? arg64(argv[5]) : std::numeric_limits<int64_t>::max());
@@ -290,7 +303,7 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
-               "       stale LOG T_STOP T_RESUME laser|sonar | maps|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
+               "       stale LOG T_STOP T_RESUME laser|sonar | maps|memory|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
                "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1]   (times: log timestamps, us)\n");
   return 2;
 }

@@ -49,20 +49,22 @@ declare -A kill_t
 at 4.0
 for i in "${!procs[@]}"; do
   p=${procs[$i]}
-  if [[ $p == lasonic-sim-world ]]; then
-    at 22.0
-    pid=$(pid_of lasonic-navigator)
-    [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null || die "lasonic-navigator is not running before its kill"
-    kill -9 "$pid"
-    kill_nav=$(now_us)
-    echo "kill -9 lasonic-navigator (pid $pid)"
-    at 27.0
-  fi
+  [[ $p == lasonic-sim-world ]] && at 24.0
   pid=$(pid_of "$p")
   [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null || die "$p is not running before its kill"
   kill -9 "$pid"
   kill_t[$p]=$(now_us)
   echo "kill -9 $p (pid $pid)"
+  if [[ $p == lasonic-complement ]]; then
+    # The navigator early: its restarted self then runs through the other faults upstream (its
+    # input stops and resumes), long enough to rebuild the memory it lost.
+    at 5.5
+    pid=$(pid_of lasonic-navigator)
+    [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null || die "lasonic-navigator is not running before its kill"
+    kill -9 "$pid"
+    kill_nav=$(now_us)
+    echo "kill -9 lasonic-navigator (pid $pid)"
+  fi
   if [[ $p == lasonic-sonar-driver ]]; then
     at 15.0
     laser=$(pid_of lasonic-laser-driver); kill -STOP "$laser"; stop_laser=$(now_us)
@@ -76,7 +78,7 @@ for i in "${!procs[@]}"; do
     at $((4 + 3 * (i + 1))).0
   fi
 done
-at 32.0
+at 29.0
 kill -TERM "$launcher" "$launcher_nav"
 rc=0
 wait "$launcher" || rc=$?
@@ -122,37 +124,47 @@ for s in laser sonar; do
 done
 
 # The navigator's kill: its outputs back, and correct (a navigator started when it restarted,
-# replayed offline from the same log, publishes the same maps), until the world's restart.
+# replayed offline from the same log, publishes the same maps).
 for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP; do
-  s=$("$check" window "$tmp/run.lcmlog" "$ch" "$kill_nav" "${kill_t[lasonic-sim-world]}" | awk '$1 == "first_s" {print $2}')
+  s=$("$check" window "$tmp/run.lcmlog" "$ch" "$kill_nav" "${kill_t[lasonic-pilot]}" | awk '$1 == "first_s" {print $2}')
   echo "recovery lasonic-navigator $ch output_s $s"
   awk -v s="$s" 'BEGIN { exit !(s > 0 && s < 3.0) }' || die "the navigator's $ch did not come back within 3 s of its kill ($s)"
 done
 # Its restart: the log time of its second "running" line (spdlog, local time, ms; it subscribes
-# just before). The restarted navigator received the log from then on.
+# just before). The restarted navigator received the log from then on. Compared up to the laser's
+# freeze: a frozen driver's backlog comes as a burst (the sonar's: ~280 messages in 70 ms), and
+# lcm-logger, whose subscription holds LCM's default 30 messages, drops some of a burst that the
+# processes (1000) keep: measured, the live navigator then ran 18 update cycles the log lacks.
 running=$(grep 'lasonic-navigator running' "$tmp/out-nav/lasonic-navigator.txt" | tail -1 | sed 's/^\[\([^]]*\)\].*/\1/')
 t_run=$(date -d "$running" +%s%6N) || die "cannot read the navigator's restart time from '$running'"
 echo "lasonic-navigator running again $(awk -v a="$t_run" -v b="$kill_nav" 'BEGIN { printf "%.3f", (a - b) / 1e6 }') s after its kill"
-"$check" slice "$tmp/run.lcmlog" "$tmp/nav-live.lcmlog" "$t_run" "${kill_t[lasonic-sim-world]}" >/dev/null
+"$check" slice "$tmp/run.lcmlog" "$tmp/nav-live.lcmlog" "$t_run" "$stop_laser" >/dev/null
 "$bin/lasonic-replay" --stages navigator --in "$tmp/nav-live.lcmlog" --out "$tmp/nav-fresh.lcmlog" --config "$config" \
   2>"$tmp/replay-fresh.err" || die "lasonic-replay failed on the log from the navigator's restart"
-"$bin/lasonic-replay" --stages navigator --in "$tmp/run.lcmlog" --out "$tmp/nav-whole.lcmlog" --config "$config" \
-  2>"$tmp/replay-whole.err" || die "lasonic-replay failed on the whole log"
 "$check" maps "$tmp/nav-live.lcmlog" "$tmp/nav-fresh.lcmlog" AGM_TACTICAL >"$tmp/fresh.txt"
-"$check" maps "$tmp/nav-live.lcmlog" "$tmp/nav-whole.lcmlog" AGM_TACTICAL >"$tmp/whole.txt"
 k() { awk -v k="$2" '$1 == k {print $2}' "$tmp/$1.txt"; }
-first=$(awk '$1 == "series" {print ($3 == $4 && $4 == $5) ? "same" : "different"; exit}' "$tmp/fresh.txt")
+first=$(awk '$1 == "series" {print ($6 == 1) ? "identical" : "different"; exit}' "$tmp/fresh.txt")
 echo "lasonic-navigator after its restart / lasonic-replay from the restart: maps $(k fresh maps_a), matched" \
   "$(k fresh matched), identical $(k fresh identical), occupied cells $(k fresh union), differing $(k fresh differing)" \
-  "(share $(k fresh differing_share)); first map: $first occupied cells"
+  "(share $(k fresh differing_share)); its first map $first"
 awk -v a="$(k fresh maps_a)" -v m="$(k fresh matched)" -v d="$(k fresh differing_share)" \
-  'BEGIN { exit !(a >= 5 && m >= 0.9 * a && d <= 0.01) }' ||
+  'BEGIN { exit !(a >= 10 && m >= 0.9 * a && d <= 0.01) }' ||
   die "the restarted navigator's tactical AGM differs from a fresh navigator's on the same log beyond the tolerance"
-# Memory: the uninterrupted navigator's occupied cells that the restarted one holds, over time.
-awk '$1 == "series" { if (!t0) t0 = $2; printf "  +%.1f s: %d of the uninterrupted map'"'"'s %d occupied cells (%d own)\n", ($2 - t0) / 1e6, $5, $4, $3 }' \
-  "$tmp/whole.txt" | awk 'NR == 1 || NR % 2 == 1' | sed 's/^/memory /'
-echo "memory: of the restarted navigator's occupied cells, the uninterrupted one has" \
-  "$(awk '$1 == "series" { a += $3; c += $5 } END { printf "%.3f", a ? c / a : 1 }' "$tmp/whole.txt")"
+# Memory: of the occupied cells of an uninterrupted navigator (the replay of the whole log; its
+# latest map at or before each of the restarted one's), the share the restarted one holds: what it
+# lost with its memory, rebuilt as the robot hears the scene again (and as the lost cells age out).
+# (Both up to the world's restart: its clock starts again, the maps' times repeat.)
+"$check" slice "$tmp/run.lcmlog" "$tmp/nav-all.lcmlog" 0 "${kill_t[lasonic-sim-world]}" >/dev/null
+"$check" slice "$tmp/run.lcmlog" "$tmp/nav-restarted.lcmlog" "$t_run" "${kill_t[lasonic-sim-world]}" >/dev/null
+"$bin/lasonic-replay" --stages navigator --in "$tmp/nav-all.lcmlog" --out "$tmp/nav-whole.lcmlog" --config "$config" \
+  2>"$tmp/replay-whole.err" || die "lasonic-replay failed on the whole log"
+"$check" memory "$tmp/nav-restarted.lcmlog" "$tmp/nav-whole.lcmlog" AGM_TACTICAL >"$tmp/whole.txt"
+awk '$1 == "series" { if (!t0) t0 = $2; if (n++ % 4 == 0)
+       printf "memory +%4.1f s: %4d of the uninterrupted map'"'"'s %4d occupied cells (own %d)\n", ($2 - t0) / 1e6, $5, $4, $3 }' \
+  "$tmp/whole.txt"
+echo "memory: over the $(k whole matched) maps from the restart to the world's restart, the restarted navigator" \
+  "holds $(k whole b_in_a) of the uninterrupted one's occupied cells"
+awk -v m="$(k whole matched)" 'BEGIN { exit !(m >= 5) }' || die "no maps of the uninterrupted navigator to compare with"
 
 # The world's restart: every process noticed the clock starting again.
 "$bin/lasonic-log-stats" "$tmp/run.lcmlog" >"$tmp/stats"
