@@ -22,10 +22,11 @@
 //                                    share A has: what a restarted process has rebuilt of its memory);
 //                                    one "series UTIME occupied_a occupied_b common identical" line
 //                                    per matched map
-//   memory LOG_A LOG_B CHANNEL [FROM_UTIME]
+//   nearest LOG_A LOG_B CHANNEL [FROM_UTIME]
 //                                    as maps, but each map of A is matched with B's latest one at or
-//                                    before it (within 1 s): a restarted process (A) against one
-//                                    that ran throughout (B), whose maps have another phase
+//                                    before it (within 1 s): for maps published at another phase (a
+//                                    restarted process against one that ran throughout; a live one
+//                                    that got a message the log lacks)
 //   same LOG_A LOG_B CHANNEL [FROM_UTIME]
 //                                    any channel whose messages start with their utime: matched,
 //                                    identical (bytes)
@@ -292,8 +293,8 @@ int main(int argc, char** argv) {
     if (mode == "recovery" && argc == 6) return recovery(argv[2], arg64(argv[3]), arg64(argv[4]), argv[5]);
     if (mode == "stale" && argc == 6 && (std::string(argv[5]) == "laser" || std::string(argv[5]) == "sonar"))
       return stale(argv[2], arg64(argv[3]), arg64(argv[4]), std::string(argv[5]) == "laser");
-    if ((mode == "maps" || mode == "same" || mode == "memory") && (argc == 5 || argc == 6))
-      return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "memory");
+    if ((mode == "maps" || mode == "same" || mode == "nearest") && (argc == 5 || argc == 6))
+      return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "nearest");
     if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
     if (mode == "slice" && (argc == 5 || argc == 6))
       return slice(argv[2], argv[3], arg64(argv[4]), argc == 6 ? arg64(argv[5]) : std::numeric_limits<int64_t>::max());
@@ -303,7 +304,7 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
-               "       stale LOG T_STOP T_RESUME laser|sonar | maps|memory|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
+               "       stale LOG T_STOP T_RESUME laser|sonar | maps|nearest|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
                "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1]   (times: log timestamps, us)\n");
   return 2;
 }

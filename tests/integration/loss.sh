@@ -7,7 +7,7 @@
 # lasonic-navigator and lcm-logger: both pipelines see the same sensor stream, one of them with
 # losses. lasonic-eval scores both logs: the lossy pipeline must keep running without errors other
 # than the ones loss causes, and its sector-map missed rate may exceed the lossless one by at most
-# 0.02. The tactical AGM under loss against the lossless one (lasonic-fault-check memory: each
+# 0.02. The tactical AGM under loss against the lossless one (lasonic-fault-check nearest: each
 # lossy map against the lossless one at or before it): measured, and the lossy navigator must keep
 # publishing at its 2 Hz.
 set -euo pipefail
@@ -69,7 +69,7 @@ awk -v a="$n0" -v b="$n20" 'BEGIN { exit !(a > 0 && b > 0.7 * a) }' || die "too 
 awk -v a="$m0" -v b="$m20" 'BEGIN { exit !(b <= a + 0.02) }' || die "missed rate under 20 % loss $m20 > lossless $m0 + 0.02"
 # The tactical level under loss: a lost firing group is one update cycle fewer, so a surface
 # collects fewer hits toward G_T (5) and some cells at its edge stay below it.
-"$bin/lasonic-fault-check" memory "$tmp/l20.lcmlog" "$tmp/l0.lcmlog" AGM_TACTICAL >"$tmp/tactical.txt"
+"$bin/lasonic-fault-check" nearest "$tmp/l20.lcmlog" "$tmp/l0.lcmlog" AGM_TACTICAL >"$tmp/tactical.txt"
 t() { awk -v k="$1" '$1 == k {print $2}' "$tmp/tactical.txt"; }
 own=$(awk '$1 == "series" { o += $3; c += $5 } END { printf "%.3f", o ? c / o : 0 }' "$tmp/tactical.txt")
 echo "loss 20 %: AGM_TACTICAL $(t maps_a) maps (lossless $(t maps_b)); of the lossless map's occupied cells it holds" \
