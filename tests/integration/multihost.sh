@@ -5,7 +5,7 @@
 #  - A runs deploy/hosts/pilot.yaml under lasonic-launch (fig7_lab) with the robot URL (ttl=1); B
 #    runs deploy/hosts/navigator.yaml; both use the shipped configuration with
 #    pilot.remembered: true (the pilot then also uses the navigator's AGM_TACTICAL from B); each
-#    host has an lcm-logger;
+#    host has an lcm-logger, B a second one for the navigator's channels;
 #  - LCM traffic crosses the link both ways: B receives the navigator's inputs (SONAR_COMPLEMENT,
 #    RADAR_MAP, ODOMETRY) and SECTOR_MAP at A's rates; A receives AGM_TACTICAL, AGM_LINES and
 #    CURRENT_SENSOR_MAP at the navigator's 2 Hz;
