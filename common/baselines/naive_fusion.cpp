@@ -18,7 +18,7 @@ int NaiveFusion::insertGroup(int64_t utime, const std::vector<Reading>& readings
     g.echo = r.echo && std::isfinite(r.range) && r.range >= 0 && std::isfinite(r.sensor.x) &&
              std::isfinite(r.sensor.y) && std::isfinite(r.sensor.theta);
     if (g.echo) {
-      g.e = SonarEcho{utime, r.range, r.sensor};
+      g.e = SonarEcho{utime, r.range, r.sensor, r.beam_width};
       g.axis_end = r.sensor.transform({r.range, 0.0});
     }
     group.push_back(g);

@@ -29,6 +29,7 @@ class NaiveFusion {
     geom::Pose2 sensor;  // global pose at the firing time (acoustic axis along theta)
     double range = 0;    // [m]
     bool echo = false;   // false: no echo (or an unusable reading)
+    double beam_width = 0;  // [rad] the transducer's (SONAR_RING); 0: the placement's configured one
   };
   // One firing group = one AGM update cycle. robot: the robot's position at the firing time
   // (nullopt: unknown, the window stays), speed: for the re-centring rule. Returns the hits

@@ -43,10 +43,15 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     c.sensor_id = r.sensor_id;
     c.range = r.range;
     c.hypothetical_range = std::numeric_limits<double>::quiet_NaN();
+    // The ideal sonar has the real transducer's beam (the message says which; a Pioneer ring's
+    // 25 deg, MOBOT-IV's 30 deg), so the hypothesis is what this sensor would hear.
+    IdealSonarModel model = p.model;
+    if (r.beam_width > 0 && r.beam_width < geom::kPi) model.beam_width = r.beam_width;
+    c.beam_width = model.beam_width;
     if (robot_pose) {
       const geom::Pose2 sensor = robot_pose->compose(r.mount);
       c.sensor_pose = sensor;
-      c.hypothetical_range = hypotheticalRange(sensor, segments, p.model);
+      c.hypothetical_range = hypotheticalRange(sensor, segments, model);
       if (r.valid && !r.no_echo) c.end = segmentMapPoint(sensor, r.range);
     }
     if (!r.valid || !robot_pose)

@@ -40,6 +40,7 @@ struct SonarReading {
   bool no_echo = false;
   geom::Pose2 mount;       // robot frame
   bool valid = true;       // false: rejected by the message layer -> Invalid
+  double beam_width = 0;   // [rad] the transducer's full opening (SONAR_RING); 0: the model's
 };
 
 struct SonarGroup {
@@ -61,6 +62,7 @@ struct ClassifiedReading {
   SonarClass cls = SonarClass::Invalid;
   double range = 0;
   double hypothetical_range = 0;  // NaN when the sensor pose is unknown
+  double beam_width = 0;          // [rad] the ideal beam its hypothesis used
   std::optional<geom::Pose2> sensor_pose;  // global, at firing time
   std::optional<geom::Vec2> end;           // Segment Map point (echo readings only)
 };

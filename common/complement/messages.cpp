@@ -1,5 +1,6 @@
 #include "complement/messages.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -32,6 +33,8 @@ pose2d_t toMsg(const geom::Pose2& p) {
 using input_limits::kMaxCoordinate;
 using input_limits::kMaxLaserRange;
 using input_limits::kMaxSonarRange;
+
+constexpr float kPiF = 3.14159265f;
 
 bool plausiblePose(const pose2d_t& p) {
   return finitePose(p) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate;
@@ -97,6 +100,12 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       }
       c.usable = ok;
       c.range = r.range;
+      if (std::isfinite(r.beam_width) && r.beam_width > 0 && r.beam_width < kPiF) {
+        c.beam_width = r.beam_width;
+      } else if (ok) {
+        problems.push_back({"rejected.complement_beam", field_name(i, "beam_width") + " = " + num(r.beam_width) +
+                                                            " (not in (0, pi) rad): the configured beam used"});
+      }
       c.end = geom::Vec2(r.end_x, r.end_y);
       if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
     }
@@ -201,6 +210,12 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
     r.range = m.range[i];
     r.no_echo = m.no_echo[i] != 0;
     r.mount = {m.mount[i].x, m.mount[i].y, m.mount[i].theta};
+    if (i < m.beam_width.size() && std::isfinite(m.beam_width[i]) && m.beam_width[i] > 0 && m.beam_width[i] < kPiF)
+      r.beam_width = m.beam_width[i];
+    else  // the reading is still usable, with the configured beam
+      problems.push_back({"rejected.sonar_beam", field("SONAR_RING", "beam_width", i) + " = " +
+                                                     (i < m.beam_width.size() ? num(m.beam_width[i]) : std::string("missing")) +
+                                                     " (not in (0, pi) rad): the configured beam used"});
     if (r.sensor_id < 0 || r.sensor_id >= m.num_sensors) {
       r.valid = false;
       problems.push_back({"rejected.sonar_id", field("SONAR_RING", "sensor_id", i) + " = " +
@@ -241,6 +256,15 @@ line_map_t radarMapToMessage(const RadarMap& rm) {
   return m;
 }
 
+namespace {
+// The widest beam a group's hypotheses used (the model's when the group is empty).
+double widestBeam(const GroupComplement& g, const ComplementParams& p) {
+  double b = 0;
+  for (const ClassifiedReading& r : g.readings) b = std::max(b, r.beam_width);
+  return b > 0 ? b : p.model.beam_width;
+}
+}  // namespace
+
 hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const ComplementParams& p) {
   hypothetical_scan_t m;
   m.utime = g.utime;
@@ -248,7 +272,7 @@ hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const Compleme
   m.radar_map_utime = g.radar_map_utime;
   m.radar_map_stale = g.radar_map_stale ? 1 : 0;
   m.range_limit = static_cast<float>(p.model.range_limit);
-  m.beam_width = static_cast<float>(p.model.beam_width);
+  m.beam_width = static_cast<float>(widestBeam(g, p));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const ClassifiedReading& r : g.readings) {
     m.sensor_id.push_back(static_cast<int16_t>(r.sensor_id));
@@ -266,7 +290,7 @@ complement_t complementToMessage(const GroupComplement& g, const ComplementParam
   m.radar_map_utime = g.radar_map_utime;
   m.radar_map_stale = g.radar_map_stale ? 1 : 0;
   m.tolerance = static_cast<float>(p.tolerance);
-  m.beam_width = static_cast<float>(p.model.beam_width);
+  m.beam_width = static_cast<float>(widestBeam(g, p));
   m.range_limit = static_cast<float>(p.model.range_limit);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const ClassifiedReading& r : g.readings) {
@@ -276,6 +300,7 @@ complement_t complementToMessage(const GroupComplement& g, const ComplementParam
     c.range = static_cast<float>(r.range);
     c.hypothetical_range = static_cast<float>(r.hypothetical_range);
     c.sensor_pose = toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan}));
+    c.beam_width = static_cast<float>(r.beam_width > 0 ? r.beam_width : p.model.beam_width);
     const geom::Vec2 end = r.end.value_or(geom::Vec2(nan, nan));
     c.end_x = end.x();
     c.end_y = end.y();

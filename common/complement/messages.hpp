@@ -65,6 +65,7 @@ struct ComplementInput {
   double range = 0;
   geom::Vec2 end{0, 0};
   std::optional<geom::Pose2> sensor_pose;
+  double beam_width = 0;  // [rad] the transducer's (the message's); 0: not given, the configured one
 };
 // Readings with an unknown class are left out (counted); the others keep their order.
 std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::vector<InputProblem>& problems);

@@ -96,6 +96,7 @@ double Config::get(const std::string& key, double def, const Range& r) const {
   if (!has(key)) return def;
   const double v = convert<double>(node_[key], key);
   if (!std::isfinite(v) || v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
+  if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
   return v;
 }
 
@@ -103,6 +104,7 @@ int Config::get(const std::string& key, int def, const Range& r) const {
   if (!has(key)) return def;
   const int v = convert<int>(node_[key], key);
   if (v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
+  if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), def == v);
   return v;
 }
 
@@ -134,7 +136,11 @@ geom::Vec2 Config::requireVec2(const std::string& key) const {
 
 geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const {
   if (!has(key)) return def;
-  return toVec2(*this, node_[key], key);
+  const geom::Vec2 v = toVec2(*this, node_[key], key);
+  if (DefaultsAudit::active())
+    DefaultsAudit::check(keyPath(key), auditText(def.x()) + "," + auditText(def.y()),
+                         auditText(v.x()) + "," + auditText(v.y()), auditEqual(def.x(), v.x()) && auditEqual(def.y(), v.y()));
+  return v;
 }
 
 std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min_points) const {
@@ -160,6 +166,16 @@ std::vector<double> Config::getDoubles(const std::string& key, const std::vector
       fail(key + "[" + std::to_string(i) + "]", "must be a number");
     }
   }
+  if (DefaultsAudit::active()) {
+    bool eq = out.size() == def.size();
+    std::string a, b;
+    for (size_t i = 0; i < out.size(); ++i) b += (i ? "," : "") + auditText(out[i]);
+    for (size_t i = 0; i < def.size(); ++i) {
+      a += (i ? "," : "") + auditText(def[i]);
+      if (eq) eq = auditEqual(def[i], out[i]);
+    }
+    DefaultsAudit::check(keyPath(key), a, b, eq);
+  }
   return out;
 }
 
@@ -173,6 +189,16 @@ void Config::allowOnly(const std::vector<std::string>& allowed) const {
       fail(k, "unknown key (allowed: " + list + ")");
     }
   }
+}
+
+namespace {
+thread_local DefaultsAudit* g_audit = nullptr;
+}  // namespace
+DefaultsAudit::DefaultsAudit() : previous_(g_audit) { g_audit = this; }
+DefaultsAudit::~DefaultsAudit() { g_audit = previous_; }
+bool DefaultsAudit::active() { return g_audit != nullptr; }
+void DefaultsAudit::check(const std::string& key, const std::string& code_default, const std::string& value, bool equal) {
+  if (g_audit && !equal) g_audit->mismatches_.push_back({key, code_default, value});
 }
 
 namespace {

@@ -9,7 +9,10 @@
 // Processes catch ConfigError at start-up, log it and exit with code 2.
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <initializer_list>
+#include <type_traits>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -37,6 +40,41 @@ struct Range {
   static Range between(double lo, double hi) { return {lo, hi, false}; }
   static Range probability() { return {0.0, 1.0, false}; }
 };
+
+// DefaultsAudit: while one is alive (on this thread), every Config::get* of a key that is present
+// compares the value with the default the code passed and records a mismatch. With the shipped
+// configuration this shows every key whose code default differs from it (tests/unit/test_config:
+// the code's defaults are the shipped configuration, so a process run without --config behaves as
+// shipped).
+struct DefaultMismatch {
+  std::string key, code_default, value;
+};
+class DefaultsAudit {
+ public:
+  DefaultsAudit();
+  ~DefaultsAudit();
+  DefaultsAudit(const DefaultsAudit&) = delete;
+  DefaultsAudit& operator=(const DefaultsAudit&) = delete;
+  const std::vector<DefaultMismatch>& mismatches() const { return mismatches_; }
+  // Called by Config when the audit is active.
+  static void check(const std::string& key, const std::string& code_default, const std::string& value, bool equal);
+  static bool active();
+
+ private:
+  std::vector<DefaultMismatch> mismatches_;
+  DefaultsAudit* previous_ = nullptr;
+};
+
+template <typename T> std::string auditText(const T& v) {
+  if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+  else if constexpr (std::is_same_v<T, std::string>) return v;
+  else if constexpr (std::is_arithmetic_v<T>) return std::to_string(v);
+  else return "?";
+}
+template <typename T> bool auditEqual(const T& a, const T& b) {
+  if constexpr (std::is_floating_point_v<T>) return std::abs(a - b) <= 1e-9 * std::max({1.0, std::abs(a), std::abs(b)});
+  else return a == b;
+}
 
 class Config {
  public:
@@ -118,7 +156,9 @@ T Config::convert(const YAML::Node& n, const std::string& key) const {
 template <typename T>
 T Config::get(const std::string& key, const T& def) const {
   if (!has(key)) return def;
-  return convert<T>(node_[key], key);
+  T v = convert<T>(node_[key], key);
+  if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
+  return v;
 }
 
 template <typename T>
@@ -132,6 +172,9 @@ T Config::getChoice(const std::string& key, T def, std::initializer_list<std::pa
   const auto v = getOptionalString(key);
   if (!v) return def;
   std::string names;
+  if (DefaultsAudit::active())
+    for (const auto& [name, value] : choices)
+      if (value == def) DefaultsAudit::check(keyPath(key), name, *v, *v == name);
   for (const auto& [name, value] : choices) {
     if (*v == name) return value;
     names += (names.empty() ? "" : ", ") + std::string(name);

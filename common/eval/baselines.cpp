@@ -138,9 +138,9 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
         const complement::SonarReading& r = g.readings[i];
         if (!r.valid) continue;
         const geom::Pose2 sensor = robot->compose(r.mount);
-        readings.push_back({r.sensor_id, sensor, r.range, !r.no_echo});
+        const double beam = r.beam_width > 0 ? r.beam_width : cfg.naive_fusion.placement.params.beam_width;
+        readings.push_back({r.sensor_id, sensor, r.range, !r.no_echo, beam});
         himm.insert(sensor, r.range, r.no_echo, range_max);
-        const double beam = i < msg.beam_width.size() ? msg.beam_width[i] : cfg.naive_fusion.placement.params.beam_width;
         log_odds.insertSonar(sensor, r.range, r.no_echo, beam, range_max);
       }
     }

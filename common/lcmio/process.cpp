@@ -11,8 +11,7 @@ namespace lasonic {
 ProcessMain::ProcessMain(std::string name, const std::string& description)
     : name_(std::move(name)), app_(description) {
   app_.add_option("--config", config_files_,
-                  "lasonic YAML configuration (deploy/config/lasonic.yaml); repeat to layer a robot's overrides on it")
-      ->check(CLI::ExistingFile);
+                  "lasonic YAML configuration (deploy/config/lasonic.yaml); repeat to layer a robot's overrides on it");
   app_.add_option("--lcm-url", lcm_url_, "LCM URL")->capture_default_str();
 }
 

@@ -73,7 +73,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     latest.back().second = echo;
     if (!r.hit) continue;
     // The paper's axis is the estimate, uncertain by half the beam width.
-    BearingEstimate est{echo.sensor.theta, 0.5 * cfg_.params.beam_width};
+    BearingEstimate est{echo.sensor.theta, 0.5 * (echo.beam_width > 0 ? echo.beam_width : cfg_.params.beam_width)};
     if (cfg_.bearing == AgmBearing::Neighbours) est = tracker_.estimate(r.sensor_id, echo);
     double b = est.bearing;
     if (cfg_.placement == AgmPlacement::Evidence)

@@ -17,6 +17,7 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
   sonar_own_.resize(n);
+  sonar_reach_.resize(n);
   sonar_now_.resize(n);
   held_laser_.resize(n);
   held_sonar_.resize(n);
@@ -114,8 +115,11 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
 
 template <typename Grid>
 void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained,
-                            std::vector<Value>& out) const {
+                            std::vector<Value>& out, std::vector<Value>& spread) const {
   std::fill(out.begin(), out.end(), Value{});
+  std::fill(spread.begin(), spread.end(), Value{});
+  const bool extent = p_.copy_rule == CopyRule::CellExtent;
+  const int n = p_.sectors;
   const bool check = use_explained && !explained_.empty();
   const int64_t ox = agm.originX(), oy = agm.originY();
   const double c = agm.cellSize();
@@ -137,8 +141,22 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
                         p_.sonar_cell_point == CellPoint::Centre ? centre.norm() : (nearest - robot).norm();
                     const double d = std::max(0.0, r - p_.robot_radius);
                     if (d > p_.max_range) return;
-                    Value& v = out[static_cast<size_t>(sectorOf(std::atan2(centre.y(), centre.x()) - pose.theta))];
+                    const double bearing = std::atan2(centre.y(), centre.x()) - pose.theta;
+                    const int k0 = sectorOf(bearing);
+                    Value& v = out[static_cast<size_t>(k0)];
                     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
+                    if (!extent) return;
+                    // CellExtent: the obstacle is somewhere in the cell's square, so also in every
+                    // other sector the square reaches (its half-diagonal seen from the robot).
+                    const double half = std::asin(std::min(1.0, (c * 0.7071067811865476) / std::max(centre.norm(), c)));
+                    const int k_lo = sectorOf(bearing - half), k_hi = sectorOf(bearing + half);
+                    for (int k = k_lo;; k = (k + 1) % n) {
+                      if (k != k0) {
+                        Value& r2 = spread[static_cast<size_t>(k)];
+                        if (!known(r2.d) || d < r2.d) r2 = {static_cast<float>(d), SectorSource::SonarCopied};
+                      }
+                      if (k == k_hi) break;
+                    }
                   });
 }
 
@@ -176,13 +194,17 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   laserValues(pose, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
   // A stale scan no longer says what is where: it explains nothing away.
-  sonarValues(pose, agm, !s_.laser_stale, sonar_own_);
+  sonarValues(pose, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
   // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own
   // (with CopyRule::UnlessLaserConfirmed, not from a sector whose laser value confirms it).
   const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
   for (size_t k = 0; k < n; ++k) {
     sonar_now_[k] = sonar_own_[k];
     if (known(sonar_own_[k].d)) continue;
+    if (p_.copy_rule == CopyRule::CellExtent) {
+      sonar_now_[k] = sonar_reach_[k];
+      continue;
+    }
     for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {
       const float d = sonar_own_[j].d;
       if (skip_confirmed && known(d) && known(laser_now_[j].d) &&

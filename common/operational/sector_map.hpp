@@ -50,7 +50,7 @@ enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied =
 // Where an AGM cell's obstacle is taken to be (see the file comment).
 enum class CellPoint { Nearest, Centre };
 // Which own sonar values are copied into the neighbours (see the file comment).
-enum class CopyRule { Paper, UnlessLaserConfirmed };
+enum class CopyRule { Paper, UnlessLaserConfirmed, CellExtent };
 
 struct SectorMapParams {
   int sectors = 48;             // paper: 48 sectors of 7.5 deg
@@ -139,7 +139,8 @@ class SectorMap {
   void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out) const;
   bool explained(const geom::Vec2& p) const;
   template <typename Grid>
-  void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out) const;
+  void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
+                   std::vector<Value>& spread) const;
   template <typename Grid>
   const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);
@@ -153,7 +154,7 @@ class SectorMap {
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
-  std::vector<Value> laser_now_, sonar_own_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
+  std::vector<Value> laser_now_, sonar_own_, sonar_reach_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
   SectorMapState s_;
 };
 

@@ -16,13 +16,17 @@ struct Side {
 BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<SonarEcho>& others,
                                     const SonarBearingParams& p) {
   const double psi = self.sensor.theta;
+  // Each echo's own beam (a ring may mix transducers); two beams overlap when their axes are
+  // closer than the mean of their openings.
+  const auto beamOf = [&p](const SonarEcho& e) { return e.beam_width > 0 ? e.beam_width : p.beam_width; };
+  const double b = beamOf(self);
   const auto max_age_us = static_cast<int64_t>(p.max_age_s * 1e6);
   Side side[2];  // 0: right (clockwise), 1: left
   for (const SonarEcho& o : others) {
     const int64_t age = self.utime - o.utime;
     if (age < 0 || age > max_age_us) continue;
     const double off = geom::angleDiff(o.sensor.theta, psi);
-    if (std::abs(off) >= p.beam_width || off == 0.0) continue;
+    if (std::abs(off) >= 0.5 * (b + beamOf(o)) || off == 0.0) continue;
     Side& s = side[off > 0 ? 1 : 0];
     if (o.range < self.range - p.similar) {
       s.shorter = true;
@@ -36,10 +40,10 @@ BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<Son
     const Side& s = side[k];
     const Side& other = side[1 - k];
     if (!some(s) || some(other)) continue;
-    if (s.shorter) return {geom::normalizeAngle(psi + (k == 1 ? 0.5 : -0.5) * p.beam_width), 0.0};
-    return {geom::normalizeAngle(psi + 0.5 * s.similar_offset), 0.5 * (p.beam_width - std::abs(s.similar_offset))};
+    if (s.shorter) return {geom::normalizeAngle(psi + (k == 1 ? 0.5 : -0.5) * b), 0.0};
+    return {geom::normalizeAngle(psi + 0.5 * s.similar_offset), std::max(0.0, 0.5 * (b - std::abs(s.similar_offset)))};
   }
-  return {psi, 0.5 * p.beam_width};
+  return {psi, 0.5 * b};
 }
 
 double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p) {

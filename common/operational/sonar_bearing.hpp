@@ -46,6 +46,7 @@ struct SonarEcho {
   int64_t utime = 0;
   double range = 0;
   geom::Pose2 sensor;
+  double beam_width = 0;  // [rad] this transducer's full opening (from the message); 0: params' beam_width
 };
 
 // A chosen bearing and how far (either way) the echo's true bearing may lie from it:

@@ -39,6 +39,7 @@ constexpr Rgba kAgmWeight{0.98, 0.62, 0.25, 1.0};
 constexpr Rgba kAgmOccupied{0.55, 0.22, 0.0, 1.0};
 constexpr Rgba kSonarLine{0.85, 0.33, 0.0, 1.0};
 constexpr Rgba kSonarCopied{0.98, 0.75, 0.45, 1.0};
+constexpr Rgba kRemembered{0.55, 0.27, 0.65, 1.0};  // the tactical memory (purple)
 constexpr Rgba kText{0.10, 0.10, 0.10, 1.0};
 constexpr Rgba kNote{0.45, 0.45, 0.45, 1.0};
 constexpr Rgba kStale{0.84, 0.10, 0.10, 1.0};
@@ -444,7 +445,7 @@ void panelSectorMap(cairo_t* cr, Panel& p, const Snapshot& s) {
   const double R = (finite(m.robot_radius) && m.robot_radius > 0 && m.robot_radius < 10) ? m.robot_radius : s.robot_radius;
   const auto c = p.view.toPixel(pose.position());
   const double w = 2 * geom::kPi / m.nsectors;
-  int counts[4] = {0, 0, 0, 0};
+  int counts[5] = {0, 0, 0, 0, 0};
   cairo_save(cr);
   // The reach: obstacles beyond max_range from the boundary are not reported.
   if (drawable(c) && finite(m.max_range) && m.max_range > 0 && m.max_range < kMaxRange) {
@@ -471,18 +472,20 @@ void panelSectorMap(cairo_t* cr, Panel& p, const Snapshot& s) {
       case sector_map_t::SOURCE_LASER: set(cr, colour::kLaser, 0.55); break;
       case sector_map_t::SOURCE_SONAR: set(cr, colour::kComplementary, 0.75); break;
       case sector_map_t::SOURCE_SONAR_COPIED: set(cr, colour::kSonarCopied, 0.85); break;
+      case sector_map_t::SOURCE_REMEMBERED: set(cr, colour::kRemembered, 0.6); break;
       default: set(cr, colour::kNote, 0.4); break;
     }
     cairo_fill_preserve(cr);
     set(cr, colour::kText, 0.35);
     cairo_set_line_width(cr, 0.6);
     cairo_stroke(cr);
-    if (src >= 0 && src < 4) ++counts[src];
+    if (src >= 0 && src < 5) ++counts[src];
   }
   cairo_restore(cr);
   p.status.drawn = true;
   p.status.note = std::to_string(counts[1]) + " laser, " + std::to_string(counts[2]) + " sonar, " +
-                  std::to_string(counts[3]) + " copied of " + std::to_string(m.nsectors) + " sectors";
+                  std::to_string(counts[3]) + " copied, " + std::to_string(counts[4]) + " remembered of " +
+                  std::to_string(m.nsectors) + " sectors";
   auto sensor = [](const char* name, int8_t stale, float age_s) {
     std::string f = name;
     if (age_s < 0) return f + " never";
@@ -632,6 +635,7 @@ void drawLegend(cairo_t* cr, const RenderOptions& o) {
        {Swatch::Fill, colour::kLaser, 0.55, "sector: laser"},
        {Swatch::Fill, colour::kComplementary, 0.75, "sector: sonar"},
        {Swatch::Fill, colour::kSonarCopied, 0.85, "sector: sonar, copied"},
+       {Swatch::Fill, colour::kRemembered, 0.6, "sector: remembered"},
        {Swatch::Line, colour::kRobot, 1, "robot (odometry pose)"}},
   };
   font(cr, 11);

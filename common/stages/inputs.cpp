@@ -61,7 +61,7 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
     g.sensor_id = r.sensor_id;
     g.echo = r.cls == complement::SonarClass::Complementary && r.usable;
     if (g.echo) {
-      g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN})};
+      g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN}), r.beam_width};
       g.axis_end = r.end;
     }
     group.push_back(g);

@@ -18,6 +18,14 @@ AgmParams NavigatorConfig::tacticalAgmDefaults() {
   p.t = 1;
   p.g_threshold = 5;
   p.hit_centroids = true;
+  p.arc_vote_tau = 100;
+  return p;
+}
+
+EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
+  EchoPlacementConfig p;
+  p.placement = AgmPlacement::ArcVotes;
+  p.arc_require_votes = true;
   return p;
 }
 
@@ -149,7 +157,9 @@ void NavigatorStage::flushPending() {
     if (rm_source_utime_ && *rm_source_utime_ >= g.utime) {
       for (GroupReading& r : g.readings) {
         if (!r.echo) continue;
-        const double h = complement::hypotheticalRange(r.e.sensor, rm_, g.model);
+        complement::IdealSonarModel model = g.model;  // with the reading's own beam, as the complement used
+        if (r.e.beam_width > 0) model.beam_width = r.e.beam_width;
+        const double h = complement::hypotheticalRange(r.e.sensor, rm_, model);
         r.hit = r.e.range < h - g.tolerance;
         node_.count(r.hit ? "verify.kept" : "verify.explained");
       }

@@ -60,7 +60,7 @@ namespace lasonic {
 
 struct NavigatorConfig {
   AgmParams agm = tacticalAgmDefaults();
-  EchoPlacementConfig placement;
+  EchoPlacementConfig placement = tacticalPlacementDefaults();
   LineGenerationParams lines;
   double publish_hz = 2.0;  // AGM_TACTICAL, AGM_LINES, CURRENT_SENSOR_MAP (message time)
   // A complementary reading enters the tactical AGM only if it is still shorter than the ideal
@@ -72,6 +72,7 @@ struct NavigatorConfig {
 
   // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
   static AgmParams tacticalAgmDefaults();
+  static EchoPlacementConfig tacticalPlacementDefaults();
 };
 // Reads the `navigator:` section. Throws ConfigError naming the key path.
 NavigatorConfig navigatorConfig(const Config& navigator_section);

@@ -22,6 +22,22 @@ static_assert(static_cast<int8_t>(SectorSource::None) == sector_map_t::SOURCE_NO
               static_cast<int8_t>(SectorSource::SonarCopied) == sector_map_t::SOURCE_SONAR_COPIED &&
               static_cast<int8_t>(SectorSource::Remembered) == sector_map_t::SOURCE_REMEMBERED);
 
+AgmParams PilotConfig::operationalAgmDefaults() {
+  AgmParams p;
+  p.h_max = 18;
+  return p;
+}
+
+SectorMapParams PilotConfig::sectorMapDefaults() {
+  SectorMapParams s;
+  s.laser_stale_s = 0.4;
+  s.sonar_stale_s = 0.36;
+  s.sonar_cell_point = CellPoint::Centre;
+  s.copy_rule = CopyRule::UnlessLaserConfirmed;
+  s.laser_explains_radius = 0.10;
+  return s;
+}
+
 PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
@@ -44,7 +60,9 @@ PilotConfig pilotConfig(const Config& c) {
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
   s.copy_rule = c.getChoice("copy_rule", s.copy_rule,
-                            {{"paper", CopyRule::Paper}, {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed}});
+                            {{"paper", CopyRule::Paper},
+                             {"unless_laser_confirmed", CopyRule::UnlessLaserConfirmed},
+                             {"cell_extent", CopyRule::CellExtent}});
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
   p.remembered = c.get<bool>("remembered", p.remembered);

@@ -52,9 +52,11 @@
 
 namespace lasonic {
 
+// Defaults: the shipped configuration (deploy/config/lasonic.yaml says why each value); the
+// libraries' own defaults (AgmParams, SectorMapParams) are the paper's.
 struct PilotConfig {
-  AgmParams agm;             // library defaults are the operational ones
-  SectorMapParams sector_map;
+  AgmParams agm = operationalAgmDefaults();
+  SectorMapParams sector_map = sectorMapDefaults();
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
   // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
   // silent, or the sonar dead and the next scan not yet due), ODOMETRY does, so a dead sensor is
@@ -65,7 +67,10 @@ struct PilotConfig {
   EchoPlacementConfig placement;
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
-  bool remembered = false;
+  bool remembered = true;
+
+  static AgmParams operationalAgmDefaults();
+  static SectorMapParams sectorMapDefaults();
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);

@@ -22,8 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "also write the metrics as JSON to FILE ('-' = standard output)");
   app.add_option("--config", config_files,
                  "YAML configuration the log was replayed with (sections pilot and baselines: the baselines' "
-                 "parameters and read-out; repeat to layer overrides); without it the code's defaults")
-      ->check(CLI::ExistingFile);
+                 "parameters and read-out; repeat to layer overrides); without it the code's defaults");
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
   try {

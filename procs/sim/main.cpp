@@ -33,8 +33,7 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
   app.add_option("--seed", seed, "random seed (default: the scenario's)");
   app.add_option("--config", config_files,
-                 "lasonic YAML config (sections odometry, laser, sonar); repeat to layer overrides")
-      ->check(CLI::ExistingFile);
+                 "lasonic YAML config (sections odometry, laser, sonar); repeat to layer overrides");
   app.add_option("--profile", profile,
                  "sensor profile of both laser and sonar, overriding config and scenario: physical (the default) "
                  "or ideal (the method's idealised sensors)")

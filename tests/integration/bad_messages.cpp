@@ -43,6 +43,7 @@
 
 #include "complement_fixture.hpp"
 #include "lcmio/eventlog.hpp"
+#include "lcmio/lengths.hpp"
 #include "lcmio/node.hpp"
 
 using namespace lasonic;
@@ -105,6 +106,7 @@ complement_reading_t reading(int8_t cls, double range, double x, double y) {
   r.sensor_pose = {2.3, 2.0, 0.0};
   r.end_x = x;
   r.end_y = y;
+  r.beam_width = 0.5236f;  // 30 deg
   return r;
 }
 
@@ -132,11 +134,25 @@ bool waitFor(lcm::LCM& lcm, double timeout_s, Done done) {
   return true;
 }
 
+// A small tactical grid (the pilot's remembered source listens to AGM_TACTICAL).
+grid_map_t tacticalGrid(int64_t utime) {
+  grid_map_t g{};
+  g.utime = utime;
+  g.width = g.height = 4;
+  g.cell_size = 0.1f;
+  g.gp_threshold = 5;
+  g.g.assign(16, 0);
+  g.h.assign(16, 0);
+  g.gp.assign(16, 0);
+  setLengths(g);
+  return g;
+}
+
 void garbage(lcm::LCM& lcm, Sent& sent) {
   std::mt19937 rng(20240607);
   std::uniform_int_distribution<int> byte(0, 255);
   const char* const channels_in[] = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
-                                     channels::SONAR_COMPLEMENT};
+                                     channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL};
   // (a) random bytes (a random fingerprint never matches: 2^-64).
   for (const char* ch : channels_in) {
     for (size_t len : {1u, 7u, 64u, 300u}) {
@@ -154,6 +170,7 @@ void garbage(lcm::LCM& lcm, Sent& sent) {
       {channels::LASER_SCAN, encode(scan(900'000))},
       {channels::SONAR_RING, encode(validRing(900'000))},
       {channels::SONAR_COMPLEMENT, encode(comp)},
+      {channels::AGM_TACTICAL, encode(tacticalGrid(900'000))},
   };
   for (const char* ch : channels_in) {
     std::vector<uint8_t> b = valid.at(ch);
@@ -165,6 +182,7 @@ void garbage(lcm::LCM& lcm, Sent& sent) {
   sendRaw(lcm, sent, channels::LASER_SCAN, valid.at(channels::ODOMETRY));
   sendRaw(lcm, sent, channels::SONAR_RING, valid.at(channels::SONAR_COMPLEMENT));
   sendRaw(lcm, sent, channels::SONAR_COMPLEMENT, valid.at(channels::SONAR_RING));
+  sendRaw(lcm, sent, channels::AGM_TACTICAL, valid.at(channels::ODOMETRY));
 }
 
 void semanticGarbage(lcm::LCM& lcm, Sent& sent) {
@@ -446,6 +464,7 @@ int check(const std::string& file) {
               {{"decode_errors.ODOMETRY", d},
                {"decode_errors.LASER_SCAN", d},
                {"decode_errors.SONAR_COMPLEMENT", d},
+               {"decode_errors.AGM_TACTICAL", d},
                {"rejected.odometry_nan", 1},
                {"rejected.odometry_backwards", 1},
                {"rejected.laser_range", 3},

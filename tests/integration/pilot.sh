@@ -31,6 +31,8 @@ pilot:
   laser_stale_s: 0.5
   sonar_stale_s: 0.5
   agm_publish_hz: 2
+  sonar_cell_point: nearest     # the cell's point nearest the robot: exact cell boundaries
+  remembered: false             # no navigator here
 YAML
 start_logger run.lcmlog
 start pilot "$bin/lasonic-pilot" --config "$tmp/pilot.yaml" --lcm-url "$url"

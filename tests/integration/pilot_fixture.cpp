@@ -49,6 +49,7 @@ complement_reading_t reading(int8_t cls, double x, double y) {
   r.hypothetical_range = 2.2f;
   r.end_x = x;
   r.end_y = y;
+  r.beam_width = 0.5236f;  // 30 deg
   return r;
 }
 

@@ -293,3 +293,24 @@ TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
   EXPECT_NE(err("complement: {radar_map: {split: 1}}").find("complement.radar_map.split"), std::string::npos);
   EXPECT_NE(err("complement: {beam_width_deg: 0}").find("beam_width_deg"), std::string::npos);
 }
+
+TEST(ExtractComplement, EachReadingsHypothesisUsesItsOwnBeam) {
+  // A pole 1 m ahead, 13.5 deg off the axis: inside a 30 deg beam (+-15), outside a 25 deg one
+  // (+-12.5, a Pioneer transducer). The ring message says which transducer fired.
+  RadarMap rm;
+  rm.utime = 0;
+  const double a = geom::deg2rad(13.5);
+  const geom::Vec2 pole(std::cos(a), std::sin(a));
+  rm.segments = {{{pole, pole + geom::Vec2(0.0, 0.01)}, 2, 0.0}};
+  SonarGroup g;
+  g.readings.push_back({1, 2.0, false, {0, 0, 0}, true, geom::deg2rad(30.0)});
+  g.readings.push_back({2, 2.0, false, {0, 0, 0}, true, geom::deg2rad(25.0)});
+  const auto out = extractComplement(g, Pose2{}, &rm, {});
+  EXPECT_NEAR(out.readings[0].hypothetical_range, 1.0, 0.01);
+  EXPECT_NEAR(out.readings[1].hypothetical_range, IdealSonarModel{}.range_limit, 1e-9);
+  EXPECT_NEAR(out.readings[1].beam_width, geom::deg2rad(25.0), 1e-12);
+  // ...and the message carries it to the pilot and the navigator.
+  const complement_t m = complementToMessage(out, {});
+  EXPECT_NEAR(m.readings[1].beam_width, geom::deg2rad(25.0), 1e-6);
+  EXPECT_NEAR(m.beam_width, geom::deg2rad(30.0), 1e-6);  // the widest
+}

@@ -50,13 +50,15 @@ struct PipelineRun {
 };
 
 // The simulated run through complement, pilot and (optionally) navigator on one memq:// bus.
-PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = true) {
+PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = true, bool remembered = true) {
   const sim::Scenario sc = sim::parseScenario(Config::fromString(kScenario));
   auto lcm = std::make_shared<lcm::LCM>("memq://");
   const Node::Options offline{false, false};
   Node complement_node("c", lcm, offline), pilot_node("p", lcm, offline), nav_node("n", lcm, offline);
   ComplementStage complement(complement_node, ComplementConfig{});
-  PilotStage pilot(pilot_node, pilotConfig(Config{}));
+  PilotConfig pilot_cfg = pilotConfig(Config{});
+  pilot_cfg.remembered = remembered;
+  PilotStage pilot(pilot_node, pilot_cfg);
   std::unique_ptr<NavigatorStage> navigator;
   if (with_navigator) navigator = std::make_unique<NavigatorStage>(nav_node, nav_cfg);
   PipelineRun run;
@@ -124,6 +126,11 @@ TEST(NavigatorStage, KeepsTheGlassPaneAndNotThePersonWhomThePilotSees) {
   EXPECT_GT(countCells(run.tactical, nearPane), 20);
   EXPECT_EQ(countCells(run.tactical, onPersonTrack), 0);
   EXPECT_EQ(run.navigator_errors, 0);
+  // The shipped pilot uses that memory: some sectors report the pane from it.
+  int remembered = 0;
+  for (const auto& m : run.sector_maps)
+    for (const int8_t src : m.source) remembered += src == sector_map_t::SOURCE_REMEMBERED;
+  EXPECT_GT(remembered, 0);
 }
 
 TEST(NavigatorStage, ThePapersRulesAloneWouldKeepThePerson) {
@@ -133,6 +140,8 @@ TEST(NavigatorStage, ThePapersRulesAloneWouldKeepThePerson) {
   paper.agm.g_threshold = 2;
   paper.lines.gp_threshold = 2;
   paper.verify_with_next_scan = false;
+  paper.placement = EchoPlacementConfig{};  // the pilot's placement: every echo gets a cell at once
+  paper.agm.arc_vote_tau = 0;
   EXPECT_GT(countCells(runPipeline(paper).tactical, onPersonTrack), 0);
 }
 
@@ -165,12 +174,13 @@ TEST(NavigatorStage, CurrentSensorMapIsTaggedAndInTheOdometryFrame) {
   EXPECT_EQ(static_cast<int>(run.agm_lines.back().segments.size()), sonar);
 }
 
-TEST(NavigatorStage, PublishesAtItsOwnRateAndChangesNothingForThePilot) {
+TEST(NavigatorStage, PublishesAtItsOwnRateAndChangesNothingForThePaperPilot) {
+  // A pilot without the remembered source (the paper's) does not listen to the navigator.
   NavigatorConfig fast;
   fast.publish_hz = 5.0;
-  const PipelineRun with2 = runPipeline(NavigatorConfig{});
-  const PipelineRun with5 = runPipeline(fast);
-  const PipelineRun without = runPipeline(NavigatorConfig{}, false);
+  const PipelineRun with2 = runPipeline(NavigatorConfig{}, true, false);
+  const PipelineRun with5 = runPipeline(fast, true, false);
+  const PipelineRun without = runPipeline(NavigatorConfig{}, false, false);
   // 10 s of messages: ~2 Hz and ~5 Hz of message time.
   EXPECT_NEAR(static_cast<double>(with2.tactical.size()), 20.0, 2.0);
   EXPECT_NEAR(static_cast<double>(with5.tactical.size()), 50.0, 2.0);

@@ -20,9 +20,17 @@ constexpr int8_t kNone = sector_map_t::SOURCE_NONE, kLaser = sector_map_t::SOURC
                  kSonar = sector_map_t::SOURCE_SONAR, kCopied = sector_map_t::SOURCE_SONAR_COPIED;
 constexpr int8_t kNoReturn = laser_scan_t::FLAG_NO_RETURN;
 
+// The fixture's pilot puts a cell's obstacle at its point nearest the robot (the paper's cell
+// geometry), so the expected distances below are exact cell boundaries.
+PilotConfig nearestPointPilot() {
+  PilotConfig c;
+  c.sector_map.sonar_cell_point = CellPoint::Nearest;
+  return c;
+}
+
 struct PilotFixture : ::testing::Test {
   Node node{"t", "memq://", Node::Options{false, false}};
-  PilotStage stage{node, PilotConfig{}};
+  PilotStage stage{node, nearestPointPilot()};
   std::vector<sector_map_t> maps;
   std::vector<grid_map_t> grids;
 
@@ -69,6 +77,7 @@ struct PilotFixture : ::testing::Test {
     r.hypothetical_range = 2.2f;
     r.end_x = x;
     r.end_y = y;
+    r.beam_width = 0.5236f;  // 30 deg
     return r;
   }
   // One firing group with one complementary echo 1 m ahead (global (2.05, 2.05)).
@@ -231,21 +240,23 @@ TEST(PilotConfig, BearingAndCellPointOptions) {
   EXPECT_EQ(d.placement.bearing, AgmBearing::Neighbours);
   EXPECT_EQ(d.placement.placement, AgmPlacement::Evidence);
   EXPECT_EQ(d.placement.evidence_min_g, 2);
-  EXPECT_EQ(d.sector_map.copy_rule, CopyRule::Paper);
-  EXPECT_EQ(d.sector_map.laser_explains_radius, 0.0);
-  EXPECT_EQ(d.sector_map.sonar_cell_point, CellPoint::Nearest);
+  EXPECT_EQ(d.sector_map.copy_rule, CopyRule::UnlessLaserConfirmed);
+  EXPECT_EQ(d.sector_map.laser_explains_radius, 0.10);
+  EXPECT_EQ(d.sector_map.sonar_cell_point, CellPoint::Centre);
+  EXPECT_TRUE(d.remembered);
   const PilotConfig c = pilotConfig(
-      Config::fromString("pilot: {agm_bearing: axis, agm_placement: estimate, evidence_min_g: 3, sonar_cell_point: centre, "
-                         "copy_rule: unless_laser_confirmed, copy_confirm_tolerance: 0.2, laser_explains_radius: 0.15, "
+      Config::fromString("pilot: {agm_bearing: axis, agm_placement: estimate, evidence_min_g: 3, sonar_cell_point: nearest, "
+                         "copy_rule: paper, copy_confirm_tolerance: 0.2, laser_explains_radius: 0.15, remembered: false, "
                          "neighbour_bearing: {beam_deg: 25, similar: 0.05, max_age_s: 0.3}}")
           .section("pilot"));
   EXPECT_EQ(c.placement.bearing, AgmBearing::Axis);
   EXPECT_EQ(c.placement.placement, AgmPlacement::Estimate);
   EXPECT_EQ(c.placement.evidence_min_g, 3);
-  EXPECT_EQ(c.sector_map.copy_rule, CopyRule::UnlessLaserConfirmed);
+  EXPECT_EQ(c.sector_map.copy_rule, CopyRule::Paper);
   EXPECT_DOUBLE_EQ(c.sector_map.copy_confirm_tolerance, 0.2);
   EXPECT_DOUBLE_EQ(c.sector_map.laser_explains_radius, 0.15);
-  EXPECT_EQ(c.sector_map.sonar_cell_point, CellPoint::Centre);
+  EXPECT_EQ(c.sector_map.sonar_cell_point, CellPoint::Nearest);
+  EXPECT_FALSE(c.remembered);
   EXPECT_NEAR(c.placement.params.beam_width, geom::deg2rad(25.0), 1e-12);
   EXPECT_DOUBLE_EQ(c.placement.params.similar, 0.05);
   EXPECT_DOUBLE_EQ(c.placement.params.max_age_s, 0.3);

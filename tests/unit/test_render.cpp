@@ -362,7 +362,7 @@ TEST(Fig8, SectorMapColouredBySourceInTheRobotFrame) {
   const auto im = draw(s, st);
   const auto& p = panel(st, "g");
   EXPECT_TRUE(p.drawn);
-  EXPECT_EQ(p.note, "1 laser, 1 sonar, 0 copied of 48 sectors");
+  EXPECT_EQ(p.note, "1 laser, 1 sonar, 0 copied, 0 remembered of 48 sectors");
   const auto v = panelView(7, {0, 0}, {});
   // Sector 24 spans bearings [0, 7.5 deg) from straight ahead (+y); 0.35 + 0.5 m out.
   const double a = geom::kPi / 2 + geom::deg2rad(3.75);

@@ -323,3 +323,6 @@ INSTANTIATE_TEST_SUITE_P(Suite, ShippedScenario,
                                            "suite/black_boxes", "suite/thin_pipes", "suite/metal_angled",
                                            "suite/people_crossing", "suite/narrow_passage", "suite/laser_clutter",
                                            "suite/pioneer_lab", "suite/pioneer_office"));
+// Holdout scenes (README "Scene suite"): the same checks.
+INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
+                         ::testing::Values("holdout/glass_lobby", "holdout/warehouse_aisle", "holdout/corridor_fast"));

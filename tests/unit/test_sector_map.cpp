@@ -287,3 +287,25 @@ TEST(SectorMap, LaserConfirmedValuesAreNotCopied) {
   EXPECT_EQ(n.source[23], SectorSource::SonarCopied);
   EXPECT_EQ(n.source[25], SectorSource::SonarCopied);
 }
+
+TEST(SectorMap, CellExtentCopiesOnlyIntoTheSectorsTheCellReaches) {
+  SectorMapParams p;
+  p.copy_rule = CopyRule::CellExtent;
+  SectorMap s(p);
+  AccumulativeGridMap agm(agmParams01());
+  agm.centreOn({0.05, 0.05});
+  obstacle(agm, {1.05, 0.05});  // centre on sector 24's right edge (bearing 0), 1 m away
+  const Vec2 far = pointAt({0.05, 0.05, 0.0}, 3.75 * kDeg, 2.2);  // mid-sector 24, 2.55 m away
+  obstacle(agm, far);
+  s.setSonarTime(0);
+  const auto& m = s.update(0, {0.05, 0.05, 0.0}, agm);
+  EXPECT_EQ(m.source[24], SectorSource::Sonar);
+  // The near cell's square (half-diagonal 4 deg at 1 m) reaches sector 23, not 25.
+  EXPECT_EQ(m.source[23], SectorSource::SonarCopied);
+  EXPECT_NEAR(m.distance[23], m.distance[24], 1e-6);
+  EXPECT_EQ(m.source[25], SectorSource::None);
+  // The paper copies into both neighbours.
+  SectorMap paper({});
+  const auto& q = paper.update(0, {0.05, 0.05, 0.0}, agm);
+  EXPECT_EQ(q.source[25], SectorSource::SonarCopied);
+}
