@@ -92,6 +92,7 @@ expect_bad_config() {
 config_with() {
   # Two passes over the file: replace the key where the section has it, else add it first.
   awk -v sec="$1" -v key="$2" -v val="$3" '
+    FNR == 1 { in_sec = 0 }
     /^[A-Za-z_]+:/ { in_sec = ($0 ~ "^" sec ":") }
     FNR == NR { if (in_sec && $0 ~ "^  " key ":") has = 1; next }
     in_sec && $0 ~ "^  " key ":" { print "  " key ": " val; next }
