@@ -35,15 +35,18 @@ config_with pilot remembered true "$tmp/lasonic.yaml"
 twohosts_up || die "cannot set up the two hosts"
 now_us() { date +%s%6N; }
 
-lcm-logger --lcm-url="$url" "$tmp/a.lcmlog" >"$tmp/logger-a.txt" 2>&1 &
+# The loggers record what the checks read (not the simulator's truth, the raw sensor data or the
+# operational AGM): lcm-logger queues 30 messages per subscription and drops the rest of a burst
+# (README "Recording and replaying"); fewer channels leave a descheduled logger more slack.
+checked='^(SECTOR_MAP|SONAR_COMPLEMENT|RADAR_MAP|ODOMETRY|PROCESS_STATUS|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
+lcm-logger --lcm-url="$url" --channel="$checked" "$tmp/a.lcmlog" >"$tmp/logger-a.txt" 2>&1 &
 logger_a=$!
 pids+=("$logger_a")
-nsenter -t "$host_b_pid" -n lcm-logger --lcm-url="$url" "$tmp/b.lcmlog" >"$tmp/logger-b.txt" 2>&1 &
+nsenter -t "$host_b_pid" -n lcm-logger --lcm-url="$url" --channel="$checked" "$tmp/b.lcmlog" >"$tmp/logger-b.txt" 2>&1 &
 logger_b=$!
 pids+=("$logger_b")
-# The navigator's inputs and outputs also to a logger of their own on B, for the replay: lcm-logger
-# queues 30 messages per subscription and drops the rest of a burst (README "Recording and
-# replaying"); at these channels' ~90 messages a second a descheduled logger has 0.3 s of slack.
+# The navigator's inputs and outputs also to a logger of their own on B, for the replay: at these
+# channels' ~90 messages a second a descheduled logger has 0.3 s of slack.
 nav_channels='^(ODOMETRY|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
 nsenter -t "$host_b_pid" -n lcm-logger --lcm-url="$url" --channel="$nav_channels" "$tmp/nav.lcmlog" \
   >"$tmp/logger-nav.txt" 2>&1 &
@@ -114,11 +117,12 @@ flow() {  # flow FROM TO CHANNEL
     "messages, first after restore ${back} s, then ${after} Hz ($from $(w "$from" "$ch" $((t_restore + 2000000)) "$t_end" rate_hz))"
   # Same messages, up to one at each edge of the window (each logger stamps its own receipt).
   nb=$(w "$to" "$ch" "$t_before" "$t_cut" count); na=$(w "$from" "$ch" "$t_before" "$t_cut" count)
-  ((na > 0 && nb >= na - 2)) || die "$to did not receive $ch at $from's rate ($nb vs $na messages)"
+  # (Up to 2 % fewer besides: a logger on a loaded machine may still drop some, see above.)
+  ((na > 0 && nb >= na - 2 - na / 50)) || die "$to did not receive $ch at $from's rate ($nb vs $na messages)"
   [[ $during == 0 ]] || die "$to received $during $ch messages while the link was cut"
   awk -v s="$back" 'BEGIN { exit !(s >= 0 && s < 2.0) }' || die "the $ch flow to $to did not come back within 2 s ($back)"
   nb=$(w "$to" "$ch" $((t_restore + 2000000)) "$t_end" count); na=$(w "$from" "$ch" $((t_restore + 2000000)) "$t_end" count)
-  ((na > 0 && nb >= na - 2)) || die "$to did not get $ch at $from's rate again ($nb vs $na messages)"
+  ((na > 0 && nb >= na - 2 - na / 50)) || die "$to did not get $ch at $from's rate again ($nb vs $na messages)"
 }
 for ch in SECTOR_MAP SONAR_COMPLEMENT RADAR_MAP ODOMETRY; do flow a b "$ch"; done
 for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP; do flow b a "$ch"; done
