@@ -10,7 +10,8 @@
 #     log must hold the same channels with the same message counts (LCM_SELF_TEST, which every
 #     LCM instance sends itself on start-up, excepted: the demo does not record it, the second
 #     logger may), and lasonic-eval must score both logs alike;
-#  3. lasonic-replay on the demo's log scores as the live run did: the same number of maps, and
+#  3. lasonic-replay on the demo's log scores as the live run did: the same number of maps (to
+#     within 1 %: on a loaded machine one map more or fewer, measured 170 / 169), and
 #     missed and false-alarm rates within 0.005 (not always bit-identical: the live pilot may get
 #     an ODOMETRY message after a sensor message the logger recorded after it, and then
 #     extrapolates the pose where the replay interpolates; README "Recording and replaying");
@@ -122,7 +123,7 @@ print("%s: maps %d / %d, missed %.4f / %.4f, false alarms %.4f / %.4f" % (
     b["false_alarm_rate"]))
 PY
   }
-  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" 0.005 0)
+  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" 0.005 0.01)
   echo "$test_name: (3) live / lasonic-replay $cmp"
   if ! diff -q "$tmp/live.json" "$tmp/offline.json" >/dev/null; then echo "$test_name: (3) (not bit-identical)"; fi
   [[ $cmp == ok* ]] || die "lasonic-replay on the live log scores differently from the live run"
