@@ -97,6 +97,14 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
                                                           std::to_string(kMax) + " m: skipped");
       continue;
     }
+    // The fit's quality goes on into CURRENT_SENSOR_MAP: an RMS distance is finite and >= 0, a
+    // point count >= 0.
+    if (!(std::isfinite(s.rms) && s.rms >= 0) || s.npoints < 0) {
+      node_.reportError("rejected.radar_map_segment", "RADAR_MAP.segments[" + std::to_string(i) + "] has rms " +
+                                                          std::to_string(s.rms) + " m, npoints " +
+                                                          std::to_string(s.npoints) + ": skipped");
+      continue;
+    }
     const int64_t support = s.last_supported_utime > 0 ? std::min(s.last_supported_utime, m.utime) : m.utime;
     lines.push_back({{{s.x0, s.y0}, {s.x1, s.y1}}, LineSource::Laser, s.npoints, s.rms, support});
   }

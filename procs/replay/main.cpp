@@ -1,4 +1,4 @@
-// lasonic-replay --in LOG --out LOG [--config FILE]
+// lasonic-replay --in LOG --out LOG [--config FILE]... [--stages LIST]
 //
 // Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
 // stage has its own Node on one shared in-process bus (LocalBus: LCM's memq:// delivery order);
@@ -6,11 +6,18 @@
 // recorder on ".*" writes every message it sees (inputs and outputs) to the output log; an
 // output event carries the timestamp of the input event that caused it. Channels that the
 // stages produce are dropped from the input (they are recomputed), as is PROCESS_STATUS.
+//
+// --stages runs only some of the stages (comma-separated; default all three); only their
+// outputs are dropped from the input, so the others' outputs in the log are inputs. E.g.
+// `--stages navigator` on a log recorded on the navigator's host recomputes what the live
+// navigator published from what it received there (README "Deploying on two computers").
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -28,11 +35,17 @@ namespace {
 
 using namespace lasonic;
 
-// Outputs of the stages (and of the live pipeline): never taken from the input log.
-const std::set<std::string> kDerivedChannels = {
-    channels::RADAR_MAP,   channels::SONAR_HYPOTHESIS, channels::SONAR_COMPLEMENT,
-    channels::AGM_OPERATIONAL, channels::SECTOR_MAP,  channels::AGM_TACTICAL,
-    channels::AGM_LINES,   channels::CURRENT_SENSOR_MAP, channels::PROCESS_STATUS};
+// The stages in pipeline order, each with the channels it publishes (recomputed: never taken
+// from the input log when the stage runs).
+struct StageInfo {
+  const char* name;
+  std::vector<std::string> outputs;
+};
+const std::vector<StageInfo> kStages = {
+    {"complement", {channels::RADAR_MAP, channels::SONAR_HYPOTHESIS, channels::SONAR_COMPLEMENT}},
+    {"pilot", {channels::AGM_OPERATIONAL, channels::SECTOR_MAP}},
+    {"navigator", {channels::AGM_TACTICAL, channels::AGM_LINES, channels::CURRENT_SENSOR_MAP}},
+};
 
 struct Recorder {
   LogWriter* out = nullptr;
@@ -43,19 +56,36 @@ struct Recorder {
   }
 };
 
-int replay(const std::string& in_path, const std::string& out_path, const Config& root) {
+int replay(const std::string& in_path, const std::string& out_path, const Config& root,
+           const std::set<std::string>& stages) {
   auto lcm = std::make_shared<LocalBus>();
   const Node::Options offline{/*heartbeat=*/false, /*install_signal_handlers=*/false};
 
-  // ---- the stages, in pipeline order. Add a stage here: its Node and its object.
-  Node complement_node("lasonic-complement", lcm, offline);
-  ComplementStage complement_stage(complement_node, complementConfig(root.section("complement")));
-  Node pilot_node("lasonic-pilot", lcm, offline);
-  PilotStage pilot_stage(pilot_node, pilotConfig(root.section("pilot")));
-  Node navigator_node("lasonic-navigator", lcm, offline);
-  NavigatorStage navigator_stage(navigator_node, navigatorConfig(root.section("navigator")));
-  const std::vector<const Node*> nodes = {&complement_node, &pilot_node, &navigator_node};
+  // ---- the stages, in pipeline order. Add a stage here (and to kStages): its Node and its object.
+  // Every configuration is read, so that a bad one fails the same whether its stage runs or not.
+  const ComplementConfig complement_cfg = complementConfig(root.section("complement"));
+  const PilotConfig pilot_cfg = pilotConfig(root.section("pilot"));
+  const NavigatorConfig navigator_cfg = navigatorConfig(root.section("navigator"));
+  std::vector<std::unique_ptr<Node>> nodes;
+  std::optional<ComplementStage> complement_stage;
+  std::optional<PilotStage> pilot_stage;
+  std::optional<NavigatorStage> navigator_stage;
+  if (stages.count("complement")) {
+    nodes.push_back(std::make_unique<Node>("lasonic-complement", lcm, offline));
+    complement_stage.emplace(*nodes.back(), complement_cfg);
+  }
+  if (stages.count("pilot")) {
+    nodes.push_back(std::make_unique<Node>("lasonic-pilot", lcm, offline));
+    pilot_stage.emplace(*nodes.back(), pilot_cfg);
+  }
+  if (stages.count("navigator")) {
+    nodes.push_back(std::make_unique<Node>("lasonic-navigator", lcm, offline));
+    navigator_stage.emplace(*nodes.back(), navigator_cfg);
+  }
   // ----
+  std::set<std::string> derived = {channels::PROCESS_STATUS};
+  for (const StageInfo& s : kStages)
+    if (stages.count(s.name)) derived.insert(s.outputs.begin(), s.outputs.end());
 
   LogWriter out(out_path);
   Recorder recorder{&out};
@@ -70,7 +100,7 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
     ++events;
     if (const std::string line = meter.update(ev->timestamp, in.bytesRead()); !line.empty())
       std::cerr << "lasonic-replay: " << line << std::endl;
-    if (kDerivedChannels.count(ev->channel)) {
+    if (derived.count(ev->channel)) {
       ++dropped;
       continue;
     }
@@ -82,7 +112,7 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
   std::cerr << "lasonic-replay: " << meter.summary() << std::endl;
-  for (const Node* n : nodes)
+  for (const auto& n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
   return 0;
 }
@@ -91,18 +121,33 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
-  std::string in_path, out_path;
+  std::string in_path, out_path, stage_list = "complement,pilot,navigator";
   std::vector<std::string> config_files;
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
   app.add_option("--config", config_files,
                  "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides")
       ->check(CLI::ExistingFile);
+  app.add_option("--stages", stage_list,
+                 "stages to run, comma-separated (complement, pilot, navigator); only their outputs are "
+                 "recomputed, the others' are taken from the log")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  std::set<std::string> stages;
+  for (size_t a = 0; a <= stage_list.size();) {
+    const size_t b = std::min(stage_list.find(',', a), stage_list.size());
+    const std::string s = stage_list.substr(a, b - a);
+    if (std::none_of(kStages.begin(), kStages.end(), [&](const StageInfo& k) { return s == k.name; })) {
+      std::cerr << "lasonic-replay: --stages: unknown stage '" << s << "' (complement, pilot, navigator)\n";
+      return 2;
+    }
+    stages.insert(s);
+    a = b + 1;
+  }
   lasonic::setupLogging("lasonic-replay");
   try {
     const lasonic::Config root = lasonic::Config::loadFiles(config_files);
-    return replay(in_path, out_path, root);
+    return replay(in_path, out_path, root, stages);
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-replay: " << e.what() << "\n";
     return 2;

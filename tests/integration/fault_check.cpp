@@ -12,14 +12,48 @@
 //                                    must flag it stale and never report more free space than its last
 //                                    fresh map did. Prints last_data_age... see below; exit 1 if a
 //                                    sector got freer or the flag never came.
+//   maps LOG_A LOG_B CHANNEL [FROM_UTIME]
+//                                    grid maps (AGM_TACTICAL, AGM_OPERATIONAL) of two logs, matched by
+//                                    their utime (from FROM_UTIME on): maps_a, maps_b, matched,
+//                                    identical (every byte), and over the matched maps the occupied
+//                                    cells (Gp >= the map's gp_threshold, global cell coordinates):
+//                                    union, differing (in one map only), differing_share (pooled),
+//                                    worst_share (the worst map), b_in_a (of B's occupied cells, the
+//                                    share A has: what a restarted process has rebuilt of its memory);
+//                                    one "series UTIME occupied_a occupied_b common identical" line
+//                                    per matched map
+//   nearest LOG_A LOG_B CHANNEL [FROM_UTIME]
+//                                    as maps, but each map of A is matched with B's latest one at or
+//                                    before it (within 1 s): for maps published at another phase (a
+//                                    restarted process against one that ran throughout; a live one
+//                                    that got a message the log lacks)
+//   same LOG_A LOG_B CHANNEL [FROM_UTIME]
+//                                    any channel whose messages start with their utime: matched,
+//                                    identical (bytes)
+//   remembered LOG T_CUT T_RESTORE T_END
+//                                    the pilot's remembered source (AGM_TACTICAL from another host)
+//                                    across a link cut in [T_CUT, T_RESTORE): fresh_before (share of
+//                                    SECTOR_MAP with it fresh in the 2 s before the cut),
+//                                    sectors_remembered_before, stale_after_cut_s (log time to the
+//                                    first map flagging it stale) and stale_age_s (its age then),
+//                                    fresh_after_restore_s, and the violations (exit 1 if any):
+//                                    used_while_stale (a sector sourced REMEMBERED, or a remembered
+//                                    distance, in a map flagging it stale), fresh_during_cut (fresh
+//                                    again before the restore, after it had gone stale)
+//   slice LOG OUT T0 [T1]            OUT = the events of LOG from log time T0 on (before T1)
 // Exit status: 0 ok (or measured), 1 check failed, 2 usage or unreadable log.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <lasonic/grid_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
 #include "lcmio/eventlog.hpp"
@@ -121,6 +155,135 @@ int stale(const std::string& file, int64_t t_stop, int64_t t_resume, bool laser)
   return freer == 0 && unflagged_after == 0 ? 0 : 1;
 }
 
+// The utime a message starts with (grid_map_t, line_map_t, sector_map_t: the first field, after
+// the 8-byte fingerprint, big-endian); nullopt if too short.
+std::optional<int64_t> leadingUtime(const std::vector<uint8_t>& d) {
+  if (d.size() < 16) return std::nullopt;
+  uint64_t v = 0;
+  for (size_t i = 8; i < 16; ++i) v = (v << 8) | d[i];
+  return static_cast<int64_t>(v);
+}
+
+// CHANNEL's messages of a log by utime (the last one of a utime wins; none repeat in our logs).
+std::map<int64_t, std::vector<uint8_t>> byUtime(const std::string& file, const std::string& channel, int64_t from) {
+  std::map<int64_t, std::vector<uint8_t>> out;
+  LogReader log(file);
+  while (auto ev = log.next()) {
+    if (ev->channel != channel) continue;
+    const auto t = leadingUtime(ev->data);
+    if (t && *t >= from) out[*t] = std::move(ev->data);
+  }
+  return out;
+}
+
+using Cells = std::set<std::pair<int64_t, int64_t>>;
+Cells occupied(const grid_map_t& g) {
+  Cells c;
+  if (!(g.cell_size > 0)) return c;
+  const int64_t ox = std::llround(g.origin_x / g.cell_size), oy = std::llround(g.origin_y / g.cell_size);
+  const int thr = std::max(1, g.gp_threshold);
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix) {
+      const size_t k = static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix);
+      if (k < g.gp.size() && g.gp[k] >= thr) c.insert({ox + ix, oy + iy});
+    }
+  return c;
+}
+
+// nearest: match each map of A with B's latest at or before it (within 1 s) instead of B's of the
+// same utime: two processes started at different times publish at different phases.
+int compareMaps(const std::string& a_file, const std::string& b_file, const std::string& channel, int64_t from,
+                bool grid, bool nearest = false) {
+  const auto a = byUtime(a_file, channel, from), b = byUtime(b_file, channel, nearest ? 0 : from);
+  int64_t matched = 0, identical = 0, uni = 0, differing = 0, b_total = 0, common_total = 0;
+  double worst = 0;
+  std::vector<std::string> series;
+  for (const auto& [t, da] : a) {
+    auto it = b.find(t);
+    if (nearest) {
+      it = b.upper_bound(t);
+      if (it == b.begin()) continue;
+      --it;
+      if (t - it->first > 1'000'000) continue;
+    }
+    if (it == b.end()) continue;
+    ++matched;
+    if (da == it->second) ++identical;
+    if (!grid) continue;
+    const auto ga = decodeAs<grid_map_t>(da), gb = decodeAs<grid_map_t>(it->second);
+    if (!ga || !gb) continue;
+    const Cells ca = occupied(*ga), cb = occupied(*gb);
+    int64_t common = 0;
+    for (const auto& c : ca) common += cb.count(c);
+    const int64_t u = static_cast<int64_t>(ca.size() + cb.size()) - common;
+    const int64_t d = u - common;
+    uni += u;
+    differing += d;
+    b_total += static_cast<int64_t>(cb.size());
+    common_total += common;
+    if (u > 0) worst = std::max(worst, static_cast<double>(d) / static_cast<double>(u));
+    series.push_back("series " + std::to_string(t) + " " + std::to_string(ca.size()) + " " + std::to_string(cb.size()) +
+                     " " + std::to_string(common) + " " + (da == it->second ? "1" : "0"));
+  }
+  std::printf("maps_a %zu\nmaps_b %zu\nmatched %lld\nidentical %lld\n", a.size(), b.size(),
+              static_cast<long long>(matched), static_cast<long long>(identical));
+  if (grid) {
+    std::printf("union %lld\ndiffering %lld\ndiffering_share %.5f\nworst_share %.5f\nb_in_a %.5f\n",
+                static_cast<long long>(uni), static_cast<long long>(differing),
+                uni > 0 ? static_cast<double>(differing) / static_cast<double>(uni) : 0.0, worst,
+                b_total > 0 ? static_cast<double>(common_total) / static_cast<double>(b_total) : 1.0);
+    for (const auto& l : series) std::printf("%s\n", l.c_str());
+  }
+  return 0;
+}
+
+int remembered(const std::string& file, int64_t t_cut, int64_t t_restore, int64_t t_end) {
+  LogReader log(file);
+  int64_t before = 0, fresh_before = 0, sectors_before = 0, stale_at = -1, fresh_again = -1, used_stale = 0,
+          fresh_during = 0;
+  double stale_age = -1;
+  while (auto ev = log.next()) {
+    if (ev->channel != channels::SECTOR_MAP || ev->timestamp < t_cut - 2'000'000 || ev->timestamp >= t_end) continue;
+    const auto m = decodeAs<sector_map_t>(ev->data);
+    if (!m) continue;
+    const bool stale = m->remembered_stale != 0;
+    int64_t used = 0;
+    for (size_t k = 0; k < m->source.size(); ++k)
+      used += m->source[k] == sector_map_t::SOURCE_REMEMBERED ||
+              (k < m->remembered_distance.size() && m->remembered_distance[k] != -1.0f);
+    if (stale && used > 0) ++used_stale;
+    if (ev->timestamp < t_cut) {
+      ++before;
+      if (!stale) ++fresh_before;
+      for (const int8_t s : m->source) sectors_before += s == sector_map_t::SOURCE_REMEMBERED;
+    } else if (ev->timestamp < t_restore) {
+      if (stale && stale_at < 0) {
+        stale_at = ev->timestamp;
+        stale_age = m->remembered_age_s;
+      }
+      if (!stale && stale_at >= 0) ++fresh_during;
+    } else if (!stale && fresh_again < 0) {
+      fresh_again = ev->timestamp;
+    }
+  }
+  const auto s = [](int64_t t, int64_t t0) { return t >= 0 ? static_cast<double>(t - t0) * 1e-6 : -1.0; };
+  std::printf("maps_before %lld\nfresh_before %.3f\nsectors_remembered_before %lld\nstale_after_cut_s %.3f\n"
+              "stale_age_s %.3f\nfresh_after_restore_s %.3f\nused_while_stale %lld\nfresh_during_cut %lld\n",
+              static_cast<long long>(before), before > 0 ? static_cast<double>(fresh_before) / static_cast<double>(before) : 0.0,
+              static_cast<long long>(sectors_before), s(stale_at, t_cut), stale_age, s(fresh_again, t_restore),
+              static_cast<long long>(used_stale), static_cast<long long>(fresh_during));
+  return used_stale == 0 && fresh_during == 0 ? 0 : 1;
+}
+
+int slice(const std::string& in, const std::string& out, int64_t t0, int64_t t1) {
+  LogReader log(in);
+  LogWriter w(out);
+  while (auto ev = log.next())
+    if (ev->timestamp >= t0 && ev->timestamp < t1) w.writeRaw(ev->channel, ev->timestamp, ev->data);
+  std::printf("events %lld\n", static_cast<long long>(w.events()));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,12 +293,18 @@ int main(int argc, char** argv) {
     if (mode == "recovery" && argc == 6) return recovery(argv[2], arg64(argv[3]), arg64(argv[4]), argv[5]);
     if (mode == "stale" && argc == 6 && (std::string(argv[5]) == "laser" || std::string(argv[5]) == "sonar"))
       return stale(argv[2], arg64(argv[3]), arg64(argv[4]), std::string(argv[5]) == "laser");
+    if ((mode == "maps" || mode == "same" || mode == "nearest") && (argc == 5 || argc == 6))
+      return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "nearest");
+    if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
+    if (mode == "slice" && (argc == 5 || argc == 6))
+      return slice(argv[2], argv[3], arg64(argv[4]), argc == 6 ? arg64(argv[5]) : std::numeric_limits<int64_t>::max());
   } catch (const LogError& e) {
     std::fprintf(stderr, "lasonic-fault-check: %s\n", e.what());
     return 2;
   }
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
-               "       stale LOG T_STOP T_RESUME laser|sonar   (times: log timestamps, us)\n");
+               "       stale LOG T_STOP T_RESUME laser|sonar | maps|nearest|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
+               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1]   (times: log timestamps, us)\n");
   return 2;
 }

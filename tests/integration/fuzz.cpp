@@ -16,10 +16,13 @@
 //     checks, per process and channel: messages received == sent; decode_errors and oversize
 //     counters == what the bytes say (classified here with Node's own rules); errors >= those;
 //     the kinds of semantic garbage show up under their counters. Prints "key value" lines.
-//   lasonic-fuzz write LOG COUNT SEED
+//   lasonic-fuzz write LOG COUNT SEED [CHANNELS]
 //     The same messages for the pipeline's channels, written to a log (for lasonic-replay:
-//     deterministic, no network, fast).
-//   lasonic-fuzz check PIPE_LOG [SIM_LOG]
+//     deterministic, no network, fast); CHANNELS (comma-separated) instead of ODOMETRY,
+//     LASER_SCAN, SONAR_RING, SONAR_COMPLEMENT may add RADAR_MAP and AGM_TACTICAL (the navigator's
+//     and the remembering pilot's inputs, for `lasonic-replay --stages`). Prints sent.CH and
+//     undecodable.CH (what Node cannot decode or finds over a cap) per channel.
+//   lasonic-fuzz check PIPE_LOG [SIM_LOG]   |   check-only CHANNELS LOG...
 //     Every message on an output channel in the logs decodes, and its numbers are valid (finite
 //     poses, SECTOR_MAP distances -1 or within [0, max_range], known classes and sources; the
 //     laser driver's readings finite where flagged OK).
@@ -34,6 +37,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -97,6 +101,8 @@ Fate fateOn(const std::string& channel, const std::vector<uint8_t>& b) {
   if (channel == channels::SONAR_RING) return fateOf<sonar_ring_t>(b);
   if (channel == channels::SONAR_COMPLEMENT) return fateOf<complement_t>(b);
   if (channel == channels::SIM_STATE) return fateOf<sim_state_t>(b);
+  if (channel == channels::RADAR_MAP) return fateOf<line_map_t>(b);
+  if (channel == channels::AGM_TACTICAL) return fateOf<grid_map_t>(b);
   return Fate::DecodeError;
 }
 
@@ -166,6 +172,50 @@ class Gen {
     }
     return c;
   }
+  // The navigator's inputs from lasonic-complement (RADAR_MAP) and the pilot's from the navigator
+  // (AGM_TACTICAL): the room's walls, and a tactical map holding them.
+  line_map_t radarMap(int64_t t) {
+    line_map_t m{};
+    m.utime = t;
+    m.source_utime = t - 100'000;
+    m.robot_pose = {2.0, 2.0, 0.0};
+    for (const auto& w : room().laser_visible) {
+      line_segment_t l{};
+      // Relative to the robot (the Radar Map's frame is the robot's at utime).
+      l.x0 = w.a.x() - 2.0;
+      l.y0 = w.a.y() - 2.0;
+      l.x1 = w.b.x() - 2.0;
+      l.y1 = w.b.y() - 2.0;
+      l.npoints = 50;
+      l.rms = 0.01f;
+      l.source = line_segment_t::SOURCE_LASER;
+      l.last_supported_utime = t;
+      m.segments.push_back(l);
+    }
+    setLengths(m);
+    return m;
+  }
+  grid_map_t tactical(int64_t t) {
+    grid_map_t g{};
+    g.utime = t;
+    g.robot_pose = {2.0, 2.0, 0.0};
+    g.cell_size = 0.1f;
+    g.width = g.height = 60;  // 6 m around the 4 m room
+    g.origin_x = g.origin_y = -1.0;
+    g.gp_threshold = 5;
+    const size_t n = static_cast<size_t>(g.width) * static_cast<size_t>(g.height);
+    g.g.assign(n, 0);
+    g.h.assign(n, 0);
+    g.gp.assign(n, 0);
+    for (int k = 10; k < 50; ++k)
+      for (const size_t c : {static_cast<size_t>(10 * g.width + k), static_cast<size_t>(k * g.width + 50)}) {
+        g.g[c] = 6;
+        g.h[c] = 3;
+        g.gp[c] = 8;
+      }
+    setLengths(g);
+    return g;
+  }
   sim_state_t simState(int64_t t) {
     sim_state_t s{};
     s.utime = t;
@@ -231,6 +281,41 @@ class Gen {
       }
       return bytes(c);
     }
+    if (ch == channels::RADAR_MAP) {
+      line_map_t m = radarMap(t);
+      for (int i = 0; i < n; ++i) {
+        line_segment_t& l = m.segments[pick(m.segments.size())];
+        switch (pick(7)) {
+          case 0: l.x0 = nasty(); break;
+          case 1: l.y1 = nasty(); break;
+          case 2: l.npoints = static_cast<int32_t>(pick(2'000)) - 1'000; break;
+          case 3: l.rms = static_cast<float>(nasty()); break;
+          case 4: l.last_supported_utime = time(); break;
+          case 5: m.source_utime = time(); break;
+          default: m.robot_pose.theta = nasty(); break;
+        }
+      }
+      return bytes(m);
+    }
+    if (ch == channels::AGM_TACTICAL) {
+      grid_map_t g = tactical(t);
+      for (int i = 0; i < n; ++i) {
+        switch (pick(8)) {
+          case 0: g.cell_size = static_cast<float>(nasty()); break;
+          case 1: g.origin_x = nasty(); break;
+          case 2: g.width = static_cast<int32_t>(pick(200)) - 20; break;  // width * height != ncells
+          case 3: g.gp_threshold = static_cast<int32_t>(pick(40)) - 20; break;
+          case 4: g.g[pick(g.g.size())] = static_cast<int16_t>(pick(65536) - 32768); break;
+          case 5: g.gp[pick(g.gp.size())] = static_cast<int32_t>(pick(200'000)) - 100'000; break;
+          case 6: g.robot_pose.x = nasty(); break;
+          default: g.height = 0; break;
+        }
+      }
+      // Encoded as it is (encodeMsg would refuse a width * height that is not ncells).
+      std::vector<uint8_t> b(static_cast<size_t>(g.getEncodedSize()));
+      g.encode(b.data(), 0, static_cast<int>(b.size()));
+      return b;
+    }
     sim_state_t s = simState(t);
     for (int i = 0; i < n; ++i) {
       switch (pick(5)) {
@@ -255,6 +340,8 @@ class Gen {
     if (ch == channels::LASER_SCAN) return bytes(scan(t));
     if (ch == channels::SONAR_RING) return bytes(ring(t));
     if (ch == channels::SONAR_COMPLEMENT) return bytes(complement(t));
+    if (ch == channels::RADAR_MAP) return bytes(radarMap(t));
+    if (ch == channels::AGM_TACTICAL) return bytes(tactical(t));
     return bytes(simState(t));
   }
 
@@ -301,6 +388,8 @@ class Gen {
       if (ch == channels::LASER_SCAN) off = wireShape<laser_scan_t>().count_offset;
       else if (ch == channels::SONAR_RING) off = wireShape<sonar_ring_t>().count_offset;
       else if (ch == channels::SONAR_COMPLEMENT) off = wireShape<complement_t>().count_offset;
+      else if (ch == channels::RADAR_MAP) off = wireShape<line_map_t>().count_offset;
+      else if (ch == channels::AGM_TACTICAL) off = wireShape<grid_map_t>().count_offset;
       else off = wireShape<sim_state_t>().count_offset;
       const int32_t claims[] = {std::numeric_limits<int32_t>::max(), -1, std::numeric_limits<int32_t>::min(),
                                 1'000'000, 7, 100'001};
@@ -345,6 +434,13 @@ class Gen {
       s.movers.assign(static_cast<size_t>(limits::kMovers + 1), mover_state_t{});
       return bytes(s);
     }
+    if (ch == channels::RADAR_MAP) {
+      line_map_t m = radarMap(t);
+      m.segments.assign(static_cast<size_t>(limits::kLineSegments + 1), m.segments[0]);
+      setLengths(m);
+      return bytes(m);
+    }
+    // AGM_TACTICAL: a real grid over the cap would be 32 MB; its count claims cover the cap.
     return {};
   }
 
@@ -537,7 +633,9 @@ int feed(const std::string& pipe_url, const std::string& sim_url, int64_t count,
 bool finite(const pose2d_t& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
 bool distanceOk(float d, float limit) { return d == -1.0f || (std::isfinite(d) && d >= 0 && d <= limit + 1e-4f); }
 
-int check(const std::vector<std::string>& files) {
+// only: the channels to check (empty: all): in a log replayed with `lasonic-replay --stages`, a
+// channel the other stages publish is the fuzz's input.
+int check(const std::vector<std::string>& files, const std::set<std::string>& only = {}) {
   std::map<std::string, int64_t> n, bad;
   auto fail = [&](const std::string& ch, const std::string& why) {
     if (bad[ch]++ == 0) std::fprintf(stderr, "lasonic-fuzz: FAIL: %s: %s\n", ch.c_str(), why.c_str());
@@ -549,6 +647,7 @@ int check(const std::vector<std::string>& files) {
       LogReader log(files[fi]);
       while (auto ev = log.next()) {
         const std::string& ch = ev->channel;
+        if (!only.empty() && !only.count(ch)) continue;
         if (ch == channels::SECTOR_MAP) {
           ++n[ch];
           const auto m = decodeAs<sector_map_t>(ev->data);
@@ -561,12 +660,16 @@ int check(const std::vector<std::string>& files) {
           }
           for (size_t i = 0; i < k; ++i)
             if (!distanceOk(m->distance[i], m->max_range) || !distanceOk(m->laser_distance[i], m->max_range) ||
-                !distanceOk(m->sonar_distance[i], m->max_range) || m->source[i] < 0 || m->source[i] > 3 ||
-                ((m->source[i] == sector_map_t::SOURCE_NONE) != (m->distance[i] == -1.0f))) {
+                !distanceOk(m->sonar_distance[i], m->max_range) || m->source[i] < 0 ||
+                m->source[i] > sector_map_t::SOURCE_REMEMBERED ||
+                ((m->source[i] == sector_map_t::SOURCE_NONE) != (m->distance[i] == -1.0f)) ||
+                (i < m->remembered_distance.size() && !distanceOk(m->remembered_distance[i], m->max_range)) ||
+                // the remembered (tactical) source: never used while stale
+                (m->source[i] == sector_map_t::SOURCE_REMEMBERED && m->remembered_stale != 0)) {
               fail(ch, "sector " + std::to_string(i) + " distance " + std::to_string(m->distance[i]));
               break;
             }
-        } else if (ch == channels::RADAR_MAP) {
+        } else if (ch == channels::RADAR_MAP || ch == channels::AGM_LINES || ch == channels::CURRENT_SENSOR_MAP) {
           ++n[ch];
           const auto m = decodeAs<line_map_t>(ev->data);
           if (!m) { fail(ch, "does not decode"); continue; }
@@ -603,11 +706,18 @@ int check(const std::vector<std::string>& files) {
               fail(ch, "a driver's reading is not finite");
               break;
             }
-        } else if (ch == channels::AGM_OPERATIONAL) {
+        } else if (ch == channels::AGM_OPERATIONAL || ch == channels::AGM_TACTICAL) {
           ++n[ch];
           const auto m = decodeAs<grid_map_t>(ev->data);
-          if (!m || static_cast<int64_t>(m->width) * m->height != m->ncells || !std::isfinite(m->origin_x))
+          if (!m || static_cast<int64_t>(m->width) * m->height != m->ncells || !std::isfinite(m->origin_x) ||
+              !std::isfinite(m->origin_y) || !(m->cell_size > 0) || !finite(m->robot_pose))
             fail(ch, "bad grid");
+          else
+            for (int32_t c = 0; c < m->ncells; ++c)
+              if (m->g[static_cast<size_t>(c)] < 0 || m->h[static_cast<size_t>(c)] < 0 || m->gp[static_cast<size_t>(c)] < 0) {
+                fail(ch, "negative weight in cell " + std::to_string(c));
+                break;
+              }
         }
       }
     }
@@ -622,33 +732,67 @@ int check(const std::vector<std::string>& files) {
 }  // namespace
 
 // The pipeline channels' fuzz written to a log, for lasonic-replay: deterministic and fast.
-int write(const std::string& file, int64_t count, uint64_t seed) {
+// Prints per channel the messages sent and those Node cannot decode or finds over a cap
+// ("sent.CH N", "undecodable.CH N").
+int write(const std::string& file, int64_t count, uint64_t seed,
+          const std::vector<std::string>& chans = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
+                                                   channels::SONAR_COMPLEMENT}) {
   Gen gen(seed);
-  const std::vector<std::string> chans = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
-                                          channels::SONAR_COMPLEMENT};
+  std::map<std::string, int64_t> sent, undecodable;
   try {
     LogWriter out(file);
     for (int64_t i = 0; i < count; ++i) {
       const std::string& ch = chans[gen.pick(chans.size())];
       std::string kind;
       std::vector<uint8_t> b = i % 25'000 == 12'345 ? gen.overCap(ch, 1'000'000) : gen.next(ch, kind);
+      ++sent[ch];
+      undecodable[ch] += fateOn(ch, b) != Fate::Decodes;
       out.writeRaw(ch, i, b);
     }
   } catch (const LogError& e) {
     std::fprintf(stderr, "lasonic-fuzz: %s\n", e.what());
     return 2;
   }
+  for (const auto& [ch, k] : sent)
+    std::printf("sent.%s %lld\nundecodable.%s %lld\n", ch.c_str(), static_cast<long long>(k), ch.c_str(),
+                static_cast<long long>(undecodable[ch]));
   return 0;
+}
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  for (size_t a = 0; a <= s.size();) {
+    const size_t b = std::min(s.find(',', a), s.size());
+    if (b > a) out.push_back(s.substr(a, b - a));
+    a = b + 1;
+  }
+  return out;
 }
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode == "write" && argc == 5)
     return write(argv[2], std::strtoll(argv[3], nullptr, 10), std::strtoull(argv[4], nullptr, 10));
+  if (mode == "write" && argc == 6) {
+    const auto chans = splitList(argv[5]);
+    for (const auto& c : chans)
+      if (c != channels::ODOMETRY && c != channels::LASER_SCAN && c != channels::SONAR_RING &&
+          c != channels::SONAR_COMPLEMENT && c != channels::RADAR_MAP && c != channels::AGM_TACTICAL) {
+        std::fprintf(stderr, "lasonic-fuzz: write: no fuzz for channel '%s'\n", c.c_str());
+        return 2;
+      }
+    if (chans.empty()) return 2;
+    return write(argv[2], std::strtoll(argv[3], nullptr, 10), std::strtoull(argv[4], nullptr, 10), chans);
+  }
+  if (mode == "check-only" && argc >= 4) {
+    const auto only = splitList(argv[2]);
+    return check(std::vector<std::string>(argv + 3, argv + argc), std::set<std::string>(only.begin(), only.end()));
+  }
   if (mode == "feed" && argc == 6)
     return feed(argv[2], argv[3], std::strtoll(argv[4], nullptr, 10), std::strtoull(argv[5], nullptr, 10));
   if (mode == "check" && argc == 4) return check({argv[2], argv[3]});
   if (mode == "check" && argc == 3) return check({argv[2]});
-  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED | write LOG COUNT SEED | check PIPE_LOG [SIM_LOG]\n");
+  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED | write LOG COUNT SEED [CHANNELS] |\n"
+               "       check PIPE_LOG [SIM_LOG] | check-only CHANNELS LOG...   (CHANNELS: comma-separated)\n");
   return 2;
 }

@@ -3,6 +3,12 @@
 # messages), written to a log and run through lasonic-replay (the complement and pilot stages,
 # no network): deterministic, so a fault it finds is reproduced by the same seed. Every output
 # must be valid (lasonic-fuzz check), and two replays must be bit-identical.
+# Then the tactical level, COUNT / 2 messages: the same kinds of fuzz on every input channel of the
+# navigator (ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP) through `lasonic-replay --stages navigator`,
+# and on the pilot's with its remembered source on (ODOMETRY, LASER_SCAN, SONAR_COMPLEMENT,
+# AGM_TACTICAL) through `--stages pilot`: outputs valid, and every message Node cannot decode (or
+# finds over a cap) counted among the stage's input errors. (Once each: the replay's determinism
+# is checked above.)
 # Env: LASONIC_BIN, LASONIC_SOURCE.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -20,4 +26,28 @@ cmp -s "$tmp/out1.lcmlog" "$tmp/out2.lcmlog" || die "two replays of the same fuz
 }
 cat "$tmp/check.out"
 grep -h "input errors" "$tmp/replay1.err" || true
-echo "$test_name: PASS ($count messages, seed $seed)"
+
+config_with pilot remembered true "$tmp/remembered.yaml"
+"$bin/lasonic-fuzz" write "$tmp/tactical.lcmlog" $((count / 2)) "$seed" ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,RADAR_MAP,AGM_TACTICAL \
+  >"$tmp/tactical.sent" || die "lasonic-fuzz write failed"
+sent() { awk -v k="$1" '$1 == k {print $2}' "$tmp/tactical.sent"; }
+# stage PROCESS STAGE OUTPUTS INPUTS: replay, check OUTPUTS, count errors on INPUTS.
+stage() {
+  local process=$1 stage=$2 outputs=$3 inputs=$4 errors need=0 ch
+  "$bin/lasonic-replay" --stages "$stage" --in "$tmp/tactical.lcmlog" --out "$tmp/${stage}1.lcmlog" \
+    --config "$tmp/remembered.yaml" 2>"$tmp/${stage}1.err" || die "lasonic-replay --stages $stage failed on the fuzz log"
+  "$bin/lasonic-fuzz" check-only "$outputs" "$tmp/${stage}1.lcmlog" >"$tmp/check.out" 2>"$tmp/check.err" || {
+    cat "$tmp/check.out"
+    die "$process's outputs under fuzzing: $(head -5 "$tmp/check.err")"
+  }
+  errors=$(sed -n "s/.*$process: \([0-9]*\) input errors.*/\1/p" "$tmp/${stage}1.err")
+  for ch in ${inputs//,/ }; do need=$((need + $(sent "undecodable.$ch"))); done
+  echo "$process: $(tr '\n' ' ' <"$tmp/check.out")input errors ${errors:-0}, undecodable on its inputs $need"
+  ((${errors:-0} >= need && need > 0)) || die "$process counted ${errors:-0} input errors, fewer than the $need undecodable messages"
+}
+echo "tactical fuzz: $(tr '\n' ' ' <"$tmp/tactical.sent")"
+stage lasonic-navigator navigator AGM_TACTICAL,AGM_LINES,CURRENT_SENSOR_MAP ODOMETRY,SONAR_COMPLEMENT,RADAR_MAP
+stage lasonic-pilot pilot SECTOR_MAP,AGM_OPERATIONAL ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,AGM_TACTICAL
+grep -q "out.AGM_TACTICAL [1-9]" <("$bin/lasonic-fuzz" check-only AGM_TACTICAL "$tmp/navigator1.lcmlog") ||
+  die "the navigator published no tactical map under fuzzing"
+echo "$test_name: PASS ($count messages, then $((count / 2)) for the tactical level, seed $seed)"

@@ -85,3 +85,19 @@ expect_bad_config() {
   [[ $rc -eq 2 ]] || die "bad config: exit status $rc, expected 2"
   grep -q "$pattern" "$tmp/bad.err" || die "bad config: error does not name $key"
 }
+
+# config_with SECTION KEY VALUE OUT: the shipped configuration with SECTION.KEY set to VALUE (a
+# top-level section, a key directly under it), written to OUT; e.g.
+#   config_with pilot remembered true "$tmp/remembered.yaml"
+config_with() {
+  # Two passes over the file: replace the key where the section has it, else add it first.
+  awk -v sec="$1" -v key="$2" -v val="$3" '
+    FNR == 1 { in_sec = 0 }
+    /^[A-Za-z_]+:/ { in_sec = ($0 ~ "^" sec ":") }
+    FNR == NR { if (in_sec && $0 ~ "^  " key ":") has = 1; next }
+    in_sec && $0 ~ "^  " key ":" { print "  " key ": " val; next }
+    { print }
+    $0 ~ "^" sec ":" && !has { print "  " key ": " val }
+  ' "$config" "$config" >"$4"
+  grep -q "^  $2: $3\$" "$4" || die "config_with: could not set $1.$2 in $4"
+}
