@@ -1,11 +1,12 @@
 // lasonic-fuzz: bad input on every input channel of every live process (fuzz.sh, ./run soak).
 //
-//   lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED
+//   lasonic-fuzz feed PIPE_URL SIM_URL NAV_URL COUNT SEED
 //     Waits for the PROCESS_STATUS of every target, then publishes COUNT messages, deterministic
 //     from SEED, spread over the targets' input channels:
-//       PIPE_URL: ODOMETRY, LASER_SCAN, SONAR_RING (lasonic-complement), SONAR_COMPLEMENT
-//                 (lasonic-pilot; ODOMETRY and LASER_SCAN too)
+//       PIPE_URL: ODOMETRY, LASER_SCAN, SONAR_RING (lasonic-complement), SONAR_COMPLEMENT and
+//                 AGM_TACTICAL (lasonic-pilot; ODOMETRY and LASER_SCAN too)
 //       SIM_URL:  SIM_STATE (lasonic-laser-driver, lasonic-sonar-driver)
+//       NAV_URL:  ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP (lasonic-navigator)
 //     Kinds: random bytes; a valid message cut short; bit flips in a valid message; a valid message
 //     of another type; a count field claiming more elements than the bytes hold, negative, or
 //     over the cap; a real array over the cap; valid messages with fields set to NaN, +-Inf,
@@ -22,7 +23,7 @@
 //     LASER_SCAN, SONAR_RING, SONAR_COMPLEMENT may add RADAR_MAP and AGM_TACTICAL (the navigator's
 //     and the remembering pilot's inputs, for `lasonic-replay --stages`). Prints sent.CH and
 //     undecodable.CH (what Node cannot decode or finds over a cap) per channel.
-//   lasonic-fuzz check PIPE_LOG [SIM_LOG]   |   check-only CHANNELS LOG...
+//   lasonic-fuzz check PIPE_LOG [SIM_LOG [NAV_LOG]]   |   check-only CHANNELS LOG...
 //     Every message on an output channel in the logs decodes, and its numbers are valid (finite
 //     poses, SECTOR_MAP distances -1 or within [0, max_range], known classes and sources; the
 //     laser driver's readings finite where flagged OK).
@@ -67,16 +68,21 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int64_t kWindow = 900;
 static_assert(kWindow < Node::kQueueCapacity);
 
+enum Url { kPipe = 0, kSim = 1, kNav = 2 };
 struct Target {
   std::string process;
-  bool sim;  // on SIM_URL
+  Url url;
   std::vector<std::string> channels;
 };
+// The navigator listens on a URL of its own (NAV_URL): there only the fuzz feeds it (on PIPE_URL
+// the complement's outputs would be its inputs too), and its AGM_TACTICAL never reaches the
+// pilot, whose AGM_TACTICAL input is fuzzed on PIPE_URL instead.
 const std::vector<Target> kTargets = {
-    {"lasonic-complement", false, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING}},
-    {"lasonic-pilot", false, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_COMPLEMENT}},
-    {"lasonic-laser-driver", true, {channels::SIM_STATE}},
-    {"lasonic-sonar-driver", true, {channels::SIM_STATE}},
+    {"lasonic-complement", kPipe, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING}},
+    {"lasonic-pilot", kPipe, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL}},
+    {"lasonic-laser-driver", kSim, {channels::SIM_STATE}},
+    {"lasonic-sonar-driver", kSim, {channels::SIM_STATE}},
+    {"lasonic-navigator", kNav, {channels::ODOMETRY, channels::SONAR_COMPLEMENT, channels::RADAR_MAP}},
 };
 
 // ---- what Node will make of the bytes (lcmio/node.hpp: the cap check, then decode)
@@ -483,21 +489,21 @@ void expect(bool ok, const std::string& what) {
   }
 }
 
-int feed(const std::string& pipe_url, const std::string& sim_url, int64_t count, uint64_t seed) {
-  lcm::LCM pipe(pipe_url), sim(sim_url);
-  if (!pipe.good() || !sim.good()) {
+int feed(const std::string& pipe_url, const std::string& sim_url, const std::string& nav_url, int64_t count,
+         uint64_t seed) {
+  lcm::LCM pipe(pipe_url), sim(sim_url), nav(nav_url);
+  if (!pipe.good() || !sim.good() || !nav.good()) {
     std::fprintf(stderr, "lasonic-fuzz: cannot open LCM\n");
     return 2;
   }
+  lcm::LCM* const urls[] = {&pipe, &sim, &nav};
   Watch watch;
-  pipe.subscribe(channels::PROCESS_STATUS, &Watch::onStatus, &watch);
-  sim.subscribe(channels::PROCESS_STATUS, &Watch::onStatus, &watch);
+  for (lcm::LCM* l : urls) l->subscribe(channels::PROCESS_STATUS, &Watch::onStatus, &watch);
   auto spin = [&](int ms) {
-    pipe.handleTimeout(ms / 2 + 1);
-    while (pipe.handleTimeout(0) > 0) {
-    }
-    sim.handleTimeout(ms / 2 + 1);
-    while (sim.handleTimeout(0) > 0) {
+    for (lcm::LCM* l : urls) {
+      l->handleTimeout(ms / 3 + 1);
+      while (l->handleTimeout(0) > 0) {
+      }
     }
   };
   auto waitUntil = [&](double timeout_s, const std::function<bool()>& done) {
@@ -524,8 +530,9 @@ int feed(const std::string& pipe_url, const std::string& sim_url, int64_t count,
   Expect ex;
   std::map<std::string, int64_t> expected_in;  // per process, including base
   for (const Target& t : kTargets) expected_in[t.process] = base[t.process];
-  const std::vector<std::string> chans = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
-                                          channels::SONAR_COMPLEMENT, channels::SIM_STATE};
+  const std::vector<std::string> chans = {channels::ODOMETRY,         channels::LASER_SCAN, channels::SONAR_RING,
+                                          channels::SONAR_COMPLEMENT, channels::SIM_STATE,  channels::RADAR_MAP,
+                                          channels::AGM_TACTICAL};
   const auto t_start = std::chrono::steady_clock::now();
   for (int64_t i = 0; i < count; ++i) {
     const std::string& ch = chans[gen.pick(chans.size())];
@@ -536,8 +543,13 @@ int feed(const std::string& pipe_url, const std::string& sim_url, int64_t count,
       b = gen.overCap(ch, 1'000'000);
     }
     if (b.empty()) b = gen.next(ch, kind);
-    const bool on_sim = ch == channels::SIM_STATE;
-    (on_sim ? sim : pipe).publish(ch, b.data(), static_cast<unsigned>(b.size()));
+    // Published once on every URL where some target listens to the channel.
+    bool on_url[3] = {false, false, false};
+    for (const Target& t : kTargets)
+      for (const std::string& c : t.channels)
+        if (c == ch) on_url[t.url] = true;
+    for (int u = 0; u < 3; ++u)
+      if (on_url[u]) urls[u]->publish(ch, b.data(), static_cast<unsigned>(b.size()));
     ++ex.sent[ch];
     ++ex.kinds[kind];
     switch (fateOn(ch, b)) {
@@ -644,10 +656,17 @@ int check(const std::vector<std::string>& files, const std::set<std::string>& on
   try {
     for (size_t fi = 0; fi < files.size(); ++fi) {
       const bool sim_log = fi == 1;  // check PIPE_LOG SIM_LOG: LASER_SCAN there is the driver's
+      // check PIPE_LOG SIM_LOG NAV_LOG: AGM_TACTICAL on PIPE_URL and RADAR_MAP on NAV_URL are the
+      // fuzz's input, not a process's output.
+      const bool three = files.size() == 3;
       LogReader log(files[fi]);
       while (auto ev = log.next()) {
         const std::string& ch = ev->channel;
         if (!only.empty() && !only.count(ch)) continue;
+        if (three && fi == 0 && ch == channels::AGM_TACTICAL) continue;
+        if (three && fi == 2 && ch != channels::AGM_TACTICAL && ch != channels::AGM_LINES &&
+            ch != channels::CURRENT_SENSOR_MAP)
+          continue;
         if (ch == channels::SECTOR_MAP) {
           ++n[ch];
           const auto m = decodeAs<sector_map_t>(ev->data);
@@ -788,11 +807,12 @@ int main(int argc, char** argv) {
     const auto only = splitList(argv[2]);
     return check(std::vector<std::string>(argv + 3, argv + argc), std::set<std::string>(only.begin(), only.end()));
   }
-  if (mode == "feed" && argc == 6)
-    return feed(argv[2], argv[3], std::strtoll(argv[4], nullptr, 10), std::strtoull(argv[5], nullptr, 10));
+  if (mode == "feed" && argc == 7)
+    return feed(argv[2], argv[3], argv[4], std::strtoll(argv[5], nullptr, 10), std::strtoull(argv[6], nullptr, 10));
+  if (mode == "check" && argc == 5) return check({argv[2], argv[3], argv[4]});
   if (mode == "check" && argc == 4) return check({argv[2], argv[3]});
   if (mode == "check" && argc == 3) return check({argv[2]});
-  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL COUNT SEED | write LOG COUNT SEED [CHANNELS] |\n"
-               "       check PIPE_LOG [SIM_LOG] | check-only CHANNELS LOG...   (CHANNELS: comma-separated)\n");
+  std::fprintf(stderr, "usage: lasonic-fuzz feed PIPE_URL SIM_URL NAV_URL COUNT SEED | write LOG COUNT SEED [CHANNELS] |\n"
+               "       check PIPE_LOG [SIM_LOG [NAV_LOG]] | check-only CHANNELS LOG...   (CHANNELS: comma-separated)\n");
   return 2;
 }
