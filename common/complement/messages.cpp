@@ -34,8 +34,6 @@ using input_limits::kMaxCoordinate;
 using input_limits::kMaxLaserRange;
 using input_limits::kMaxSonarRange;
 
-constexpr float kPiF = 3.14159265f;
-
 bool plausiblePose(const pose2d_t& p) {
   return finitePose(p) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate;
 }
@@ -100,7 +98,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       }
       c.usable = ok;
       c.range = r.range;
-      if (std::isfinite(r.beam_width) && r.beam_width > 0 && r.beam_width < kPiF) {
+      if (geom::plausibleBeamWidth(r.beam_width)) {
         c.beam_width = r.beam_width;
       } else if (ok) {
         problems.push_back({"rejected.complement_beam", field_name(i, "beam_width") + " = " + num(r.beam_width) +
@@ -210,7 +208,7 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
     r.range = m.range[i];
     r.no_echo = m.no_echo[i] != 0;
     r.mount = {m.mount[i].x, m.mount[i].y, m.mount[i].theta};
-    if (i < m.beam_width.size() && std::isfinite(m.beam_width[i]) && m.beam_width[i] > 0 && m.beam_width[i] < kPiF)
+    if (i < m.beam_width.size() && geom::plausibleBeamWidth(m.beam_width[i]))
       r.beam_width = m.beam_width[i];
     else  // the reading is still usable, with the configured beam
       problems.push_back({"rejected.sonar_beam", field("SONAR_RING", "beam_width", i) + " = " +

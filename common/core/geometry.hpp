@@ -2,6 +2,7 @@
 // 2-D geometry for the whole pipeline: poses, and the ray / segment / circle / beam-sector
 // queries that the sensor models, the hypothetical scan and the evaluation share.
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -12,6 +13,9 @@ using Vec2 = Eigen::Vector2d;
 constexpr double kPi = 3.14159265358979323846;
 inline double deg2rad(double d) { return d * kPi / 180.0; }
 inline double rad2deg(double r) { return r * 180.0 / kPi; }
+// A beam's full opening as a message carries it: finite and in (0, pi) rad; anything else is a
+// malformed field (a sonar beam is never a half-plane), for every stage that reads one.
+inline bool plausibleBeamWidth(double w) { return std::isfinite(w) && w > 0.0 && w < kPi; }
 
 // Wraps to (-pi, pi].
 double normalizeAngle(double a);

@@ -205,12 +205,12 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
     // Before the first scan there is nothing the laser saw to compare with: such firings are
     // left out of the laser-based splits (specular_rejection and precision keep them).
     const bool no_scan = per_scan && scan < 0;
-    const double group_beam = std::isfinite(cm.beam_width) && cm.beam_width > 0 && cm.beam_width < geom::kPi
+    const double group_beam = geom::plausibleBeamWidth(cm.beam_width)
                             ? double(cm.beam_width)
                             : geom::deg2rad(30.0);
     for (const auto& rd : cm.readings) {
       // The beam this reading's hypothesis used (logs before readings carried it: the group's).
-      const double beam = std::isfinite(rd.beam_width) && rd.beam_width > 0 && rd.beam_width < geom::kPi
+      const double beam = geom::plausibleBeamWidth(rd.beam_width)
                               ? double(rd.beam_width)
                               : group_beam;
       const Key k{cm.utime, rd.sensor_id};

@@ -133,7 +133,7 @@ void NavigatorStage::onComplement(const complement_t& m) {
     p.utime = m.utime;
     p.readings = std::move(group);
     // The hypothesis model the complement stage used (a malformed one: the paper's).
-    if (std::isfinite(m.beam_width) && m.beam_width > 0 && m.beam_width < geom::kPi) p.model.beam_width = m.beam_width;
+    if (geom::plausibleBeamWidth(m.beam_width)) p.model.beam_width = m.beam_width;
     else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.beam_width = " + std::to_string(m.beam_width) +
                                                              ": the paper's 30 deg used");
     if (std::isfinite(m.range_limit) && m.range_limit > 0) p.model.range_limit = m.range_limit;
