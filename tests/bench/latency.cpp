@@ -3,8 +3,10 @@
 // End-to-end latency of the live pipeline: plays a log's sensor channels (ODOMETRY, LASER_SCAN,
 // SONAR_GEOMETRY, SONAR_RING) into LCM at S times real time, paced by the log's timestamps, and
 // listens for SECTOR_MAP. A firing group's latency is the wall time from just before its
-// SONAR_RING is published to the arrival of the first SECTOR_MAP of the same utime (the pilot's
-// map made by that group's SONAR_COMPLEMENT; README "Performance"). Prints one line
+// SONAR_RING is published to the arrival of the first SECTOR_MAP whose sonar data is that group's
+// (its sonar time, utime - sonar_age_s, equals the ring's utime: the pilot's map made by that
+// group's SONAR_COMPLEMENT, whatever newer laser scan has moved the map's own utime on;
+// README "Performance"). Prints one line
 //   groups N matched M p50_ms A p99_ms B max_ms C
 // and exits 1 if fewer than --min-groups groups were matched. Run it inside a private network
 // namespace (tests/netns/in-netns.sh) with lasonic-complement and lasonic-pilot listening.
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -36,7 +39,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Listener {
   std::mutex mu;
-  std::map<int64_t, Clock::time_point> first_map;  // sector map utime -> first arrival
+  std::map<int64_t, Clock::time_point> first_map;  // sonar time of a sector map -> first arrival
   int64_t maps = 0;
   void onMap(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     const Clock::time_point now = Clock::now();
@@ -44,7 +47,10 @@ struct Listener {
     if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
     std::lock_guard<std::mutex> lock(mu);
     ++maps;
-    first_map.emplace(m.utime, now);
+    // The map's utime is the newest of its inputs (a laser scan's last reading can be newer than
+    // the group that triggered it); its sonar time names the group.
+    if (!std::isfinite(m.sonar_age_s) || m.sonar_age_s < 0) return;
+    first_map.emplace(m.utime - std::llround(static_cast<double>(m.sonar_age_s) * 1e6), now);
   }
 };
 
