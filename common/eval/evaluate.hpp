@@ -50,6 +50,9 @@ struct EvalOptions {
   double located_radius = 0.30;    // [m] a direct echo's hit point this close locates a boundary point
   double line_tolerance = 0.10;    // [m] lines: within this of a boundary point / a true surface
   double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
+  // [s] An echo this recent is within the operational memory: the shipped operational AGM forgets
+  // a cell that is not heard again in h_max = 18 update cycles of 30 ms (observable_missed_by_cue).
+  double recent_echo_s = 0.54;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
 };
 

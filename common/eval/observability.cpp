@@ -81,6 +81,47 @@ bool LocatedPoints::located(int obstacle, const geom::Vec2& p, int64_t utime) co
   return false;
 }
 
+std::optional<int64_t> LocatedPoints::lastLocated(int obstacle, const geom::Vec2& p, int64_t utime) const {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return std::nullopt;
+  const int64_t cx = cell(p.x()), cy = cell(p.y());
+  const double r2 = radius_ * radius_;
+  std::optional<int64_t> last;
+  for (int64_t y = cy - 1; y <= cy + 1; ++y)
+    for (int64_t x = cx - 1; x <= cx + 1; ++x) {
+      const auto it = buckets_.find(Key{obstacle, x, y});
+      if (it == buckets_.end()) continue;
+      const std::vector<Entry>& v = it->second;
+      // Newest first from the last entry at or before utime: the first one within the radius is
+      // this bucket's answer.
+      auto end = std::upper_bound(v.begin(), v.end(), utime, [](int64_t t, const Entry& e) { return t < e.utime; });
+      for (auto e = end; e != v.begin();) {
+        --e;
+        if (last && e->utime <= *last) break;
+        if ((e->p - p).squaredNorm() <= r2) {
+          last = e->utime;
+          break;
+        }
+      }
+    }
+  return last;
+}
+
+int LocatedPoints::countLocated(int obstacle, const geom::Vec2& p, int64_t from, int64_t to) const {
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || from > to) return 0;
+  const int64_t cx = cell(p.x()), cy = cell(p.y());
+  const double r2 = radius_ * radius_;
+  int n = 0;
+  for (int64_t y = cy - 1; y <= cy + 1; ++y)
+    for (int64_t x = cx - 1; x <= cx + 1; ++x) {
+      const auto it = buckets_.find(Key{obstacle, x, y});
+      if (it == buckets_.end()) continue;
+      const std::vector<Entry>& v = it->second;
+      auto e = std::lower_bound(v.begin(), v.end(), from, [](const Entry& a, int64_t t) { return a.utime < t; });
+      for (; e != v.end() && e->utime <= to; ++e) n += (e->p - p).squaredNorm() <= r2;
+    }
+  return n;
+}
+
 // ------------------------------------------------------------------------------ truth table
 
 SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o) {
@@ -126,7 +167,16 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
         const int obstacle = h.primitive->obstacle;
         const bool laser = seen.available() ? seen.saw(scan, obstacle, h.point, o.seen_radius, sm.utime)
                                             : mat.laser == sim::LaserBehaviour::Reflect;
-        s.observable = h.distance <= o.sector_range && (laser || located.located(obstacle, h.point, sm.utime));
+        if (h.distance <= o.sector_range) {
+          if (laser) {
+            s.cue = Cue::Laser;
+          } else if (const auto t = located.lastLocated(obstacle, h.point, sm.utime)) {
+            const auto memory = static_cast<int64_t>(o.recent_echo_s * 1e6);
+            if (sm.utime - *t > memory) s.cue = Cue::EchoOld;
+            else s.cue = located.countLocated(obstacle, h.point, sm.utime - memory, sm.utime) >= 2 ? Cue::EchoRepeated : Cue::EchoOnce;
+          }
+          s.observable = s.cue != Cue::None;
+        }
       }
       table.samples.push_back(s);
     }
@@ -150,7 +200,10 @@ void SectorScore::add(double reported, const SectorSample& s, const EvalOptions&
     const bool miss = !has || reported > truth + o.sector_tolerance;
     missed_.add(miss);
     unobservable_.add(!s.observable);
-    if (s.observable) observable_missed_.add(miss);
+    if (s.observable) {
+      observable_missed_.add(miss);
+      if (miss) ++observable_missed_by_cue_[static_cast<int>(s.cue)];
+    }
     if (s.material >= 0) {
       if (missed_by_material_.size() <= static_cast<size_t>(s.material))
         missed_by_material_.resize(static_cast<size_t>(s.material) + 1);
@@ -181,6 +234,12 @@ void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
   for (size_t i = 0; i < missed_by_material_.size() && i < materials.size(); ++i)
     setRatio(m, prefix + ".missed_by_material." + materials[i], missed_by_material_[i]);
   if (!details) return;
+  if (observable_missed_.num > 0) {
+    static const char* kCueNames[kCues] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
+    for (int c = 1; c < kCues; ++c)
+      m.set(prefix + ".observable_missed_by_cue." + kCueNames[c],
+            static_cast<double>(observable_missed_by_cue_[c]) / static_cast<double>(observable_missed_.num));
+  }
   if (false_alarm_.num > 0) {
     static const char* kNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
     for (int s = 1; s < 5; ++s)

@@ -12,6 +12,7 @@
 // frame; a mover's echo counts where the mover was then).
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -47,6 +48,10 @@ class LocatedPoints {
   void addDirectEchoes(const std::vector<sonar_truth_t>& truths);
   // True if an echo located `obstacle` within the radius of p at a time <= utime.
   bool located(int obstacle, const geom::Vec2& p, int64_t utime) const;
+  // The newest such echo's time, if any.
+  std::optional<int64_t> lastLocated(int obstacle, const geom::Vec2& p, int64_t utime) const;
+  // How many such echoes in [from, to].
+  int countLocated(int obstacle, const geom::Vec2& p, int64_t from, int64_t to) const;
   size_t size() const { return n_; }
 
  private:
@@ -68,10 +73,18 @@ class LocatedPoints {
   size_t n_ = 0;
 };
 
+// How an observable sample could be known (the first that applies): the laser saw it; echoes
+// located it within the operational memory (EvalOptions::recent_echo_s) before the map — one
+// echo (below a confirmation threshold of two, which a single crosstalk reading must not pass)
+// or several; or only earlier, so that only a longer memory (the tactical map) could hold it.
+enum class Cue : uint8_t { None = 0, Laser = 1, EchoOnce = 2, EchoRepeated = 3, EchoOld = 4 };
+inline constexpr int kCues = 5;
+
 // One scored sample.
 struct SectorSample {
   float truth = std::numeric_limits<float>::infinity();  // [m] from the boundary; inf: none in reach
   bool observable = false;  // meaningful when truth <= sector_range
+  Cue cue = Cue::None;      // set when observable
   int16_t material = -1;    // index into SectorTruthTable::materials; -1: no truth
 };
 
@@ -98,12 +111,13 @@ class SectorScore {
   void add(double reported, const SectorSample& s, const EvalOptions& o, int source = -1);
   // Writes prefix.{missed_rate, observable_missed_rate, false_alarm_rate,
   // false_alarm_share_of_reports, mae_m, missed_by_material.*}; with `details` also
-  // unobservable_share, false_alarms_by_source.* and samples.*.
+  // unobservable_share, observable_missed_by_cue.*, false_alarms_by_source.* and samples.*.
   void write(Metrics& m, const std::string& prefix, bool details, const std::vector<std::string>& materials) const;
 
  private:
   Ratio missed_, observable_missed_, unobservable_, false_alarm_, false_of_reports_;
   std::vector<Ratio> missed_by_material_;
+  int64_t observable_missed_by_cue_[kCues] = {0, 0, 0, 0, 0};
   double abs_err_ = 0;
   int64_t err_n_ = 0;
   int64_t false_by_source_[5] = {0, 0, 0, 0, 0};  // sector_map_t::SOURCE_*

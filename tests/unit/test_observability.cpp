@@ -100,6 +100,27 @@ TEST(LocatedPoints, SameObstacleWithinTheRadiusAtOrBeforeTheTime) {
   EXPECT_EQ(lp.size(), 2u);
 }
 
+TEST(LocatedPoints, LastLocatedIsTheNewestEchoAtOrBeforeTheTime) {
+  LocatedPoints lp(0.3);
+  lp.add(1, 100, {3.0, 2.0});
+  lp.add(1, 300, {3.0, 2.2});
+  lp.add(1, 500, {3.0, 2.9});   // 0.9 m from the query: not this point's
+  lp.add(1, 400, {2.75, 1.9});  // the neighbouring bucket (x < 2.7 is not; 2.75 is, 0.27 m)
+  lp.add(2, 450, {3.0, 2.0});   // another obstacle
+  EXPECT_EQ(lp.lastLocated(1, {3.0, 2.0}, 50), std::nullopt);
+  EXPECT_EQ(lp.lastLocated(1, {3.0, 2.0}, 100), 100);
+  EXPECT_EQ(lp.lastLocated(1, {3.0, 2.0}, 350), 300);
+  EXPECT_EQ(lp.lastLocated(1, {3.0, 2.0}, 10'000), 400);
+  EXPECT_EQ(lp.lastLocated(2, {3.0, 2.0}, 10'000), 450);
+  EXPECT_EQ(lp.lastLocated(3, {3.0, 2.0}, 10'000), std::nullopt);
+  for (int64_t t : {99, 100, 299, 300, 401, 10'000})
+    EXPECT_EQ(lp.lastLocated(1, {3.0, 2.0}, t).has_value(), lp.located(1, {3.0, 2.0}, t)) << t;
+  EXPECT_EQ(lp.countLocated(1, {3.0, 2.0}, 0, 10'000), 3);  // 100, 300, 400 (not 500: 0.9 m)
+  EXPECT_EQ(lp.countLocated(1, {3.0, 2.0}, 100, 300), 2);   // both ends included
+  EXPECT_EQ(lp.countLocated(1, {3.0, 2.0}, 101, 299), 0);
+  EXPECT_EQ(lp.countLocated(1, {3.0, 2.0}, 300, 100), 0);
+}
+
 TEST(SectorTruthTable, GlassIsObservableOnlyWhereAndAfterAnEchoLocatedIt) {
   const auto sc = glassRoom();
   const RunLog log = glassLog(sc);
@@ -122,6 +143,19 @@ TEST(SectorTruthTable, GlassIsObservableOnlyWhereAndAfterAnEchoLocatedIt) {
     EXPECT_EQ(b[k].observable, k >= 21 && k <= 26) << k;
   }
   EXPECT_NEAR(a[24].truth, 0.65, 1e-6);
+  // How they are observable: the wall by the laser; the glass by one echo 0.4 s before map B,
+  // within the operational memory (0.54 s); with a memory of 0.3 s, an older echo.
+  EXPECT_EQ(b[0].cue, Cue::Laser);
+  EXPECT_EQ(b[24].cue, Cue::EchoOnce);
+  EXPECT_EQ(b[20].cue, Cue::None);
+  EXPECT_EQ(a[24].cue, Cue::None);
+  EvalOptions short_memory;
+  short_memory.recent_echo_s = 0.3;
+  EXPECT_EQ(sectorTruthTable(log, sc, short_memory).mapSamples(1)[24].cue, Cue::EchoOld);
+  // A second echo near it before map B: heard repeatedly.
+  RunLog twice = log;
+  twice.sonar_truths.insert(twice.sonar_truths.begin() + 3, echo(700'000, sonar_cause_t::CAUSE_DIRECT, 1, 3.0, 2.05));
+  EXPECT_EQ(sectorTruthTable(twice, sc, EvalOptions{}).mapSamples(1)[24].cue, Cue::EchoRepeated);
 }
 
 TEST(EvalSectorMap, ObservableSplitAndMissesByMaterial) {
@@ -145,6 +179,11 @@ TEST(EvalSectorMap, ObservableSplitAndMissesByMaterial) {
   EXPECT_EQ(m.number("sector_map.samples.observable"), n - 10.0);
   EXPECT_NEAR(m.number("baselines.laser_only.sector_map.observable_missed_rate"), 1.0 / (n - 10.0), 1e-12);
   EXPECT_FALSE(m.has("baselines.laser_only.sector_map.unobservable_share"));
+  // The one observable miss was heard once, 0.4 s before its map: within the operational memory.
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_once"), 1.0, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_repeated"), 0.0, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_old"), 0.0, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.laser"), 0.0, 1e-12);
 }
 
 TEST(EvalBaselines, RunFromTheRawChannelsAtTheMapTimes) {
