@@ -358,3 +358,54 @@ TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
     EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
   }
 }
+
+TEST(SectorMap, SurfaceBridgesGiveEachSectorTheNearestPointBetweenTouchingCells) {
+  // A wall of cells 1 m to the robot's left (y = 1.05), x = -0.45..1.55, with a gap of two free
+  // cells (x = 0.65, 0.75): the gap's neighbours are 0.3 m apart, beyond a 0.15 m bridge.
+  AccumulativeGridMap agm(agmParams01());
+  agm.centreOn({0.05, 0.05});
+  std::vector<Vec2> centres;
+  for (int i = -5; i <= 15; ++i) {
+    if (i == 7 || i == 8) continue;
+    centres.push_back({0.05 + 0.1 * i, 1.05});
+    obstacle(agm, centres.back());
+  }
+  const Pose2 pose{0.05, 0.05, 0.3};  // turned, so that sector edges fall anywhere along the wall
+  SectorMapParams p;
+  p.sonar_cell_point = CellPoint::Centre;
+  p.surface_bridge_max = 0.15;
+  SectorMap bridged(p);
+  p.surface_bridge_max = 0;
+  SectorMap cells(p);
+  // Brute force: every cell centre, and points every 0.1 mm along each bridge.
+  std::vector<double> expect(48, -1);
+  const auto add = [&](const Vec2& g) {
+    const Vec2 r = g - pose.position();
+    const int k = bridged.sectorOf(std::atan2(r.y(), r.x()) - pose.theta);
+    const double d = r.norm() - 0.35;
+    if (expect[static_cast<size_t>(k)] < 0 || d < expect[static_cast<size_t>(k)]) expect[static_cast<size_t>(k)] = d;
+  };
+  for (size_t i = 0; i < centres.size(); ++i) {
+    add(centres[i]);
+    if (i + 1 < centres.size() && (centres[i + 1] - centres[i]).norm() < 0.15)
+      for (int j = 1; j < 1000; ++j) add(centres[i] + (centres[i + 1] - centres[i]) * (j / 1000.0));
+  }
+  bridged.setSonarTime(0);
+  cells.setSonarTime(0);
+  const auto& b = bridged.update(0, pose, agm);
+  const auto& c = cells.update(0, pose, agm);
+  int nearer = 0;
+  for (size_t k = 0; k < 48; ++k) {
+    if (expect[k] < 0) {
+      EXPECT_NE(b.source[k], SectorSource::Sonar) << k;
+      continue;
+    }
+    EXPECT_EQ(b.source[k], SectorSource::Sonar) << k;
+    EXPECT_NEAR(b.sonar[k], expect[k], 2e-4) << k;
+    // Never farther than the cells alone; nearer where the wall is nearest at a sector's edge.
+    ASSERT_GE(c.sonar[k], 0) << k;
+    EXPECT_LE(b.sonar[k], c.sonar[k] + 1e-6) << k;
+    nearer += b.sonar[k] < c.sonar[k] - 0.01;
+  }
+  EXPECT_GE(nearer, 3);
+}
