@@ -407,9 +407,10 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
   for (size_t k = 0; k < n; ++k) {
     sonar_now_[k] = sonar_own_[k];
-    if (known(sonar_own_[k].d)) continue;
+    if (known(sonar_own_[k].d) && !p_.copy_over_own) continue;
     if (p_.copy_rule == CopyRule::CellExtent) {
-      sonar_now_[k] = sonar_reach_[k];
+      const Value& r = sonar_reach_[k];
+      if (known(r.d) && (!known(sonar_now_[k].d) || r.d < sonar_now_[k].d)) sonar_now_[k] = r;
       continue;
     }
     for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {

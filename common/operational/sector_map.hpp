@@ -18,6 +18,9 @@
 // - copy rule: a sector's own sonar value is copied into both adjacent sectors (the trivial
 //   sensor model's bearing error is half the beam width), except into a sector that holds sonar
 //   data of its own; a copy takes the min with other copies and never makes a sector freer.
+//   copy_over_own (beyond the paper): into those too, where it is nearer than the sector's own
+//   value -- the bearing error is there whether or not the sector has a (farther) cell of its
+//   own: a surface seen obliquely is nearest at the edge its neighbour's cell lies beyond;
 //   CopyRule::UnlessLaserConfirmed (beyond the paper): nor is a value copied out of a sector
 //   whose laser value lies within copy_confirm_tolerance of it: the laser (0.5 deg rays) has
 //   then put that obstacle in this sector, so the bearing error the copy guards against is
@@ -67,6 +70,7 @@ struct SectorMapParams {
   double laser_explains_radius = 0;      // [m] 0: every cell counts (the paper)
   CopyRule copy_rule = CopyRule::Paper;
   double copy_confirm_tolerance = 0.10;  // [m] |laser - sonar| within this: laser-confirmed
+  bool copy_over_own = false;            // copies also into sectors with sonar data of their own
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
   double remembered_stale_s = 2.0;  // [s] a remembered (tactical) map older than this is not used

@@ -153,6 +153,36 @@ TEST(SectorMap, CopyRuleSparesSectorsWithOwnSonarData) {
   EXPECT_EQ(m.source[27], SectorSource::None);
 }
 
+TEST(SectorMap, CopyOverOwnTakesANearerNeighbourIntoSectorsWithTheirOwn) {
+  SectorMapParams p;
+  p.copy_over_own = true;
+  SectorMap s(p);
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});                        // sector 24: own 0.60
+  obstacle(agm, pointAt(pose, 11.25 * kDeg, 1.50));   // sector 25: own, farther
+  obstacle(agm, pointAt(pose, -11.25 * kDeg, 0.30));  // sector 22: own, nearer than 24
+  const auto& m = s.update(0, pose, agm);
+  // 25 takes 24's nearer value as a copy over its own; 24 keeps its own (its neighbours 23 and
+  // 25 hold nothing nearer of their own); 23 gets the nearer of 22's and 24's.
+  EXPECT_EQ(m.source[25], SectorSource::SonarCopied);
+  EXPECT_FLOAT_EQ(m.sonar[25], m.sonar[24]);
+  EXPECT_EQ(m.source[24], SectorSource::Sonar);
+  EXPECT_NEAR(m.sonar[24], 0.60, 0.1);
+  EXPECT_EQ(m.source[23], SectorSource::SonarCopied);
+  EXPECT_FLOAT_EQ(m.sonar[23], m.sonar[22]);
+  // A farther neighbour never replaces a sector's own value; copies are of own values only
+  // (26 gets 25's own 1.50, not the copy 25 now holds).
+  EXPECT_EQ(m.source[22], SectorSource::Sonar);
+  EXPECT_NEAR(m.sonar[22], 0.30, 0.1);
+  EXPECT_EQ(m.source[26], SectorSource::SonarCopied);
+  EXPECT_NEAR(m.sonar[26], 1.50, 0.1);
+  // The paper's rule keeps 25's own, farther value.
+  SectorMap paper({});
+  EXPECT_EQ(paper.update(0, pose, agm).source[25], SectorSource::Sonar);
+}
+
 TEST(SectorMap, CopyWrapsAroundTheRing) {
   SectorMap s({});
   AccumulativeGridMap agm(agmParams01());
