@@ -267,8 +267,6 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  const bool bridges = p_.surface_bridge_max > 0;
-  bridge_cells_.clear();
   agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
@@ -287,8 +285,6 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
                                                : exact();
                     Value& v = out[static_cast<size_t>(k0)];
                     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
-                    if (bridges)
-                      bridge_cells_.push_back({ix, iy, ct * centre.x() + st * centre.y(), ct * centre.y() - st * centre.x()});
                     if (!extent) return;
                     const double bearing = std::atan2(centre.y(), centre.x()) - pose.theta;  // k0 is its sector
                     // CellExtent: the obstacle is somewhere in the cell's square, so also in every
@@ -303,68 +299,6 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
                       if (k == k_hi) break;
                     }
                   });
-  if (bridges) bridgeSurfaces(c, out);
-}
-
-void SectorMap::bridgeSurfaces(double cell_size, std::vector<Value>& out) const {
-  if (bridge_cells_.size() < 2) return;
-  int x0 = bridge_cells_[0].ix, x1 = x0, y0 = bridge_cells_[0].iy, y1 = y0;
-  for (const BridgeCell& b : bridge_cells_) {
-    x0 = std::min(x0, b.ix), x1 = std::max(x1, b.ix);
-    y0 = std::min(y0, b.iy), y1 = std::max(y1, b.iy);
-  }
-  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-  bridge_index_.assign(static_cast<size_t>(w) * static_cast<size_t>(h), 0);
-  const auto at = [&](int ix, int iy) -> int32_t& {
-    return bridge_index_[static_cast<size_t>(iy - y0) * static_cast<size_t>(w) + static_cast<size_t>(ix - x0)];
-  };
-  for (size_t i = 0; i < bridge_cells_.size(); ++i) at(bridge_cells_[i].ix, bridge_cells_[i].iy) = static_cast<int32_t>(i + 1);
-  const int n = p_.sectors;
-  const auto put = [&](int k, double x, double y) {
-    const double d = std::max(0.0, std::sqrt(x * x + y * y) - p_.robot_radius);
-    if (d > p_.max_range) return;
-    Value& v = out[static_cast<size_t>(k)];
-    if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
-  };
-  const auto sectorAt = [&](double x, double y) {
-    return sectorOfDirection(x, y, [&] { return sectorOfNormalized(std::atan2(y, x)); });
-  };
-  // Each pair within reach once: the cells to the right in the same row and those in the rows above.
-  const double c = cell_size;
-  const int reach = static_cast<int>(std::floor(p_.surface_bridge_max / c + 1e-9));
-  const double max2 = p_.surface_bridge_max * p_.surface_bridge_max + 1e-12;
-  for (const BridgeCell& a : bridge_cells_) {
-    for (int dy = 0; dy <= reach; ++dy)
-    for (int dx = dy == 0 ? 1 : -reach; dx <= reach; ++dx) {
-      if ((dx * dx + dy * dy) * c * c > max2) continue;
-      const int jx = a.ix + dx, jy = a.iy + dy;
-      if (jx < x0 || jx > x1 || jy > y1) continue;
-      const int32_t j = at(jx, jy);
-      if (j == 0) continue;
-      const BridgeCell& b = bridge_cells_[static_cast<size_t>(j - 1)];
-      const double ex = b.x - a.x, ey = b.y - a.y;
-      const double len2 = ex * ex + ey * ey;
-      // The segment's point nearest the robot centre, if it lies between the two centres.
-      const double t = -(a.x * ex + a.y * ey) / len2;
-      if (t > 0 && t < 1) put(sectorAt(a.x + t * ex, a.y + t * ey), a.x + t * ex, a.y + t * ey);
-      // Where the segment crosses a sector edge: that point bounds both sectors it separates.
-      const int ka = sectorAt(a.x, a.y), kb = sectorAt(b.x, b.y);
-      if (ka == kb) continue;
-      int step = ((kb - ka) % n + n) % n <= n / 2 ? 1 : -1;
-      for (int k = ka; k != kb; k = ((k + step) % n + n) % n) {
-        const int edge = step > 0 ? k + 1 : k;  // index into bound_c_/bound_s_ (0..n)
-        const double ux = bound_c_[static_cast<size_t>(edge)], uy = bound_s_[static_cast<size_t>(edge)];
-        const double den = ux * ey - uy * ex;
-        if (den == 0) continue;
-        const double u = -(ux * a.y - uy * a.x) / den;
-        if (!(u >= 0 && u <= 1)) continue;
-        const double px = a.x + u * ex, py = a.y + u * ey;
-        if (ux * px + uy * py <= 0) continue;  // the edge's ray, not its opposite
-        put(k, px, py);
-        put(((k + step) % n + n) % n, px, py);
-      }
-    }
-  }
 }
 
 void SectorMap::hold(bool stale, std::vector<Value>& now, std::vector<Value>& held) {

@@ -25,12 +25,6 @@
 //   whose laser value lies within copy_confirm_tolerance of it: the laser (0.5 deg rays) has
 //   then put that obstacle in this sector, so the bearing error the copy guards against is
 //   not there (a thin pipe that the Radar Map's lines leave out but the scan's points hold);
-// - surface bridges (beyond the paper; off unless surface_bridge_max > 0): two obstacle cells
-//   whose centres lie at most surface_bridge_max apart are taken as one surface between their
-//   centres, and each sector that segment crosses gets its nearest point as a sonar value. A
-//   surface seen obliquely (a railing beside the path) is nearest at a sector's edge, where
-//   its confirmed cells, taken at their centres, may lie 0.1-0.3 m farther. Touching cells
-//   (8-neighbours) are c*sqrt(2) apart; a wider gap is bridged only up to the limit;
 // - remembered value (beyond the paper; off unless the caller gives remembered points): the
 //   navigator's stable tactical map (its occupied cells, at their centres), the static obstacles
 //   the sonar located seconds ago; cells the newest scan explains do not count. It is used only
@@ -77,7 +71,6 @@ struct SectorMapParams {
   // [m] a remembered cell within this of a point of the newest (not stale) scan is the obstacle
   // the laser reports already (0: laser_explains_radius, as for the AGM's cells).
   double remembered_explains_radius = 0;
-  double surface_bridge_max = 0;  // [m] see the file comment; 0: no bridges (the paper)
 };
 
 // Any grid of obstacle cells laid out like the AGM -- global cell (gx, gy) covers
@@ -166,12 +159,6 @@ class SectorMap {
   template <typename Grid>
   const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);
-  // Surface bridges between the touching obstacle cells collected by sonarValues.
-  struct BridgeCell {
-    int ix, iy;      // window cell
-    double x, y;     // centre in the robot frame (rotated)
-  };
-  void bridgeSurfaces(double cell_size, std::vector<Value>& out) const;
   // Staleness: fresh -> remember; stale -> min with what is held (which only shrinks).
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
 
@@ -191,8 +178,6 @@ class SectorMap {
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
-  mutable std::vector<BridgeCell> bridge_cells_;  // scratch of sonarValues / bridgeSurfaces
-  mutable std::vector<int32_t> bridge_index_;     // over the cells' bounding box: index + 1, 0 none
   std::vector<Value> laser_now_, sonar_own_, sonar_reach_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
   SectorMapState s_;
 };

@@ -43,7 +43,7 @@ PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-                                   "remembered_stale_s", "remembered_explains_radius", "surface_bridge_max", "copy_over_own"};
+                                   "remembered_stale_s", "remembered_explains_radius", "copy_over_own"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -70,7 +70,6 @@ PilotConfig pilotConfig(const Config& c) {
   s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positive());
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
-  s.surface_bridge_max = c.get("surface_bridge_max", s.surface_bridge_max, Range::between(0, 1));
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
