@@ -25,6 +25,7 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
     throw std::invalid_argument("SectorMap: inconsistent parameters");
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
+  laser_r2_.resize(n);
   sonar_own_.resize(n);
   sonar_reach_.resize(n);
   sonar_now_.resize(n);
@@ -62,16 +63,17 @@ inline double roughAtan2(double y, double x) {
 // atan2 is accepted when the direction lies inside its wedge by a relative margin of 1e-9 (both
 // edge cross products, which for a wedge under 180 deg define it); anything else -- near an
 // edge, the +-pi seam, zero, NaN -- takes the exact path.
+bool SectorMap::clearlyInside(int k, double x, double y) const {
+  const double margin = 1e-9 * (std::abs(x) + std::abs(y));
+  const auto kk = static_cast<size_t>(k);
+  return bound_c_[kk] * y - bound_s_[kk] * x > margin && x * bound_s_[kk + 1] - y * bound_c_[kk + 1] > margin;
+}
+
 template <typename Exact>
 int SectorMap::sectorOfDirection(double x, double y, Exact&& exact) const {
   const int n = p_.sectors;
   int k = static_cast<int>(std::floor((roughAtan2(y, x) + geom::kPi) * (n / (2.0 * geom::kPi))));
-  if (k >= 0 && k < n) {
-    const double margin = 1e-9 * (std::abs(x) + std::abs(y));
-    const auto kk = static_cast<size_t>(k);
-    if (bound_c_[kk] * y - bound_s_[kk] * x > margin && x * bound_s_[kk + 1] - y * bound_c_[kk + 1] > margin)
-      return k;
-  }
+  if (k >= 0 && k < n && clearlyInside(k, x, y)) return k;
   return exact();
 }
 
@@ -238,15 +240,33 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   // rotation computed once per map instead of once per point).
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   const double reach = p_.robot_radius + p_.max_range;
+  const double reach2 = reach * reach;
+  // Per sector the smallest squared distance; the root only once per sector at the end: the
+  // distance max(0, sqrt(r2) - robot_radius), rounded to float, never decreases with r2, so the
+  // minimum over the points is the distance of the smallest r2.
+  std::fill(laser_r2_.begin(), laser_r2_.end(), -1.0);  // -1: no point
+  int k = 0;
+  const auto exact = [&](double lx, double ly) {
+    return sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); });
+  };
   for (const auto& p : laser_points_) {
     const double dx = p.x() - pose.x, dy = p.y() - pose.y;
     const double r2 = dx * dx + dy * dy;
-    if (r2 > reach * reach) continue;
+    if (r2 > reach2) continue;
     const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
-    const double d = std::max(0.0, std::sqrt(r2) - p_.robot_radius);
-    Value& v = out[static_cast<size_t>(sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); }))];
-    if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Laser};
+    if (std::isnan(r2)) {  // (not from a valid scan) distance max(0, NaN) = 0, as for r2 = 0
+      laser_r2_[static_cast<size_t>(exact(lx, ly))] = 0.0;
+      continue;
+    }
+    // The scan's points come in bearing order, so most lie in the previous point's sector; a
+    // direction clearly inside a sector is in that sector whatever candidate proposed it.
+    if (!clearlyInside(k, lx, ly)) k = exact(lx, ly);
+    double& m = laser_r2_[static_cast<size_t>(k)];
+    if (m < 0 || r2 < m) m = r2;
   }
+  for (size_t j = 0; j < out.size(); ++j)
+    if (laser_r2_[j] >= 0)
+      out[j] = {static_cast<float>(std::max(0.0, std::sqrt(laser_r2_[j]) - p_.robot_radius)), SectorSource::Laser};
 }
 
 template <typename Grid>
@@ -267,7 +287,9 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
+  // Only cells with weight can reach gp_threshold (>= 1). Their order does not matter: each
+  // sector keeps the minimum, and all values of one kind carry the same source.
+  agm.forEachWeightedCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
                     if (check && explainedCell(ox + ix, oy + iy)) return;

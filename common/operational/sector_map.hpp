@@ -98,6 +98,12 @@ struct OccupancyWindow {
         f(ix, iy, occ ? 1 : 0, occ ? std::numeric_limits<int>::max() : 0);
       }
   }
+  template <typename F>
+  void forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+    forEachCell(ix0, iy0, ix1, iy1, [&f](int ix, int iy, int g, int gp) {
+      if (g > 0) f(ix, iy, g, gp);
+    });
+  }
 };
 
 struct SectorMapState {
@@ -142,6 +148,8 @@ class SectorMap {
   // a sector (see the definition); otherwise exact(), the defining computation.
   template <typename Exact>
   int sectorOfDirection(double x, double y, Exact&& exact) const;
+  // Direction (x, y) lies inside sector k by a relative margin of 1e-9 (then k is its sector).
+  bool clearlyInside(int k, double x, double y) const;
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
   void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
@@ -174,6 +182,7 @@ class SectorMap {
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
+  mutable std::vector<double> laser_r2_;  // laserValues' scratch: per sector the smallest r^2
   std::vector<Value> laser_now_, sonar_own_, sonar_reach_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
   SectorMapState s_;
 };

@@ -2,6 +2,10 @@
 // copy rules, staleness.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "operational/sector_map.hpp"
 
 using namespace lasonic;
@@ -356,5 +360,35 @@ TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
     // 0: laser_explains_radius (0.10 m) applies, the cell is 0.15 m away: used, nearer than the laser.
     // 0.2 m: the scan explains it.
     EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
+  }
+}
+
+// The laser values against the definition computed naively: every point moved into the pose,
+// its sector from atan2, its distance max(0, |d| - radius), the minimum per sector.
+TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), a(-kPi, kPi);
+  for (int trial = 0; trial < 50; ++trial) {
+    SectorMapParams p;
+    p.sectors = trial % 2 ? 48 : 7;
+    SectorMap s(p);
+    std::vector<Vec2> points;
+    // A scan-like ring (bearing order, where the sector rarely changes between points), then
+    // scattered points in no order.
+    const Vec2 centre(u(rng) * 0.2, u(rng) * 0.2);
+    for (int i = 0; i < 360; ++i) points.push_back(centre + geom::unitVector(i * kPi / 180) * (1.0 + 2.5 * std::abs(std::sin(i * 0.05))));
+    for (int i = 0; i < 100; ++i) points.emplace_back(u(rng), u(rng));
+    const Pose2 pose{u(rng) * 0.1, u(rng) * 0.1, a(rng)};
+    s.setLaserPoints(0, points);
+    const auto& st = s.update(0, pose, AccumulativeGridMap(agmParams01()));
+    std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
+    for (const Vec2& q : points) {
+      const Vec2 l = pose.inverseTransform(q);
+      if (l.norm() > p.robot_radius + p.max_range) continue;
+      const float d = static_cast<float>(std::max(0.0, l.norm() - p.robot_radius));
+      float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(l.y(), l.x())))];
+      if (v < 0 || d < v) v = d;
+    }
+    ASSERT_EQ(st.laser, naive) << "trial " << trial;
   }
 }
