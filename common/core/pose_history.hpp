@@ -22,7 +22,8 @@ class PoseHistory {
   // timestamp replaces nothing.
   AddResult add(int64_t utime, const geom::Pose2& pose);
 
-  // Pose at utime, or nullopt if the history is empty or utime is too far outside it.
+  // Pose at utime, or nullopt if the history is empty or utime is too far outside it. Keeps a
+  // search hint: not for concurrent callers on one history (each stage owns its own).
   std::optional<geom::Pose2> at(int64_t utime) const;
 
   bool empty() const { return poses_.empty(); }
@@ -36,6 +37,7 @@ class PoseHistory {
     geom::Pose2 pose;
   };
   std::deque<Entry> poses_;
+  mutable size_t hint_ = 0;  // index of the entry the previous at() interpolated towards
   int64_t max_age_us_, max_extrapolation_us_;
 };
 
