@@ -157,6 +157,9 @@ class SectorMap {
   bool laserNear(const geom::Vec2& p, double rho) const;
   void rebuildLaserBuckets(double rho);
   bool explainedCell(int64_t gx, int64_t gy) const;
+  int64_t explainedGlobal(double v) const;  // global cell index at the explained cells' size
+  bool explainedBy(int64_t x, int64_t y, const geom::Vec2& p) const;  // p explains cell (x, y)
+  bool withinRho(int64_t x, int64_t y, const geom::Vec2& p) const;    // centre of (x, y) within rho of p
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
                    std::vector<Value>& spread) const;
@@ -169,11 +172,25 @@ class SectorMap {
   SectorMapParams p_;
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
-  // The global cells (gx, gy) the newest scan explains: a bitmap over their bounding box
-  // [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_) (one bit per cell: a scan's
-  // box is at most the laser's range across), or, for a box too large for that, a sorted list.
-  std::vector<uint64_t> explained_bits_;
+  static constexpr size_t kChunk = 16;
+  struct Chunk {
+    double x0, x1, y0, y1;  // bounding box of laser_points_[k*kChunk, (k+1)*kChunk)
+    bool nan;               // a coordinate is NaN: never skipped
+  };
+  std::vector<Chunk> laser_chunks_;
+  // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
+  // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
+  // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the
+  // scan's points bucketed by cell; or, for a box too large for that, a sorted list.
+  mutable std::vector<uint64_t> explained_known_, explained_bits_;
   int64_t explained_x0_ = 0, explained_y0_ = 0, explained_w_ = 0, explained_h_ = 0;
+  int64_t explained_span_ = 0;  // candidate box half-width [cells]
+  double explained_rho2_ = 0;   // the largest squared distance whose root is <= laser_explains_radius
+  std::vector<uint32_t> bucket_start_;     // per bucket (row-major, bucket_w_ wide) its first point; + end
+  std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
+  std::vector<uint32_t> bucket_fill_;                      // (scratch of rebuildExplained)
+  std::vector<std::pair<int64_t, int64_t>> point_cells_;  // (scratch: each point's cell)
+  int64_t bucket_w_ = 0;
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
   bool explained_any_ = false;
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
