@@ -26,6 +26,8 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
   laser_r2_.resize(n);
+  const double reach = p.robot_radius + p.max_range;
+  reach_root_bound_ = std::isfinite(reach) ? sqrtBound(reach) : reach;
   sonar_own_.resize(n);
   sonar_reach_.resize(n);
   sonar_now_.resize(n);
@@ -277,11 +279,13 @@ bool SectorMap::explained(const geom::Vec2& p) const {
 
 void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
   std::fill(out.begin(), out.end(), Value{});
-  const double reach = p_.robot_radius + p_.max_range;
+  // r <= robot_radius + max_range exactly when r^2 <= reach2 (sqrt is correctly rounded).
+  const double reach2 = reach_root_bound_;
   for (const auto& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
-    const double r = d.norm();
-    if (!(r <= reach)) continue;
+    const double r2 = d.squaredNorm();
+    if (!(r2 <= reach2)) continue;  // the root only for the few points within reach
+    const double r = std::sqrt(r2);
     // The laser reports it, at its own bearing.
     if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
       continue;

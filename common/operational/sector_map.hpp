@@ -170,6 +170,7 @@ class SectorMap {
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
 
   SectorMapParams p_;
+  double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
   static constexpr size_t kChunk = 16;
