@@ -114,13 +114,30 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
 }
 
 namespace {
+// geom::distance(chord, p) for many points p: the chord's direction and squared length once
+// (the same operations as closestPoint, so the same values).
+class ChordDistance {
+ public:
+  explicit ChordDistance(const geom::Segment& s) : a_(s.a), e_(s.b - s.a), l2_(e_.squaredNorm()) {}
+  double operator()(const Vec2& p) const {
+    if (l2_ <= 0.0) return (a_ - p).norm();
+    const double u = std::clamp((p - a_).dot(e_) / l2_, 0.0, 1.0);
+    const Vec2 closest = a_ + u * e_;
+    return (closest - p).norm();
+  }
+
+ private:
+  Vec2 a_, e_;
+  double l2_;
+};
+
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
   double dmax = -1;
   size_t kmax = i;
-  const geom::Segment chord{pts[i], pts[j]};
+  const ChordDistance distance(geom::Segment{pts[i], pts[j]});
   for (size_t k = i + 1; k < j; ++k) {
-    const double d = geom::distance(chord, pts[k]);
+    const double d = distance(pts[k]);
     if (d > dmax) {
       dmax = d;
       kmax = k;

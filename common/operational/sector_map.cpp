@@ -281,6 +281,9 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& ou
   std::fill(out.begin(), out.end(), Value{});
   // r <= robot_radius + max_range exactly when r^2 <= reach2 (sqrt is correctly rounded).
   const double reach2 = reach_root_bound_;
+  // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
+  const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
+  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
   for (const auto& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
     const double r2 = d.squaredNorm();
@@ -291,7 +294,9 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& ou
       continue;
     const double dist = std::max(0.0, r - p_.robot_radius);
     if (dist > p_.max_range) continue;
-    Value& v = out[static_cast<size_t>(sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+    const auto exact = [&] { return sectorOf(std::atan2(d.y(), d.x()) - pose.theta); };
+    const int k = plain_theta ? sectorOfDirection(ct * d.x() + st * d.y(), ct * d.y() - st * d.x(), exact) : exact();
+    Value& v = out[static_cast<size_t>(k)];
     if (!known(v.d) || dist < v.d) v = {static_cast<float>(dist), SectorSource::Remembered};
   }
 }
