@@ -19,6 +19,34 @@ double sqrtBound(double r) {
 }
 }  // namespace
 
+// Bounding boxes of runs of kChunk consecutive points (neighbours in a scan, or cells of one
+// row of a grid, so near each other): a run whose box lies beyond the reach is skipped whole.
+std::vector<SectorMap::Chunk> SectorMap::chunkBoxes(const std::vector<geom::Vec2>& points) {
+  std::vector<Chunk> chunks;
+  for (size_t i = 0; i < points.size(); i += kChunk) {
+    Chunk c{points[i].x(), points[i].x(), points[i].y(), points[i].y(), false};
+    for (size_t j = i; j < std::min(i + kChunk, points.size()); ++j) {
+      const geom::Vec2& p = points[j];
+      c.nan = c.nan || std::isnan(p.x()) || std::isnan(p.y());
+      c.x0 = std::min(c.x0, p.x());
+      c.x1 = std::max(c.x1, p.x());
+      c.y0 = std::min(c.y0, p.y());
+      c.y1 = std::max(c.y1, p.y());
+    }
+    chunks.push_back(c);
+  }
+  return chunks;
+}
+
+// Every point p of the run has (p.x - x)^2 + (p.y - y)^2 >= the box's own gap squared, as
+// computed (rounding is monotonic: |p.x - x| >= the gap to the box edge, computed the same
+// way), so when that exceeds r2 so does every point's.
+bool SectorMap::Chunk::beyond(double x, double y, double r2) const {
+  const double gx = x < x0 ? x0 - x : x > x1 ? x - x1 : 0.0;
+  const double gy = y < y0 ? y0 - y : y > y1 ? y - y1 : 0.0;
+  return !nan && gx * gx + gy * gy > r2;
+}
+
 SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1 ||
       !(p.copy_confirm_tolerance >= 0) || !(p.laser_explains_radius >= 0) || !(p.remembered_stale_s > 0))
@@ -88,21 +116,7 @@ int SectorMap::sectorOfNormalized(double bearing) const {
 
 void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_points_ = std::move(points);
-  // Bounding boxes of runs of kChunk consecutive points (neighbours in the scan, so near each
-  // other): laserValues skips a run whose box lies beyond the reach.
-  laser_chunks_.clear();
-  for (size_t i = 0; i < laser_points_.size(); i += kChunk) {
-    Chunk c{laser_points_[i].x(), laser_points_[i].x(), laser_points_[i].y(), laser_points_[i].y(), false};
-    for (size_t j = i; j < std::min(i + kChunk, laser_points_.size()); ++j) {
-      const geom::Vec2& p = laser_points_[j];
-      c.nan = c.nan || std::isnan(p.x()) || std::isnan(p.y());
-      c.x0 = std::min(c.x0, p.x());
-      c.x1 = std::max(c.x1, p.x());
-      c.y0 = std::min(c.y0, p.y());
-      c.y1 = std::max(c.y1, p.y());
-    }
-    laser_chunks_.push_back(c);
-  }
+  laser_chunks_ = chunkBoxes(laser_points_);
   laser_utime_ = utime;
   have_laser_ = true;
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
@@ -268,6 +282,7 @@ void SectorMap::setSonarTime(int64_t utime) {
 
 void SectorMap::setRemembered(int64_t utime, std::vector<geom::Vec2> points) {
   remembered_points_ = std::move(points);
+  remembered_chunks_ = chunkBoxes(remembered_points_);
   remembered_utime_ = utime;
   have_remembered_ = true;
 }
@@ -284,7 +299,12 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& ou
   // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  for (const auto& p : remembered_points_) {
+  for (size_t i = 0; i < remembered_points_.size(); ++i) {
+    if (i % kChunk == 0 && remembered_chunks_[i / kChunk].beyond(pose.x, pose.y, reach2)) {
+      i += kChunk - 1;
+      continue;
+    }
+    const geom::Vec2& p = remembered_points_[i];
     const geom::Vec2 d = p - pose.position();
     const double r2 = d.squaredNorm();
     if (!(r2 <= reach2)) continue;  // the root only for the few points within reach
@@ -318,16 +338,9 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
     return sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); });
   };
   for (size_t i = 0; i < laser_points_.size(); ++i) {
-    if (i % kChunk == 0) {
-      // Every point of the run has r2 >= the box's own (rounding is monotonic: |x - pose.x| >=
-      // the gap to the box edge, computed the same way), so a box beyond the reach can be skipped.
-      const Chunk& b = laser_chunks_[i / kChunk];
-      const double gx = pose.x < b.x0 ? b.x0 - pose.x : pose.x > b.x1 ? pose.x - b.x1 : 0.0;
-      const double gy = pose.y < b.y0 ? b.y0 - pose.y : pose.y > b.y1 ? pose.y - b.y1 : 0.0;
-      if (!b.nan && gx * gx + gy * gy > reach2) {
-        i += kChunk - 1;
-        continue;
-      }
+    if (i % kChunk == 0 && laser_chunks_[i / kChunk].beyond(pose.x, pose.y, reach2)) {
+      i += kChunk - 1;
+      continue;
     }
     const geom::Vec2& p = laser_points_[i];
     const double dx = p.x() - pose.x, dy = p.y() - pose.y;

@@ -393,3 +393,33 @@ TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
     ASSERT_EQ(st.laser, naive) << "trial " << trial;
   }
 }
+
+// The remembered values against the definition computed naively, for a grid's occupied cells in
+// row order (runs of them beyond the reach, whose boxes are skipped) around a robot anywhere.
+TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-6.0, 6.0), a(-kPi, kPi), coin(0.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    SectorMapParams p;
+    SectorMap s(p);
+    std::vector<Vec2> cells;
+    for (int iy = 0; iy < 100; ++iy)
+      for (int ix = 0; ix < 100; ++ix)
+        if (coin(rng) < 0.1) cells.emplace_back(-5.0 + (ix + 0.5) * 0.1, -5.0 + (iy + 0.5) * 0.1);
+    const Pose2 pose{u(rng), u(rng), a(rng)};
+    s.setRemembered(0, cells);
+    const auto& st = s.update(0, pose, AccumulativeGridMap(agmParams01()));
+    std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
+    int near = 0;
+    for (const Vec2& q : cells) {
+      const Vec2 d = q - pose.position();
+      if (!(d.norm() <= p.robot_radius + p.max_range)) continue;
+      const double dist = std::max(0.0, d.norm() - p.robot_radius);
+      if (dist > p.max_range) continue;
+      ++near;
+      float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+      if (v < 0 || dist < v) v = static_cast<float>(dist);
+    }
+    ASSERT_EQ(st.remembered, naive) << "trial " << trial << ", " << near << " cells in reach";
+  }
+}
