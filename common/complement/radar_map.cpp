@@ -204,14 +204,17 @@ std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapCon
   std::vector<RmSegment> out;
   const size_t min_points = static_cast<size_t>(std::max(2, cfg.min_points));
   if (cluster.points.size() < min_points) return out;
-  std::vector<Vec2> pts = cluster.points;
+  // An open cluster is fitted in place; a closed one is first cut at a breakpoint of a first
+  // pass (a corner) and closed there, in a copy.
+  std::vector<Vec2> loop;
   if (cluster.closed) {
-    // Cut the loop at a breakpoint of a first pass (a corner) and close it there.
-    const auto first = iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold);
+    loop = cluster.points;
+    const auto first = iterativeEndPointFit(loop, {0, loop.size() - 1}, cfg.split_threshold);
     const size_t corner = first.size() > 1 ? first.front().last : 0;
-    std::rotate(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(corner), pts.end());
-    pts.push_back(pts.front());
+    std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(corner), loop.end());
+    loop.push_back(loop.front());
   }
+  const std::vector<Vec2>& pts = cluster.closed ? loop : cluster.points;
   for (const IndexRange& r : iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold)) {
     if (r.size() < min_points) continue;
     RmSegment s = fitLine(pts, r);

@@ -224,16 +224,18 @@ void SectorMap::rebuildExplained(double c) {
     const int64_t side = 2 * span + 1;
     bucket_w_ = (explained_w_ + side - 1) / side;
     const int64_t bucket_h = (explained_h_ + side - 1) / side;
-    const auto bucketOf = [&](size_t i) {
-      return static_cast<size_t>((point_cells_[i].second - y0) / side * bucket_w_ + (point_cells_[i].first - x0) / side);
-    };
     const auto buckets = static_cast<size_t>(bucket_w_ * bucket_h);
     bucket_start_.assign(buckets + 1, 0);
-    for (size_t i = 0; i < laser_points_.size(); ++i) ++bucket_start_[bucketOf(i) + 1];
+    point_bucket_.resize(laser_points_.size());
+    for (size_t i = 0; i < laser_points_.size(); ++i) {
+      point_bucket_[i] = static_cast<uint32_t>((point_cells_[i].second - y0) / side * bucket_w_ +
+                                               (point_cells_[i].first - x0) / side);
+      ++bucket_start_[point_bucket_[i] + 1];
+    }
     for (size_t b = 1; b <= buckets; ++b) bucket_start_[b] += bucket_start_[b - 1];
     bucket_points_.resize(laser_points_.size());
     bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (size_t i = 0; i < laser_points_.size(); ++i) bucket_points_[bucket_fill_[bucketOf(i)]++] = laser_points_[i];
+    for (size_t i = 0; i < laser_points_.size(); ++i) bucket_points_[bucket_fill_[point_bucket_[i]]++] = laser_points_[i];
     explained_any_ = true;  // (not known yet; every cell is decided when asked)
     return;
   }

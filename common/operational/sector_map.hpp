@@ -193,7 +193,7 @@ class SectorMap {
   double explained_rho2_ = 0;   // the largest squared distance whose root is <= laser_explains_radius
   std::vector<uint32_t> bucket_start_;     // per bucket (row-major, bucket_w_ wide) its first point; + end
   std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
-  std::vector<uint32_t> bucket_fill_;                      // (scratch of rebuildExplained)
+  std::vector<uint32_t> bucket_fill_, point_bucket_;       // (scratch of rebuildExplained)
   std::vector<std::pair<int64_t, int64_t>> point_cells_;  // (scratch: each point's cell)
   int64_t bucket_w_ = 0;
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
