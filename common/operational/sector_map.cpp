@@ -19,8 +19,8 @@ double sqrtBound(double r) {
 }
 }  // namespace
 
-// Bounding boxes of runs of kChunk consecutive points (neighbours in a scan, or cells of one
-// row of a grid, so near each other): a run whose box lies beyond the reach is skipped whole.
+// Bounding boxes of runs of kChunk consecutive points (neighbours in a scan, so near each
+// other): a run whose box lies beyond the reach is skipped whole.
 std::vector<SectorMap::Chunk> SectorMap::chunkBoxes(const std::vector<geom::Vec2>& points) {
   std::vector<Chunk> chunks;
   for (size_t i = 0; i < points.size(); i += kChunk) {
@@ -284,7 +284,6 @@ void SectorMap::setSonarTime(int64_t utime) {
 
 void SectorMap::setRemembered(int64_t utime, std::vector<geom::Vec2> points) {
   remembered_points_ = std::move(points);
-  remembered_chunks_ = chunkBoxes(remembered_points_);
   remembered_utime_ = utime;
   have_remembered_ = true;
 }
@@ -301,12 +300,7 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& ou
   // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  for (size_t i = 0; i < remembered_points_.size(); ++i) {
-    if (i % kChunk == 0 && remembered_chunks_[i / kChunk].beyond(pose.x, pose.y, reach2)) {
-      i += kChunk - 1;
-      continue;
-    }
-    const geom::Vec2& p = remembered_points_[i];
+  for (const geom::Vec2& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
     const double r2 = d.squaredNorm();
     if (!(r2 <= reach2)) continue;  // the root only for the few points within reach

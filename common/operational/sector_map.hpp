@@ -202,7 +202,6 @@ class SectorMap {
   std::vector<std::pair<std::pair<int64_t, int64_t>, geom::Vec2>> laser_buckets_;  // sorted by bucket
   double laser_bucket_size_ = 0;                                                   // 0: to be rebuilt
   std::vector<geom::Vec2> remembered_points_;
-  std::vector<Chunk> remembered_chunks_;  // chunkBoxes(remembered_points_)
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
   mutable std::vector<double> laser_r2_;  // laserValues' scratch: per sector the smallest r^2

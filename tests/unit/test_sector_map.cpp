@@ -394,8 +394,8 @@ TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
   }
 }
 
-// The remembered values against the definition computed naively, for a grid's occupied cells in
-// row order (runs of them beyond the reach, whose boxes are skipped) around a robot anywhere.
+// The remembered values against the definition computed naively (distance from r^2 without the
+// root beyond the reach, sector by rotation), for a grid's occupied cells around a robot anywhere.
 TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> u(-6.0, 6.0), a(-kPi, kPi), coin(0.0, 1.0);
