@@ -19,34 +19,6 @@ double sqrtBound(double r) {
 }
 }  // namespace
 
-// Bounding boxes of runs of kChunk consecutive points (neighbours in a scan, so near each
-// other): a run whose box lies beyond the reach is skipped whole.
-std::vector<SectorMap::Chunk> SectorMap::chunkBoxes(const std::vector<geom::Vec2>& points) {
-  std::vector<Chunk> chunks;
-  for (size_t i = 0; i < points.size(); i += kChunk) {
-    Chunk c{points[i].x(), points[i].x(), points[i].y(), points[i].y(), false};
-    for (size_t j = i; j < std::min(i + kChunk, points.size()); ++j) {
-      const geom::Vec2& p = points[j];
-      c.nan = c.nan || std::isnan(p.x()) || std::isnan(p.y());
-      c.x0 = std::min(c.x0, p.x());
-      c.x1 = std::max(c.x1, p.x());
-      c.y0 = std::min(c.y0, p.y());
-      c.y1 = std::max(c.y1, p.y());
-    }
-    chunks.push_back(c);
-  }
-  return chunks;
-}
-
-// Every point p of the run has (p.x - x)^2 + (p.y - y)^2 >= the box's own gap squared, as
-// computed (rounding is monotonic: |p.x - x| >= the gap to the box edge, computed the same
-// way), so when that exceeds r2 so does every point's.
-bool SectorMap::Chunk::beyond(double x, double y, double r2) const {
-  const double gx = x < x0 ? x0 - x : x > x1 ? x - x1 : 0.0;
-  const double gy = y < y0 ? y0 - y : y > y1 ? y - y1 : 0.0;
-  return !nan && gx * gx + gy * gy > r2;
-}
-
 SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   if (p.sectors < 3 || !(p.robot_radius >= 0) || !(p.max_range > 0) || p.gp_threshold < 1 ||
       !(p.copy_confirm_tolerance >= 0) || !(p.laser_explains_radius >= 0) || !(p.remembered_stale_s > 0))
@@ -116,7 +88,6 @@ int SectorMap::sectorOfNormalized(double bearing) const {
 
 void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_points_ = std::move(points);
-  laser_chunks_ = chunkBoxes(laser_points_);
   laser_utime_ = utime;
   have_laser_ = true;
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
@@ -333,12 +304,7 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   const auto exact = [&](double lx, double ly) {
     return sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); });
   };
-  for (size_t i = 0; i < laser_points_.size(); ++i) {
-    if (i % kChunk == 0 && laser_chunks_[i / kChunk].beyond(pose.x, pose.y, reach2)) {
-      i += kChunk - 1;
-      continue;
-    }
-    const geom::Vec2& p = laser_points_[i];
+  for (const geom::Vec2& p : laser_points_) {
     const double dx = p.x() - pose.x, dy = p.y() - pose.y;
     const double r2 = dx * dx + dy * dy;
     if (r2 > reach2) continue;

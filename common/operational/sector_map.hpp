@@ -139,15 +139,6 @@ class SectorMap {
   const SectorMapState& state() const { return s_; }
 
  private:
-  // The bounding box of the points [k*kChunk, (k+1)*kChunk) of a list (see chunkBoxes).
-  static constexpr size_t kChunk = 16;
-  struct Chunk {
-    double x0, x1, y0, y1;
-    bool nan;  // a coordinate is NaN: never skipped
-    // No point of the run is within squared distance r2 of (x, y) (as p - (x, y) computes it).
-    bool beyond(double x, double y, double r2) const;
-  };
-  static std::vector<Chunk> chunkBoxes(const std::vector<geom::Vec2>& points);
   struct Value {
     float d = -1;  // -1: none
     SectorSource src = SectorSource::None;
@@ -182,7 +173,6 @@ class SectorMap {
   double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
-  std::vector<Chunk> laser_chunks_;  // chunkBoxes(laser_points_)
   // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
   // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
   // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the

@@ -373,9 +373,8 @@ TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
     p.sectors = trial % 2 ? 48 : 7;
     SectorMap s(p);
     std::vector<Vec2> points;
-    // A scan-like ring (bearing order, where the sector rarely changes between points; runs of
-    // it beyond the reach, whose boxes are skipped), then
-    // scattered points in no order.
+    // A scan-like ring (bearing order, where the sector rarely changes between points; parts
+    // of it beyond the reach), then scattered points in no order.
     const Vec2 centre(u(rng) * 0.2, u(rng) * 0.2);
     for (int i = 0; i < 360; ++i) points.push_back(centre + geom::unitVector(i * kPi / 180) * (1.0 + 5.0 * std::abs(std::sin(i * 0.05))));
     for (int i = 0; i < 100; ++i) points.emplace_back(u(rng), u(rng));
