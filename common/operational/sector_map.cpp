@@ -190,17 +190,19 @@ void SectorMap::rebuildExplained(double c) {
     const auto words = static_cast<size_t>((explained_w_ * explained_h_ + 63) / 64);
     explained_known_.assign(words, 0);
     explained_bits_.assign(words, 0);
-    // Buckets of (2 span + 1) cells square over the box (counting sort): the points that can
-    // explain a cell lie in at most 2 x 2 of them.
-    const int64_t side = 2 * span + 1;
+    // Square buckets of at least 2 span + 1 cells over the box (counting sort): the points that
+    // can explain a cell lie in at most 2 x 2 of them.
+    bucket_shift_ = 0;  // a power of two >= 2 span + 1 cells: shifts, not divisions
+    while ((int64_t{1} << bucket_shift_) < 2 * span + 1) ++bucket_shift_;
+    const int64_t side = int64_t{1} << bucket_shift_;
     bucket_w_ = (explained_w_ + side - 1) / side;
     const int64_t bucket_h = (explained_h_ + side - 1) / side;
     const auto buckets = static_cast<size_t>(bucket_w_ * bucket_h);
     bucket_start_.assign(buckets + 1, 0);
     point_bucket_.resize(laser_points_.size());
     for (size_t i = 0; i < laser_points_.size(); ++i) {
-      point_bucket_[i] = static_cast<uint32_t>((point_cells_[i].second - y0) / side * bucket_w_ +
-                                               (point_cells_[i].first - x0) / side);
+      point_bucket_[i] = static_cast<uint32_t>(((point_cells_[i].second - y0) >> bucket_shift_) * bucket_w_ +
+                                               ((point_cells_[i].first - x0) >> bucket_shift_));
       ++bucket_start_[point_bucket_[i] + 1];
     }
     for (size_t b = 1; b <= buckets; ++b) bucket_start_[b] += bucket_start_[b - 1];
@@ -228,12 +230,12 @@ bool SectorMap::explainedCell(int64_t gx, int64_t gy) const {
     const auto bit = static_cast<size_t>((gy - explained_y0_) * explained_w_ + (gx - explained_x0_));
     const uint64_t mask = uint64_t{1} << (bit & 63);
     if (explained_known_[bit >> 6] & mask) return (explained_bits_[bit >> 6] & mask) != 0;
-    const int64_t side = 2 * explained_span_ + 1;
-    const int64_t bx0 = std::max<int64_t>(0, (gx - explained_span_ - explained_x0_) / side);
-    const int64_t bx1 = std::min<int64_t>(bucket_w_ - 1, (gx + explained_span_ - explained_x0_) / side);
+    // (>> of a negative difference rounds down: clamped to bucket 0.)
+    const int64_t bx0 = std::max<int64_t>(0, (gx - explained_span_ - explained_x0_) >> bucket_shift_);
+    const int64_t bx1 = std::min<int64_t>(bucket_w_ - 1, (gx + explained_span_ - explained_x0_) >> bucket_shift_);
     const int64_t bucket_h = static_cast<int64_t>(bucket_start_.size() - 1) / bucket_w_;
-    const int64_t by0 = std::max<int64_t>(0, (gy - explained_span_ - explained_y0_) / side);
-    const int64_t by1 = std::min<int64_t>(bucket_h - 1, (gy + explained_span_ - explained_y0_) / side);
+    const int64_t by0 = std::max<int64_t>(0, (gy - explained_span_ - explained_y0_) >> bucket_shift_);
+    const int64_t by1 = std::min<int64_t>(bucket_h - 1, (gy + explained_span_ - explained_y0_) >> bucket_shift_);
     bool found = false;
     for (int64_t by = by0; by <= by1 && !found; ++by)
       for (int64_t bx = bx0; bx <= bx1 && !found; ++bx) {

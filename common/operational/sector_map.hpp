@@ -185,7 +185,7 @@ class SectorMap {
   std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
   std::vector<uint32_t> bucket_fill_, point_bucket_;       // (scratch of rebuildExplained)
   std::vector<std::pair<int64_t, int64_t>> point_cells_;  // (scratch: each point's cell)
-  int64_t bucket_w_ = 0;
+  int64_t bucket_w_ = 0, bucket_shift_ = 0;  // buckets per row; log2 of a bucket's side [cells]
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
   bool explained_any_ = false;
   double explained_cell_size_ = 0;                       // 0: to be rebuilt

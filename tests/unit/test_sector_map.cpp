@@ -422,3 +422,43 @@ TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
     ASSERT_EQ(st.remembered, naive) << "trial " << trial << ", " << near << " cells in reach";
   }
 }
+
+// The explained cells (decided per cell from the scan's points in buckets) against the brute
+// force: a cell is explained exactly when some point of the scan lies within the radius of its
+// centre. One obstacle cell per trial among a scan's worth of points around it, several maps
+// per scan (the per-scan memo), cells at every offset from the buckets' grid.
+TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-0.2, 0.2), far(-2.5, 2.5);
+  int explained = 0, not_explained = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    SectorMapParams p;
+    p.laser_explains_radius = 0.10;
+    p.sonar_cell_point = CellPoint::Centre;
+    SectorMap s(p);
+    AccumulativeGridMap agm(agmParams01());
+    const Pose2 pose{0.05, 0.05, 0.0};
+    agm.centreOn(pose.position());
+    // The obstacle cell, 1-2.5 m from the robot.
+    const Vec2 cell_point(1.0 + std::abs(far(rng)) * 0.6, far(rng) * 0.6);
+    obstacle(agm, cell_point);
+    const Vec2 centre((std::floor(cell_point.x() / 0.1) + 0.5) * 0.1, (std::floor(cell_point.y() / 0.1) + 0.5) * 0.1);
+    std::vector<Vec2> points;
+    for (int i = 0; i < 40; ++i) points.emplace_back(far(rng), far(rng));  // elsewhere
+    const int near = trial % 4;                                              // 0-3 points around the cell
+    for (int i = 0; i < near; ++i) points.push_back(centre + Vec2(u(rng), u(rng)));
+    bool brute = false;
+    for (const Vec2& q : points) brute = brute || (q - centre).norm() <= p.laser_explains_radius;
+    s.setSonarTime(0);
+    s.setLaserPoints(0, points);
+    for (int map = 0; map < 3; ++map) {  // the second and third maps read the memo
+      const auto& m = s.update(map * 1000, pose, agm);
+      bool sonar = false;
+      for (const float d : m.sonar) sonar = sonar || d >= 0;
+      ASSERT_EQ(sonar, !brute) << "trial " << trial << " map " << map << ": cell centre " << centre.transpose();
+    }
+    (brute ? explained : not_explained) += 1;
+  }
+  EXPECT_GT(explained, 50);
+  EXPECT_GT(not_explained, 50);
+}
