@@ -7,12 +7,13 @@ namespace lasonic::complement {
 double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
                          const IdealSonarModel& model) {
   const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
+  const geom::SectorEdges edges(beam);  // once per sensor, not per segment
   double best = model.range_limit;
   for (const RmSegment& s : rm) {
     // Cheap reject before the exact wedge clip: a segment wholly beyond the best range so far
     // cannot hold a nearer point.
     if (geom::distance(s.seg, beam.apex) >= best) continue;
-    if (const auto d = geom::nearestInSector(beam, s.seg)) best = std::min(best, *d);
+    if (const auto d = geom::nearestInSector(beam, edges, s.seg)) best = std::min(best, *d);
   }
   return best;
 }

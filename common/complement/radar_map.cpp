@@ -114,13 +114,30 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
 }
 
 namespace {
+// geom::distance(chord, p) for many points p: the chord's direction and squared length once
+// (the same operations as closestPoint, so the same values).
+class ChordDistance {
+ public:
+  explicit ChordDistance(const geom::Segment& s) : a_(s.a), e_(s.b - s.a), l2_(e_.squaredNorm()) {}
+  double operator()(const Vec2& p) const {
+    if (l2_ <= 0.0) return (a_ - p).norm();
+    const double u = std::clamp((p - a_).dot(e_) / l2_, 0.0, 1.0);
+    const Vec2 closest = a_ + u * e_;
+    return (closest - p).norm();
+  }
+
+ private:
+  Vec2 a_, e_;
+  double l2_;
+};
+
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
   double dmax = -1;
   size_t kmax = i;
-  const geom::Segment chord{pts[i], pts[j]};
+  const ChordDistance distance(geom::Segment{pts[i], pts[j]});
   for (size_t k = i + 1; k < j; ++k) {
-    const double d = geom::distance(chord, pts[k]);
+    const double d = distance(pts[k]);
     if (d > dmax) {
       dmax = d;
       kmax = k;
@@ -187,14 +204,17 @@ std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapCon
   std::vector<RmSegment> out;
   const size_t min_points = static_cast<size_t>(std::max(2, cfg.min_points));
   if (cluster.points.size() < min_points) return out;
-  std::vector<Vec2> pts = cluster.points;
+  // An open cluster is fitted in place; a closed one is first cut at a breakpoint of a first
+  // pass (a corner) and closed there, in a copy.
+  std::vector<Vec2> loop;
   if (cluster.closed) {
-    // Cut the loop at a breakpoint of a first pass (a corner) and close it there.
-    const auto first = iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold);
+    loop = cluster.points;
+    const auto first = iterativeEndPointFit(loop, {0, loop.size() - 1}, cfg.split_threshold);
     const size_t corner = first.size() > 1 ? first.front().last : 0;
-    std::rotate(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(corner), pts.end());
-    pts.push_back(pts.front());
+    std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(corner), loop.end());
+    loop.push_back(loop.front());
   }
+  const std::vector<Vec2>& pts = cluster.closed ? loop : cluster.points;
   for (const IndexRange& r : iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold)) {
     if (r.size() < min_points) continue;
     RmSegment s = fitLine(pts, r);

@@ -7,7 +7,8 @@ namespace lasonic::geom {
 
 double normalizeAngle(double a) {
   if (!std::isfinite(a)) return a;
-  a = std::fmod(a, 2.0 * kPi);
+  // fmod(a, 2pi) is a itself when |a| < 2pi (exactly: the quotient is 0); the common case.
+  if (!(std::abs(a) < 2.0 * kPi)) a = std::fmod(a, 2.0 * kPi);
   if (a <= -kPi) a += 2.0 * kPi;
   if (a > kPi) a -= 2.0 * kPi;
   return a;
@@ -94,10 +95,17 @@ bool Sector::contains(const Vec2& p) const {
   return std::abs(angleDiff(std::atan2(d.y(), d.x()), heading)) <= 0.5 * opening + 1e-12;
 }
 
-std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s) {
+SectorEdges::SectorEdges(const Sector& sec)
+    : left(unitVector(sec.heading + 0.5 * sec.opening)),
+      right(unitVector(sec.heading - 0.5 * sec.opening)),
+      axis(unitVector(sec.heading)) {}
+
+std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s) { return clipToWedge(sec, SectorEdges(sec), s); }
+
+std::optional<Segment> clipToWedge(const Sector& sec, const SectorEdges& edges, const Segment& s) {
   // The wedge (opening < pi) is the intersection of two half-planes through the apex.
-  const double h = 0.5 * sec.opening;
-  const Vec2 left = unitVector(sec.heading + h), right = unitVector(sec.heading - h);
+  const Vec2& left = edges.left;
+  const Vec2& right = edges.right;
   // Inward normals: for the left edge, the inside is clockwise of it; for the right, counter-clockwise.
   const Vec2 n_left(left.y(), -left.x());
   const Vec2 n_right(-right.y(), right.x());
@@ -117,12 +125,16 @@ std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s) {
   Segment c{s.a + u0 * e, s.a + u1 * e};
   // The two half-planes also admit the mirrored wedge behind the apex; reject it.
   const Vec2 mid = 0.5 * (c.a + c.b) - sec.apex;
-  if (mid.squaredNorm() > 1e-24 && mid.dot(unitVector(sec.heading)) < 0.0) return std::nullopt;
+  if (mid.squaredNorm() > 1e-24 && mid.dot(edges.axis) < 0.0) return std::nullopt;
   return c;
 }
 
 std::optional<double> nearestInSector(const Sector& sec, const Segment& s) {
-  const auto c = clipToWedge(sec, s);
+  return nearestInSector(sec, SectorEdges(sec), s);
+}
+
+std::optional<double> nearestInSector(const Sector& sec, const SectorEdges& edges, const Segment& s) {
+  const auto c = clipToWedge(sec, edges, s);
   if (!c) return std::nullopt;
   const double d = distance(*c, sec.apex);
   if (d > sec.radius) return std::nullopt;

@@ -92,4 +92,13 @@ std::optional<Vec2> nearestPointInSector(const Sector& sec, const Circle& c);
 // Clip a segment to the infinite wedge of the sector (ignoring the radius). Empty if outside.
 std::optional<Segment> clipToWedge(const Sector& sec, const Segment& s);
 
+// A sector's edge and axis directions, for testing many segments against one sector: the very
+// values clipToWedge would compute (three sin/cos pairs) on every call.
+struct SectorEdges {
+  explicit SectorEdges(const Sector& sec);
+  Vec2 left, right, axis;
+};
+std::optional<Segment> clipToWedge(const Sector& sec, const SectorEdges& e, const Segment& s);
+std::optional<double> nearestInSector(const Sector& sec, const SectorEdges& e, const Segment& s);
+
 }  // namespace lasonic::geom

@@ -2,8 +2,8 @@
 // A short history of timestamped poses (e.g. ODOMETRY), interpolated at any time inside it,
 // so each laser reading and each sonar firing is placed with the pose at its own time.
 #include <cstdint>
-#include <deque>
 #include <optional>
+#include <vector>
 
 #include "core/geometry.hpp"
 
@@ -22,20 +22,28 @@ class PoseHistory {
   // timestamp replaces nothing.
   AddResult add(int64_t utime, const geom::Pose2& pose);
 
-  // Pose at utime, or nullopt if the history is empty or utime is too far outside it.
+  // Pose at utime, or nullopt if the history is empty or utime is too far outside it. Keeps a
+  // search hint: not for concurrent callers on one history (each stage owns its own).
   std::optional<geom::Pose2> at(int64_t utime) const;
 
-  bool empty() const { return poses_.empty(); }
-  int64_t newestTime() const { return poses_.empty() ? 0 : poses_.back().utime; }
+  bool empty() const { return first_ == poses_.size(); }
+  int64_t newestTime() const { return empty() ? 0 : poses_.back().utime; }
   std::optional<geom::Pose2> newest() const;
-  void clear() { poses_.clear(); }
+  void clear() {
+    poses_.clear();
+    first_ = 0;
+  }
 
  private:
   struct Entry {
     int64_t utime;
     geom::Pose2 pose;
   };
-  std::deque<Entry> poses_;
+  // The history is poses_[first_..]: dropping the oldest moves first_ on, and the dropped
+  // entries are erased in bulk now and then (contiguous, unlike a deque: cheap to index).
+  std::vector<Entry> poses_;
+  size_t first_ = 0;
+  mutable size_t hint_ = 0;  // index of the entry the previous at() interpolated towards
   int64_t max_age_us_, max_extrapolation_us_;
 };
 

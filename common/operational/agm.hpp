@@ -117,6 +117,12 @@ class AccumulativeGridMap {
   // window), without a division per cell.
   template <typename F>
   void forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
+  // Calls f(ix, iy, G, Gp) once for every window cell of [ix0, ix1] x [iy0, iy1] with G > 0 (the
+  // only cells whose Gp can be above 0), in no particular order. Every such cell has its last
+  // increment in the revision queue, so when the queue is shorter than the rectangle it is walked
+  // instead: the operational AGM's few dozen weighted cells, not the thousands of the rectangle.
+  template <typename F>
+  void forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
 
   // Row-major copies (index iy*N + ix) for grid_map_t.
   void exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h, std::vector<int32_t>& gp) const;
@@ -180,6 +186,34 @@ void AccumulativeGridMap::forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f)
       if (++sx == n_) sx = 0;
     }
     if (++sy == n_) sy = 0;
+  }
+}
+
+template <typename F>
+void AccumulativeGridMap::forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+  if (ix0 < 0) ix0 = 0;
+  if (iy0 < 0) iy0 = 0;
+  if (ix1 > n_ - 1) ix1 = n_ - 1;
+  if (iy1 > n_ - 1) iy1 = n_ - 1;
+  if (ix0 > ix1 || iy0 > iy1) return;
+  if (hits_.size() >= static_cast<size_t>(ix1 - ix0 + 1) * static_cast<size_t>(iy1 - iy0 + 1)) {
+    forEachCell(ix0, iy0, ix1, iy1, [&f](int ix, int iy, int g, int gp) {
+      if (g > 0) f(ix, iy, g, gp);
+    });
+    return;
+  }
+  for (size_t i = 0; i < hits_.size(); ++i) {
+    const Hit& h = hits_[i];
+    const int64_t ix = h.gx - ox_, iy = h.gy - oy_;
+    if (ix < ix0 || ix > ix1 || iy < iy0 || iy > iy1) continue;
+    const size_t s = slotGlobal(h.gx, h.gy);
+    // Only the entry of the cell's last increment stands for it (older ones are revision
+    // leftovers); a cell hit twice in that cycle has two such entries: the first one counts.
+    if (g_[s] <= 0 || last_hit_[s] != h.cycle) continue;
+    bool seen = false;
+    for (size_t j = i; j > 0 && hits_[j - 1].cycle == h.cycle && !seen; --j)
+      seen = hits_[j - 1].gx == h.gx && hits_[j - 1].gy == h.gy;
+    if (!seen) f(static_cast<int>(ix), static_cast<int>(iy), g_[s], gp_[s]);
   }
 }
 

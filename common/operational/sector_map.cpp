@@ -25,6 +25,9 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
     throw std::invalid_argument("SectorMap: inconsistent parameters");
   const auto n = static_cast<size_t>(p.sectors);
   laser_now_.resize(n);
+  laser_r2_.resize(n);
+  const double reach = p.robot_radius + p.max_range;
+  reach_root_bound_ = std::isfinite(reach) ? sqrtBound(reach) : reach;
   sonar_own_.resize(n);
   sonar_reach_.resize(n);
   sonar_now_.resize(n);
@@ -62,16 +65,17 @@ inline double roughAtan2(double y, double x) {
 // atan2 is accepted when the direction lies inside its wedge by a relative margin of 1e-9 (both
 // edge cross products, which for a wedge under 180 deg define it); anything else -- near an
 // edge, the +-pi seam, zero, NaN -- takes the exact path.
+bool SectorMap::clearlyInside(int k, double x, double y) const {
+  const double margin = 1e-9 * (std::abs(x) + std::abs(y));
+  const auto kk = static_cast<size_t>(k);
+  return bound_c_[kk] * y - bound_s_[kk] * x > margin && x * bound_s_[kk + 1] - y * bound_c_[kk + 1] > margin;
+}
+
 template <typename Exact>
 int SectorMap::sectorOfDirection(double x, double y, Exact&& exact) const {
   const int n = p_.sectors;
   int k = static_cast<int>(std::floor((roughAtan2(y, x) + geom::kPi) * (n / (2.0 * geom::kPi))));
-  if (k >= 0 && k < n) {
-    const double margin = 1e-9 * (std::abs(x) + std::abs(y));
-    const auto kk = static_cast<size_t>(k);
-    if (bound_c_[kk] * y - bound_s_[kk] * x > margin && x * bound_s_[kk + 1] - y * bound_c_[kk + 1] > margin)
-      return k;
-  }
+  if (k >= 0 && k < n && clearlyInside(k, x, y)) return k;
   return exact();
 }
 
@@ -116,27 +120,60 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
   return false;
 }
 
+// The explained cells: cell (x, y) is explained when a point p of the newest scan has
+// (x, y) in its candidate box (within +-span cells of p's own cell, narrowed to the cells whose
+// centres can lie within rho, with one cell of margin against rounding) and the centre of
+// (x, y) lies within rho of p. A map asks about a few dozen cells (the AGM's cells at Gp >=
+// gp_threshold, the remembered points near the robot), so each cell is decided when first asked
+// and remembered until the next scan, from the points bucketed by cell once per scan: a few
+// microseconds per scan instead of marking every cell around each of the scan's points.
+int64_t SectorMap::explainedGlobal(double v) const {
+  return static_cast<int64_t>(std::clamp(std::floor(v / explained_cell_size_), -1e15, 1e15));
+}
+
+bool SectorMap::explainedBy(int64_t x, int64_t y, const geom::Vec2& p) const {
+  const double c = explained_cell_size_, rho = p_.laser_explains_radius;
+  const int64_t gx = explainedGlobal(p.x()), gy = explainedGlobal(p.y());
+  const int64_t sp = explained_span_;
+  const auto first = [c, rho](double v, int64_t g, int64_t span) {
+    return std::max(g - span, static_cast<int64_t>(std::clamp(std::floor((v - rho) / c - 0.5), -1e15, 1e15)));
+  };
+  const auto last = [c, rho](double v, int64_t g, int64_t span) {
+    return std::min(g + span, static_cast<int64_t>(std::clamp(std::floor((v + rho) / c - 0.5), -1e15, 1e15)) + 1);
+  };
+  if (x < first(p.x(), gx, sp) || x > last(p.x(), gx, sp) || y < first(p.y(), gy, sp) || y > last(p.y(), gy, sp))
+    return false;
+  return withinRho(x, y, p);
+}
+
+bool SectorMap::withinRho(int64_t x, int64_t y, const geom::Vec2& p) const {
+  const double c = explained_cell_size_;
+  return (geom::Vec2((static_cast<double>(x) + 0.5) * c, (static_cast<double>(y) + 0.5) * c) - p).squaredNorm() <=
+         explained_rho2_;
+}
+
 void SectorMap::rebuildExplained(double c) {
-  // Once per scan (not per map): the global cells whose centres lie within the radius of a point.
+  // Once per scan (not per map).
   explained_.clear();
+  explained_known_.clear();
   explained_bits_.clear();
+  bucket_start_.clear();
+  bucket_points_.clear();
   explained_w_ = explained_h_ = 0;
   explained_any_ = false;
   explained_cell_size_ = c;
   const double rho = p_.laser_explains_radius;
   if (!(rho > 0) || laser_points_.empty()) return;
-  const auto global = [c](double v) { return static_cast<int64_t>(std::clamp(std::floor(v / c), -1e15, 1e15)); };
   const int64_t span = static_cast<int64_t>(std::ceil(rho / c)) + 1;
+  explained_span_ = span;
   // norm() <= rho without the square root: sqrt is correctly rounded, hence monotonic, so
   // sqrt(d2) <= rho exactly when d2 <= the largest double whose root is <= rho.
-  const double rho2 = sqrtBound(rho);
-  const auto within = [&](int64_t x, int64_t y, const geom::Vec2& p) {
-    return (geom::Vec2((static_cast<double>(x) + 0.5) * c, (static_cast<double>(y) + 0.5) * c) - p).squaredNorm() <=
-           rho2;
-  };
+  explained_rho2_ = sqrtBound(rho);
   int64_t x0 = std::numeric_limits<int64_t>::max(), y0 = x0, x1 = std::numeric_limits<int64_t>::min(), y1 = x1;
-  for (const auto& p : laser_points_) {
-    const int64_t gx = global(p.x()), gy = global(p.y());
+  point_cells_.resize(laser_points_.size());
+  for (size_t i = 0; i < laser_points_.size(); ++i) {
+    const int64_t gx = explainedGlobal(laser_points_[i].x()), gy = explainedGlobal(laser_points_[i].y());
+    point_cells_[i] = {gx, gy};
     x0 = std::min(x0, gx - span);
     x1 = std::max(x1, gx + span);
     y0 = std::min(y0, gy - span);
@@ -150,36 +187,36 @@ void SectorMap::rebuildExplained(double c) {
     explained_y0_ = y0;
     explained_w_ = x1 - x0 + 1;
     explained_h_ = y1 - y0 + 1;
-    explained_bits_.assign(static_cast<size_t>((explained_w_ * explained_h_ + 63) / 64), 0);
-    // Per point, only the cells whose centres can lie within rho (one cell of margin against
-    // rounding), inside the square of +-span cells that defines the set.
-    const auto first = [c, rho](double v, int64_t g, int64_t sp) {
-      return std::max(g - sp, static_cast<int64_t>(std::clamp(std::floor((v - rho) / c - 0.5), -1e15, 1e15)));
-    };
-    const auto last = [c, rho](double v, int64_t g, int64_t sp) {
-      return std::min(g + sp, static_cast<int64_t>(std::clamp(std::floor((v + rho) / c - 0.5), -1e15, 1e15)) + 1);
-    };
-    for (const auto& p : laser_points_) {
-      const int64_t gx = global(p.x()), gy = global(p.y());
-      const int64_t xa = first(p.x(), gx, span), xb = last(p.x(), gx, span);
-      const int64_t ya = first(p.y(), gy, span), yb = last(p.y(), gy, span);
-      for (int64_t y = ya; y <= yb; ++y)
-        for (int64_t x = xa; x <= xb; ++x) {
-          const auto bit = static_cast<size_t>((y - y0) * explained_w_ + (x - x0));
-          const uint64_t mask = uint64_t{1} << (bit & 63);
-          if ((explained_bits_[bit >> 6] & mask) == 0 && within(x, y, p)) {  // a set bit needs no test
-            explained_bits_[bit >> 6] |= mask;
-            explained_any_ = true;
-          }
-        }
+    const auto words = static_cast<size_t>((explained_w_ * explained_h_ + 63) / 64);
+    explained_known_.assign(words, 0);
+    explained_bits_.assign(words, 0);
+    // Square buckets of at least 2 span + 1 cells over the box (counting sort): the points that
+    // can explain a cell lie in at most 2 x 2 of them.
+    bucket_shift_ = 0;  // a power of two >= 2 span + 1 cells: shifts, not divisions
+    while ((int64_t{1} << bucket_shift_) < 2 * span + 1) ++bucket_shift_;
+    const int64_t side = int64_t{1} << bucket_shift_;
+    bucket_w_ = (explained_w_ + side - 1) / side;
+    const int64_t bucket_h = (explained_h_ + side - 1) / side;
+    const auto buckets = static_cast<size_t>(bucket_w_ * bucket_h);
+    bucket_start_.assign(buckets + 1, 0);
+    point_bucket_.resize(laser_points_.size());
+    for (size_t i = 0; i < laser_points_.size(); ++i) {
+      point_bucket_[i] = static_cast<uint32_t>(((point_cells_[i].second - y0) >> bucket_shift_) * bucket_w_ +
+                                               ((point_cells_[i].first - x0) >> bucket_shift_));
+      ++bucket_start_[point_bucket_[i] + 1];
     }
+    for (size_t b = 1; b <= buckets; ++b) bucket_start_[b] += bucket_start_[b - 1];
+    bucket_points_.resize(laser_points_.size());
+    bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
+    for (size_t i = 0; i < laser_points_.size(); ++i) bucket_points_[bucket_fill_[point_bucket_[i]]++] = laser_points_[i];
+    explained_any_ = true;  // (not known yet; every cell is decided when asked)
     return;
   }
   for (const auto& p : laser_points_) {
-    const int64_t gx = global(p.x()), gy = global(p.y());
+    const int64_t gx = explainedGlobal(p.x()), gy = explainedGlobal(p.y());
     for (int64_t y = gy - span; y <= gy + span; ++y)
       for (int64_t x = gx - span; x <= gx + span; ++x)
-        if (within(x, y, p)) explained_.emplace_back(x, y);
+        if (withinRho(x, y, p)) explained_.emplace_back(x, y);
   }
   std::sort(explained_.begin(), explained_.end());
   explained_.erase(std::unique(explained_.begin(), explained_.end()), explained_.end());
@@ -191,7 +228,24 @@ bool SectorMap::explainedCell(int64_t gx, int64_t gy) const {
     if (gx < explained_x0_ || gy < explained_y0_ || gx - explained_x0_ >= explained_w_ || gy - explained_y0_ >= explained_h_)
       return false;
     const auto bit = static_cast<size_t>((gy - explained_y0_) * explained_w_ + (gx - explained_x0_));
-    return (explained_bits_[bit >> 6] >> (bit & 63)) & 1;
+    const uint64_t mask = uint64_t{1} << (bit & 63);
+    if (explained_known_[bit >> 6] & mask) return (explained_bits_[bit >> 6] & mask) != 0;
+    // (>> of a negative difference rounds down: clamped to bucket 0.)
+    const int64_t bx0 = std::max<int64_t>(0, (gx - explained_span_ - explained_x0_) >> bucket_shift_);
+    const int64_t bx1 = std::min<int64_t>(bucket_w_ - 1, (gx + explained_span_ - explained_x0_) >> bucket_shift_);
+    const int64_t bucket_h = static_cast<int64_t>(bucket_start_.size() - 1) / bucket_w_;
+    const int64_t by0 = std::max<int64_t>(0, (gy - explained_span_ - explained_y0_) >> bucket_shift_);
+    const int64_t by1 = std::min<int64_t>(bucket_h - 1, (gy + explained_span_ - explained_y0_) >> bucket_shift_);
+    bool found = false;
+    for (int64_t by = by0; by <= by1 && !found; ++by)
+      for (int64_t bx = bx0; bx <= bx1 && !found; ++bx) {
+        const auto b = static_cast<size_t>(by * bucket_w_ + bx);
+        for (uint32_t i = bucket_start_[b]; i < bucket_start_[b + 1] && !found; ++i)
+          found = explainedBy(gx, gy, bucket_points_[i]);
+      }
+    explained_known_[bit >> 6] |= mask;
+    if (found) explained_bits_[bit >> 6] |= mask;
+    return found;
   }
   return std::binary_search(explained_.begin(), explained_.end(), std::make_pair(gx, gy));
 }
@@ -209,25 +263,29 @@ void SectorMap::setRemembered(int64_t utime, std::vector<geom::Vec2> points) {
 
 bool SectorMap::explained(const geom::Vec2& p) const {
   if (!explained_any_ || !(explained_cell_size_ > 0)) return false;
-  const auto global = [this](double v) {
-    return static_cast<int64_t>(std::clamp(std::floor(v / explained_cell_size_), -1e15, 1e15));
-  };
-  return explainedCell(global(p.x()), global(p.y()));
+  return explainedCell(explainedGlobal(p.x()), explainedGlobal(p.y()));
 }
 
 void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
   std::fill(out.begin(), out.end(), Value{});
-  const double reach = p_.robot_radius + p_.max_range;
-  for (const auto& p : remembered_points_) {
+  // r <= robot_radius + max_range exactly when r^2 <= reach2 (sqrt is correctly rounded).
+  const double reach2 = reach_root_bound_;
+  // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
+  const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
+  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
+  for (const geom::Vec2& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
-    const double r = d.norm();
-    if (!(r <= reach)) continue;
+    const double r2 = d.squaredNorm();
+    if (!(r2 <= reach2)) continue;  // the root only for the few points within reach
+    const double r = std::sqrt(r2);
     // The laser reports it, at its own bearing.
     if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
       continue;
     const double dist = std::max(0.0, r - p_.robot_radius);
     if (dist > p_.max_range) continue;
-    Value& v = out[static_cast<size_t>(sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+    const auto exact = [&] { return sectorOf(std::atan2(d.y(), d.x()) - pose.theta); };
+    const int k = plain_theta ? sectorOfDirection(ct * d.x() + st * d.y(), ct * d.y() - st * d.x(), exact) : exact();
+    Value& v = out[static_cast<size_t>(k)];
     if (!known(v.d) || dist < v.d) v = {static_cast<float>(dist), SectorSource::Remembered};
   }
 }
@@ -238,15 +296,38 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   // rotation computed once per map instead of once per point).
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   const double reach = p_.robot_radius + p_.max_range;
-  for (const auto& p : laser_points_) {
+  const double reach2 = reach * reach;
+  // Per sector the smallest squared distance; the root only once per sector at the end: the
+  // distance max(0, sqrt(r2) - robot_radius), rounded to float, never decreases with r2, so the
+  // minimum over the points is the distance of the smallest r2.
+  std::fill(laser_r2_.begin(), laser_r2_.end(), -1.0);  // -1: no point
+  const int n = p_.sectors;
+  int k = 0;
+  const auto exact = [&](double lx, double ly) {
+    return sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); });
+  };
+  for (const geom::Vec2& p : laser_points_) {
     const double dx = p.x() - pose.x, dy = p.y() - pose.y;
     const double r2 = dx * dx + dy * dy;
-    if (r2 > reach * reach) continue;
+    if (r2 > reach2) continue;
     const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
-    const double d = std::max(0.0, std::sqrt(r2) - p_.robot_radius);
-    Value& v = out[static_cast<size_t>(sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); }))];
-    if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Laser};
+    if (std::isnan(r2)) {  // (not from a valid scan) distance max(0, NaN) = 0, as for r2 = 0
+      laser_r2_[static_cast<size_t>(exact(lx, ly))] = 0.0;
+      continue;
+    }
+    // The scan's points come in bearing order, so most lie in the previous point's sector or
+    // the next one; a direction clearly inside a sector is in that sector whatever candidate
+    // proposed it.
+    if (!clearlyInside(k, lx, ly)) {
+      const int up = k + 1 == n ? 0 : k + 1, down = k == 0 ? n - 1 : k - 1;
+      k = clearlyInside(up, lx, ly) ? up : clearlyInside(down, lx, ly) ? down : exact(lx, ly);
+    }
+    double& m = laser_r2_[static_cast<size_t>(k)];
+    if (m < 0 || r2 < m) m = r2;
   }
+  for (size_t j = 0; j < out.size(); ++j)
+    if (laser_r2_[j] >= 0)
+      out[j] = {static_cast<float>(std::max(0.0, std::sqrt(laser_r2_[j]) - p_.robot_radius)), SectorSource::Laser};
 }
 
 template <typename Grid>
@@ -267,7 +348,9 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  agm.forEachCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
+  // Only cells with weight can reach gp_threshold (>= 1). Their order does not matter: each
+  // sector keeps the minimum, and all values of one kind carry the same source.
+  agm.forEachWeightedCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
                   cell(robot.y() + reach, o.y()), [&](int ix, int iy, int, int gp) {
                     if (gp < p_.gp_threshold) return;
                     if (check && explainedCell(ox + ix, oy + iy)) return;

@@ -102,6 +102,12 @@ struct OccupancyWindow {
         f(ix, iy, occ ? 1 : 0, occ ? std::numeric_limits<int>::max() : 0);
       }
   }
+  template <typename F>
+  void forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+    forEachCell(ix0, iy0, ix1, iy1, [&f](int ix, int iy, int g, int gp) {
+      if (g > 0) f(ix, iy, g, gp);
+    });
+  }
 };
 
 struct SectorMapState {
@@ -146,6 +152,8 @@ class SectorMap {
   // a sector (see the definition); otherwise exact(), the defining computation.
   template <typename Exact>
   int sectorOfDirection(double x, double y, Exact&& exact) const;
+  // Direction (x, y) lies inside sector k by a relative margin of 1e-9 (then k is its sector).
+  bool clearlyInside(int k, double x, double y) const;
   void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
   void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
@@ -153,6 +161,9 @@ class SectorMap {
   bool laserNear(const geom::Vec2& p, double rho) const;
   void rebuildLaserBuckets(double rho);
   bool explainedCell(int64_t gx, int64_t gy) const;
+  int64_t explainedGlobal(double v) const;  // global cell index at the explained cells' size
+  bool explainedBy(int64_t x, int64_t y, const geom::Vec2& p) const;  // p explains cell (x, y)
+  bool withinRho(int64_t x, int64_t y, const geom::Vec2& p) const;    // centre of (x, y) within rho of p
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
                    std::vector<Value>& spread) const;
@@ -163,13 +174,22 @@ class SectorMap {
   static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
 
   SectorMapParams p_;
+  double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
-  // The global cells (gx, gy) the newest scan explains: a bitmap over their bounding box
-  // [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_) (one bit per cell: a scan's
-  // box is at most the laser's range across), or, for a box too large for that, a sorted list.
-  std::vector<uint64_t> explained_bits_;
+  // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
+  // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
+  // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the
+  // scan's points bucketed by cell; or, for a box too large for that, a sorted list.
+  mutable std::vector<uint64_t> explained_known_, explained_bits_;
   int64_t explained_x0_ = 0, explained_y0_ = 0, explained_w_ = 0, explained_h_ = 0;
+  int64_t explained_span_ = 0;  // candidate box half-width [cells]
+  double explained_rho2_ = 0;   // the largest squared distance whose root is <= laser_explains_radius
+  std::vector<uint32_t> bucket_start_;     // per bucket (row-major, bucket_w_ wide) its first point; + end
+  std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
+  std::vector<uint32_t> bucket_fill_, point_bucket_;       // (scratch of rebuildExplained)
+  std::vector<std::pair<int64_t, int64_t>> point_cells_;  // (scratch: each point's cell)
+  int64_t bucket_w_ = 0, bucket_shift_ = 0;  // buckets per row; log2 of a bucket's side [cells]
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
   bool explained_any_ = false;
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
@@ -178,6 +198,7 @@ class SectorMap {
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
+  mutable std::vector<double> laser_r2_;  // laserValues' scratch: per sector the smallest r^2
   std::vector<Value> laser_now_, sonar_own_, sonar_reach_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
   SectorMapState s_;
 };

@@ -427,3 +427,48 @@ TEST(Agm, DistanceRevisionForgetsAfterTheRobotDroveFar) {
   EXPECT_EQ(m.g(6, 6), 0);
   EXPECT_EQ(m.gp(6, 6), 0);
 }
+
+// forEachWeightedCell visits exactly the cells with G > 0 that forEachCell finds in the same
+// rectangle, each once, through hits, repeated hits of one cell in one cycle, revision and
+// re-centring, whether it walks the revision queue (small rectangles) or the rectangle.
+TEST(Agm, WeightedCellsAreExactlyTheCellsWithWeight) {
+  AgmParams p;
+  p.size = 40;
+  p.cell_size = 0.1;
+  p.h_max = 6;
+  p.g_threshold = 2;
+  AccumulativeGridMap m(p);
+  m.centreOn({0.0, 0.0});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  std::uniform_int_distribution<int> corner(0, 39), side(1, 40);
+  Vec2 robot(0.0, 0.0);
+  int walked_queue = 0;
+  for (int cycle = 0; cycle < 600; ++cycle) {
+    std::vector<Vec2> hits;
+    for (int i = 0; i < 4; ++i) hits.push_back(robot + Vec2(u(rng), u(rng)));
+    if (cycle % 3 == 0) hits.push_back(hits.front());  // one cell twice in a cycle
+    if (cycle % 50 == 0) robot += Vec2(0.35, -0.2);     // re-centring moves the window
+    m.follow(robot, 0.0);
+    m.update(hits);
+    for (int r = 0; r < 3; ++r) {
+      const int ix0 = corner(rng), iy0 = corner(rng);
+      const int ix1 = ix0 + (r == 0 ? 39 : side(rng) % 12), iy1 = iy0 + (r == 0 ? 39 : side(rng) % 12);
+      std::map<std::pair<int, int>, std::pair<int, int>> brute, fast;
+      m.forEachCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int g, int gp) {
+        if (g > 0) brute[{ix, iy}] = {g, gp};
+      });
+      int visits = 0;
+      m.forEachWeightedCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int g, int gp) {
+        ++visits;
+        fast[{ix, iy}] = {g, gp};
+      });
+      ASSERT_EQ(fast, brute) << "cycle " << cycle << " rectangle " << ix0 << "," << iy0 << " - " << ix1 << "," << iy1;
+      ASSERT_EQ(visits, static_cast<int>(brute.size())) << "a cell visited twice, cycle " << cycle;
+      // The queue walk is taken when the rectangle is larger than the queue.
+      if (static_cast<size_t>(std::min(ix1, 39) - ix0 + 1) * static_cast<size_t>(std::min(iy1, 39) - iy0 + 1) > 40)
+        ++walked_queue;
+    }
+  }
+  EXPECT_GT(walked_queue, 100);
+}

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <random>
+#include <vector>
+
 #include "core/geometry.hpp"
 
 using namespace lasonic::geom;
@@ -148,4 +151,35 @@ TEST(PoseHistory, InterpolatesAndRefusesGoingBackwards) {
   EXPECT_NEAR(h.at(2'050'000)->x, 1.0, 1e-12);  // held within the extrapolation limit
   EXPECT_FALSE(h.at(2'200'000));
   EXPECT_FALSE(h.at(800'000));
+}
+
+// at() keeps a search hint; queries in any order (in order, backwards, random, around pop_front)
+// give exactly what a history without any hint (a fresh copy per query) gives.
+TEST(PoseHistory, QueriesInAnyOrderGiveTheSamePoses) {
+  using lasonic::PoseHistory;
+  PoseHistory h(200'000);
+  std::vector<std::pair<int64_t, lasonic::geom::Pose2>> added;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int64_t> t(-50'000, 400'000);
+  int interpolated = 0;
+  for (int64_t s = 0; s <= 300'000; s += 20'000) {
+    added.push_back({s, {u(rng), u(rng), 3.0 * u(rng)}});
+    h.add(added.back().first, added.back().second);
+    std::vector<int64_t> queries;
+    for (int k = 0; k < 30; ++k) queries.push_back(t(rng));
+    for (int64_t q = s - 40'000; q <= s + 10'000; q += 1'111) queries.push_back(q);  // scan-like runs
+    for (const int64_t q : queries) {
+      PoseHistory fresh(200'000);
+      for (const auto& [ta, pa] : added) fresh.add(ta, pa);
+      const auto a = h.at(q), b = fresh.at(q);
+      ASSERT_EQ(a.has_value(), b.has_value()) << q;
+      if (!a) continue;
+      ASSERT_EQ(a->x, b->x) << q;
+      ASSERT_EQ(a->y, b->y) << q;
+      ASSERT_EQ(a->theta, b->theta) << q;
+      interpolated += q % 20'000 != 0 && q > 0 && q < s;
+    }
+  }
+  EXPECT_GT(interpolated, 200);
 }

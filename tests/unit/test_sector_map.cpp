@@ -2,6 +2,10 @@
 // copy rules, staleness.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "operational/sector_map.hpp"
 
 using namespace lasonic;
@@ -387,4 +391,104 @@ TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
     // 0.2 m: the scan explains it.
     EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
   }
+}
+
+// The laser values against the definition computed naively: every point moved into the pose,
+// its sector from atan2, its distance max(0, |d| - radius), the minimum per sector.
+TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), a(-kPi, kPi);
+  for (int trial = 0; trial < 50; ++trial) {
+    SectorMapParams p;
+    p.sectors = trial % 2 ? 48 : 7;
+    SectorMap s(p);
+    std::vector<Vec2> points;
+    // A scan-like ring (bearing order, where the sector rarely changes between points; parts
+    // of it beyond the reach), then scattered points in no order.
+    const Vec2 centre(u(rng) * 0.2, u(rng) * 0.2);
+    for (int i = 0; i < 360; ++i) points.push_back(centre + geom::unitVector(i * kPi / 180) * (1.0 + 5.0 * std::abs(std::sin(i * 0.05))));
+    for (int i = 0; i < 100; ++i) points.emplace_back(u(rng), u(rng));
+    const Pose2 pose{u(rng) * 0.1, u(rng) * 0.1, a(rng)};
+    s.setLaserPoints(0, points);
+    const auto& st = s.update(0, pose, AccumulativeGridMap(agmParams01()));
+    std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
+    for (const Vec2& q : points) {
+      const Vec2 l = pose.inverseTransform(q);
+      if (l.norm() > p.robot_radius + p.max_range) continue;
+      const float d = static_cast<float>(std::max(0.0, l.norm() - p.robot_radius));
+      float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(l.y(), l.x())))];
+      if (v < 0 || d < v) v = d;
+    }
+    ASSERT_EQ(st.laser, naive) << "trial " << trial;
+  }
+}
+
+// The remembered values against the definition computed naively (distance from r^2 without the
+// root beyond the reach, sector by rotation), for a grid's occupied cells around a robot anywhere.
+TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-6.0, 6.0), a(-kPi, kPi), coin(0.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    SectorMapParams p;
+    SectorMap s(p);
+    std::vector<Vec2> cells;
+    for (int iy = 0; iy < 100; ++iy)
+      for (int ix = 0; ix < 100; ++ix)
+        if (coin(rng) < 0.1) cells.emplace_back(-5.0 + (ix + 0.5) * 0.1, -5.0 + (iy + 0.5) * 0.1);
+    const Pose2 pose{u(rng), u(rng), a(rng)};
+    s.setRemembered(0, cells);
+    const auto& st = s.update(0, pose, AccumulativeGridMap(agmParams01()));
+    std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
+    int near = 0;
+    for (const Vec2& q : cells) {
+      const Vec2 d = q - pose.position();
+      if (!(d.norm() <= p.robot_radius + p.max_range)) continue;
+      const double dist = std::max(0.0, d.norm() - p.robot_radius);
+      if (dist > p.max_range) continue;
+      ++near;
+      float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+      if (v < 0 || dist < v) v = static_cast<float>(dist);
+    }
+    ASSERT_EQ(st.remembered, naive) << "trial " << trial << ", " << near << " cells in reach";
+  }
+}
+
+// The explained cells (decided per cell from the scan's points in buckets) against the brute
+// force: a cell is explained exactly when some point of the scan lies within the radius of its
+// centre. One obstacle cell per trial among a scan's worth of points around it, several maps
+// per scan (the per-scan memo), cells at every offset from the buckets' grid.
+TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-0.2, 0.2), far(-2.5, 2.5);
+  int explained = 0, not_explained = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    SectorMapParams p;
+    p.laser_explains_radius = 0.10;
+    p.sonar_cell_point = CellPoint::Centre;
+    SectorMap s(p);
+    AccumulativeGridMap agm(agmParams01());
+    const Pose2 pose{0.05, 0.05, 0.0};
+    agm.centreOn(pose.position());
+    // The obstacle cell, 1-2.5 m from the robot.
+    const Vec2 cell_point(1.0 + std::abs(far(rng)) * 0.6, far(rng) * 0.6);
+    obstacle(agm, cell_point);
+    const Vec2 centre((std::floor(cell_point.x() / 0.1) + 0.5) * 0.1, (std::floor(cell_point.y() / 0.1) + 0.5) * 0.1);
+    std::vector<Vec2> points;
+    for (int i = 0; i < 40; ++i) points.emplace_back(far(rng), far(rng));  // elsewhere
+    const int near = trial % 4;                                              // 0-3 points around the cell
+    for (int i = 0; i < near; ++i) points.push_back(centre + Vec2(u(rng), u(rng)));
+    bool brute = false;
+    for (const Vec2& q : points) brute = brute || (q - centre).norm() <= p.laser_explains_radius;
+    s.setSonarTime(0);
+    s.setLaserPoints(0, points);
+    for (int map = 0; map < 3; ++map) {  // the second and third maps read the memo
+      const auto& m = s.update(map * 1000, pose, agm);
+      bool sonar = false;
+      for (const float d : m.sonar) sonar = sonar || d >= 0;
+      ASSERT_EQ(sonar, !brute) << "trial " << trial << " map " << map << ": cell centre " << centre.transpose();
+    }
+    (brute ? explained : not_explained) += 1;
+  }
+  EXPECT_GT(explained, 50);
+  EXPECT_GT(not_explained, 50);
 }

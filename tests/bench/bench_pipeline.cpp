@@ -1,0 +1,277 @@
+// Per firing group and per laser scan, on a shipped scene: the work the complement and pilot
+// stages do for each, measured on the pipeline's own data. Run: build/bench/bench_pipeline.
+//
+// Input: fig7_lab (deploy/scenarios) simulated in memory with the shipped configuration
+// (deploy/config/lasonic.yaml), then run once through the real ComplementStage, PilotStage and
+// NavigatorStage (on a LocalBus, as lasonic-replay does) to record every message in order,
+// AGM_TACTICAL included (the pilot's remembered obstacles). The timed loop then replays the
+// sensor messages, in order, through the same library calls the two stages make, without the
+// message layer (encoding, publishing; decoding the sensor messages into their structs is in):
+//   BM_Fig7LabFiringGroup: one iteration = one firing group: hypothetical scan + classification
+//     (extractComplement) + AGM cycle (echo placement, follow, update) + sector map;
+//   BM_Fig7LabLaserScan: one iteration = one laser scan: Radar Map (extractRadarMap) + the
+//     pilot's scan handling (placeReadings, the first sector map after the scan).
+// The other events in between are processed with the timer stopped (CPU time, so another
+// process taking the core does not count). At the end of the 60 s run the replay starts afresh.
+// Before timing, one pass checks that every sector map equals the SECTOR_MAP the real PilotStage
+// published: the benchmark measures the pipeline's work, not an approximation of it.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <lasonic/grid_map_t.hpp>
+#include <lasonic/sector_map_t.hpp>
+
+#include "complement/complement.hpp"
+#include "complement/messages.hpp"
+#include "complement/radar_map.hpp"
+#include "core/config.hpp"
+#include "core/pose_history.hpp"
+#include "lcmio/eventlog.hpp"
+#include "lcmio/local_bus.hpp"
+#include "lcmio/node.hpp"
+#include "sim/drivers.hpp"
+#include "sim/setup.hpp"
+#include "stages/complement_stage.hpp"
+#include "stages/inputs.hpp"
+#include "stages/navigator_stage.hpp"
+#include "stages/pilot_stage.hpp"
+
+using namespace lasonic;
+namespace cp = lasonic::complement;
+
+namespace {
+
+const std::string kSource = LASONIC_SOURCE_DIR;
+
+template <typename T>
+T decodeAs(const std::vector<uint8_t>& data) {
+  T m;
+  m.decode(data.data(), 0, static_cast<int>(data.size()));
+  return m;
+}
+
+// The scene's messages in the order the pilot sees them.
+struct Run {
+  Config root;
+  using Event = std::variant<odometry_t, laser_scan_t, sonar_ring_t, grid_map_t>;
+  std::vector<Event> inputs;
+  std::vector<sector_map_t> sector_maps;  // what the real PilotStage published, in order
+  int64_t groups = 0, scans = 0;
+};
+
+const Run& recordedRun() {
+  static const Run run = [] {
+    Run r;
+    const std::string config = kSource + "/deploy/config/lasonic.yaml";
+    r.root = Config::loadFiles({config});
+    const sim::SimSetup setup = sim::loadSimSetup({config}, kSource + "/deploy/scenarios/fig7_lab.yaml");
+    auto bus = std::make_shared<LocalBus>();
+    const Node::Options offline{false, false};
+    Node cn("c", bus, offline), pn("p", bus, offline), nn("n", bus, offline);
+    ComplementStage complement(cn, complementConfig(r.root.section("complement")));
+    PilotStage pilot(pn, pilotConfig(r.root.section("pilot")));
+    NavigatorStage navigator(nn, navigatorConfig(r.root.section("navigator")));
+    bus->subscribe(".*", [&r](const lcm::ReceiveBuffer* rb, const std::string& ch) {
+      const auto* p = static_cast<const uint8_t*>(rb->data);
+      const std::vector<uint8_t> data(p, p + rb->data_size);
+      if (ch == channels::AGM_TACTICAL) r.inputs.emplace_back(decodeAs<grid_map_t>(data));
+      if (ch == channels::SECTOR_MAP) r.sector_maps.push_back(decodeAs<sector_map_t>(data));
+    });
+    sim::WorldCore world(setup.scenario, sim::odometryConfigFor(setup));
+    sim::LaserDriverCore laser(setup.scenario, sim::laserConfigFor(setup), setup.scenario.seed);
+    sim::SonarDriverCore sonar(setup.scenario, sim::sonarConfigFor(setup), setup.scenario.seed);
+    auto publish = [&](const char* ch, auto& msg) {
+      r.inputs.emplace_back(msg);
+      const std::vector<uint8_t> data = encodeMsg(msg);
+      bus->publish(ch, data.data(), data.size());
+      bus->handleAll();
+    };
+    for (int64_t t = world.startUtime(); !world.finished(t); t += world.periodUs()) {
+      sim_state_t st = world.stateAt(t);
+      odometry_t od = world.odometry();
+      publish(channels::ODOMETRY, od);
+      for (auto& o : laser.onSimState(st)) publish(channels::LASER_SCAN, o.scan), ++r.scans;
+      for (auto& o : sonar.onSimState(st)) publish(channels::SONAR_RING, o.ring), ++r.groups;
+    }
+    return r;
+  }();
+  return run;
+}
+
+// The two stages' per-message work, as ComplementStage and PilotStage do it (their input checks
+// left out: the scene's messages are all good), one input event at a time.
+class Replayer {
+ public:
+  explicit Replayer(const Run& run)
+      : run_(run),
+        ccfg_(complementConfig(run.root.section("complement"))),
+        pcfg_(pilotConfig(run.root.section("pilot"))),
+        agm_(pcfg_.agm),
+        sector_map_(pcfg_.sector_map),
+        placer_(pcfg_.placement) {}
+
+  bool done() const { return next_ >= run_.inputs.size(); }
+  bool nextIsGroup() const { return !done() && std::holds_alternative<sonar_ring_t>(run_.inputs[next_]); }
+  bool nextIsOdometry() const { return !done() && std::holds_alternative<odometry_t>(run_.inputs[next_]); }
+  bool nextIsScan() const { return !done() && std::holds_alternative<laser_scan_t>(run_.inputs[next_]); }
+  // The sector map just made equals the one the real PilotStage published at this point.
+  bool mapMatches() {
+    if (map_index_ >= run_.sector_maps.size()) return false;
+    const sector_map_t& m = run_.sector_maps[map_index_++];
+    const SectorMapState& s = sector_map_.state();
+    return m.utime == s.utime && m.distance == s.distance && m.laser_distance == s.laser &&
+           m.sonar_distance == s.sonar && m.remembered_distance == s.remembered;
+  }
+  bool allMapsSeen() const { return map_index_ == run_.sector_maps.size(); }
+
+  // Processes the next input event; returns true if it made a sector map.
+  bool step() {
+    const Run::Event& ev = run_.inputs[next_++];
+    if (const auto* od = std::get_if<odometry_t>(&ev)) {
+      if (const auto odo = cp::odometryFromMessage(*od, problems_);
+          odo && poses_.add(odo->utime, odo->pose) == PoseHistory::AddResult::Ok)
+        speed_ = odo->v;
+      return false;
+    }
+    if (const auto* ls = std::get_if<laser_scan_t>(&ev)) {
+      const auto scan = cp::laserScanFromMessage(*ls, problems_);
+      const auto lookup = [this](int64_t u) { return poses_.at(u); };
+      // Complement stage: the Radar Map.
+      rm_ = cp::extractRadarMap(*scan, lookup, ccfg_.radar_map);
+      // Pilot stage: the scan's points, then the first sector map after it.
+      const auto placed = cp::placeReadings(*scan, lookup);
+      std::vector<geom::Vec2> points;
+      int64_t newest = ls->utime;
+      for (size_t i = 0; i < placed.size(); ++i) {
+        newest = std::max(newest, scan->readings[i].utime);
+        if (placed[i].valid) points.push_back(placed[i].p);
+      }
+      sector_map_.setLaserPoints(newest, std::move(points));
+      now_ = std::max(now_, newest);
+      benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
+      return true;
+    }
+    if (const auto* ring = std::get_if<sonar_ring_t>(&ev)) {
+      // Complement stage: hypothetical scan and classification.
+      const cp::SonarGroup group = cp::sonarGroupFromMessage(*ring, problems_);
+      const cp::GroupComplement result =
+          cp::extractComplement(group, poses_.at(ring->utime), rm_ ? &*rm_ : nullptr, ccfg_.params);
+      benchmark::DoNotOptimize(result.readings.data());
+      // Pilot stage: the AGM cycle on the SONAR_COMPLEMENT message (its readings as the pilot
+      // decodes them, prepared by Run: the message layer is not timed), then the sector map.
+      const std::vector<GroupReading>& readings = groupReadings(group_index_++, result);
+      const std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
+      if (const auto pose = poses_.at(ring->utime)) agm_.follow(pose->position(), speed_);
+      agm_.update(hits);
+      sector_map_.setSonarTime(ring->utime);
+      now_ = std::max(now_, ring->utime);
+      benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
+      return true;
+    }
+    const auto& g = std::get<grid_map_t>(ev);  // PilotStage::onTacticalMap: the occupied cells' centres
+    std::vector<geom::Vec2> points;
+    const int threshold = std::max(1, g.gp_threshold);
+    for (int iy = 0; iy < g.height; ++iy)
+      for (int ix = 0; ix < g.width; ++ix)
+        if (g.gp[static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix)] >= threshold)
+          points.emplace_back(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+    sector_map_.setRemembered(g.utime, std::move(points));
+    return false;
+  }
+
+  // Every group's readings as the pilot gets them: made once, through the real messages.
+  static std::vector<std::vector<GroupReading>>& prepared() {
+    static std::vector<std::vector<GroupReading>> readings;
+    return readings;
+  }
+
+ private:
+  const std::vector<GroupReading>& groupReadings(size_t i, const cp::GroupComplement& result) {
+    auto& all = prepared();
+    if (i >= all.size()) {
+      const complement_t msg = cp::complementToMessage(result, ccfg_.params);
+      all.push_back(toGroupReadings(cp::complementFromMessage(msg, problems_), msg.utime));
+    }
+    return all[i];
+  }
+
+  const Run& run_;
+  cp::ComplementConfig ccfg_;
+  PilotConfig pcfg_;
+  PoseHistory poses_;
+  double speed_ = 0;
+  std::optional<cp::RadarMap> rm_;
+  AccumulativeGridMap agm_;
+  SectorMap sector_map_;
+  EchoPlacer placer_;
+  int64_t now_ = 0;
+  size_t next_ = 0, map_index_ = 0, group_index_ = 0;
+  std::vector<cp::InputProblem> problems_;
+};
+
+// One pass that checks the replayer against the real stages (and prepares the group readings).
+bool checkedOnce(benchmark::State& state) {
+  static const bool ok = [] {
+    Replayer r(recordedRun());
+    while (!r.done())
+      if (r.step() && !r.mapMatches()) return false;
+    return r.allMapsSeen();
+  }();
+  if (!ok) state.SkipWithError("the benchmark's sector maps differ from the PilotStage's SECTOR_MAP messages");
+  return ok;
+}
+
+// Iteration = one firing group. The events between groups are processed with the timer
+// stopped, except odometry (a pose added to the history, tens of ns; stopping the timer
+// around it would cost more than it does).
+void BM_Fig7LabFiringGroup(benchmark::State& state) {
+  if (!checkedOnce(state)) return;
+  const Run& run = recordedRun();
+  auto r = std::make_unique<Replayer>(run);
+  for (auto _ : state) {
+    while (!r->nextIsGroup()) {
+      if (r->done()) {
+        state.PauseTiming();
+        r = std::make_unique<Replayer>(run);
+        state.ResumeTiming();
+      } else if (r->nextIsOdometry()) {
+        r->step();
+      } else {
+        state.PauseTiming();
+        r->step();
+        state.ResumeTiming();
+      }
+    }
+    r->step();
+  }
+  state.counters["groups"] = static_cast<double>(run.groups);
+}
+BENCHMARK(BM_Fig7LabFiringGroup)->Unit(benchmark::kMicrosecond);
+
+// Iteration = one laser scan (Radar Map + the pilot's scan handling); everything between scans
+// is processed with the timer stopped.
+void BM_Fig7LabLaserScan(benchmark::State& state) {
+  if (!checkedOnce(state)) return;
+  const Run& run = recordedRun();
+  auto r = std::make_unique<Replayer>(run);
+  for (auto _ : state) {
+    state.PauseTiming();
+    while (!r->nextIsScan()) {
+      if (r->done()) r = std::make_unique<Replayer>(run);
+      else r->step();
+    }
+    state.ResumeTiming();
+    r->step();
+  }
+  state.counters["scans"] = static_cast<double>(run.scans);
+}
+BENCHMARK(BM_Fig7LabLaserScan)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
