@@ -51,6 +51,7 @@ struct EvalOptions {
   double line_tolerance = 0.10;    // [m] lines: within this of a boundary point / a true surface
   double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
+  bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
 };
 
 struct SectorTruthTable;  // eval/observability.hpp
@@ -128,6 +129,10 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen
                      Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o, Metrics& m);
+// Why located points are missed by the tactical AGM and its lines (agm_tactical.breakdown.*,
+// lines.breakdown.*; README "Evaluation").
+void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                           Metrics& m);
 
 // baselines: the baseline mappers' configuration (nullptr: the code's defaults).
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {},
