@@ -450,10 +450,18 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     std::vector<CandidateCell> cand;
     for (const auto& c : occupied) cand.push_back({odom_from_true.transform(c), g.gp_threshold, 0});
     const geom::Pose2 robot = toPose(g.robot_pose);
-    const auto nearest = nearestPerAngle(toPolar(cand, robot), geom::deg2rad(lp.angle_bin_deg), g.cell_size);
-    const auto runs = splitAtGaps(nearest, lp.max_gap);
+    std::vector<std::vector<PolarCell>> runs;
     std::vector<std::vector<AgmLine>> run_lines;
-    for (const auto& run : runs) run_lines.push_back(fitRun(run, lp, g.cell_size));
+    auto addRuns = [&](const std::vector<CandidateCell>& group) {
+      const auto nearest = nearestPerAngle(toPolar(group, robot), geom::deg2rad(lp.angle_bin_deg), g.cell_size);
+      for (auto& run : splitAtGaps(nearest, lp.max_gap)) {
+        run_lines.push_back(fitRun(run, lp, g.cell_size, &group));
+        runs.push_back(std::move(run));
+      }
+    };
+    if (lp.occlusion == LineGenerationParams::Occlusion::Global) addRuns(cand);
+    else
+      for (const auto& cluster : clusterCells(cand, lp.max_gap)) addRuns(cluster);
     const line_map_t* csm = sameTime(log.current_sensor_maps, g.utime);
     std::vector<geom::Segment> sonar;
     if (csm)
