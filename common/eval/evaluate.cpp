@@ -371,6 +371,7 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
   evalAgmOperational(log, sc, seen, o, m);
   evalAgmTactical(log, sc, seen, o, m);
   evalLines(log, sc, seen, o, m);
+  if (o.breakdown) evalTacticalBreakdown(log, sc, seen, o, m);
   return m;
 }
 

@@ -54,6 +54,7 @@ struct EvalOptions {
   // a cell that is not heard again in h_max = 18 update cycles of 30 ms (observable_missed_by_cue).
   double recent_echo_s = 0.54;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
+  bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
 };
 
 struct SectorTruthTable;  // eval/observability.hpp
@@ -131,6 +132,10 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen
                      Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);
 void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o, Metrics& m);
+// Why located points are missed by the tactical AGM and its lines (agm_tactical.breakdown.*,
+// lines.breakdown.*; README "Evaluation").
+void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                           Metrics& m);
 
 // baselines: the baseline mappers' configuration (nullptr: the code's defaults).
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o = {},

@@ -9,6 +9,7 @@
 
 #include "eval/evaluate.hpp"
 #include "eval/laser_seen.hpp"
+#include "tactical/line_generation.hpp"
 
 namespace lasonic::eval {
 
@@ -136,12 +137,15 @@ std::vector<BoundaryPoint> sonarOnlyCandidates(const sim::Scenario& sc, const La
   return boundary(sc, spacing, !seen.available());
 }
 
-std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts,
-                                  double radius, const LaserSeen* seen, double seen_radius, double range_limit) {
+namespace {
+// Every (point, echo) pair in which a DIRECT echo locates a boundary point (locatedTimes' rule),
+// in firing order; skip(i, utime) lets the caller leave out points it is done with.
+template <typename Skip, typename Visit>
+void forEachLocating(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts, double radius,
+                     const LaserSeen* seen, double seen_radius, double range_limit, Skip skip, Visit visit) {
   constexpr double kOnSurface = 0.01;  // [m]
   constexpr double kSightSlack = 0.03;  // [m] a ray that meets a surface this short of the point still reaches it
   const bool per_scan = seen && seen->available();
-  std::vector<int64_t> first(pts.size(), kNever);
   // Points per surface, and the surfaces of each obstacle, so each echo is compared only with
   // the boundary of the surfaces it hit.
   std::map<int, std::vector<size_t>> by_surface;
@@ -185,7 +189,7 @@ std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, co
       for (int k : it->second) {
         if (distanceTo(sc.statics[static_cast<size_t>(k)], hit) > kOnSurface) continue;
         for (size_t i : by_surface[k]) {
-          if (t.utime >= first[i] || (pts[i].p - hit).norm() > radius) continue;
+          if (skip(i, t.utime) || (pts[i].p - hit).norm() > radius) continue;
           // Where the newest scan saw the point, the laser had it: not the sonar's alone.
           if (per_scan && seen->saw(scan, pts[i].obstacle, pts[i].p, seen_radius)) continue;
           // A point hidden from the transducer (the back of a bin, the far side of a box's
@@ -198,11 +202,20 @@ std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, co
               if (h && h->range < dist - kSightSlack) continue;
             }
           }
-          first[i] = t.utime;
+          visit(i, t.utime, c.sensor_id);
         }
       }
     }
   }
+}
+}  // namespace
+
+std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, const std::vector<BoundaryPoint>& pts,
+                                  double radius, const LaserSeen* seen, double seen_radius, double range_limit) {
+  std::vector<int64_t> first(pts.size(), kNever);
+  forEachLocating(
+      log, sc, pts, radius, seen, seen_radius, range_limit, [&](size_t i, int64_t utime) { return utime >= first[i]; },
+      [&](size_t i, int64_t utime, int) { first[i] = utime; });
   return first;
 }
 
@@ -306,6 +319,243 @@ void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen
   m.set("lines.count", maps > 0 ? static_cast<double>(lines) / static_cast<double>(maps) : 0.0);
   setRatio(m, "lines.invisible_coverage", coverage);
   setRatio(m, "lines.precision", precision);
+}
+
+
+namespace {
+// The cells of a grid message (odometry frame) whose centres lie within r of q: the largest G and Gp.
+struct NearCells {
+  int g = 0, gp = 0;
+};
+NearCells nearCells(const grid_map_t& g, const geom::Vec2& q, double r) {
+  NearCells out;
+  if (g.width <= 0 || g.height <= 0 || static_cast<int64_t>(g.gp.size()) < int64_t{g.width} * g.height ||
+      static_cast<int64_t>(g.g.size()) < int64_t{g.width} * g.height)
+    return out;
+  const double cs = g.cell_size;
+  const int x0 = std::max(0, static_cast<int>(std::floor((q.x() - r - g.origin_x) / cs)));
+  const int x1 = std::min(g.width - 1, static_cast<int>(std::floor((q.x() + r - g.origin_x) / cs)));
+  const int y0 = std::max(0, static_cast<int>(std::floor((q.y() - r - g.origin_y) / cs)));
+  const int y1 = std::min(g.height - 1, static_cast<int>(std::floor((q.y() + r - g.origin_y) / cs)));
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) {
+      const geom::Vec2 c(g.origin_x + (ix + 0.5) * cs, g.origin_y + (iy + 0.5) * cs);
+      if ((c - q).norm() > r) continue;
+      const size_t idx = static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix);
+      out.g = std::max(out.g, int{g.g[idx]});
+      out.gp = std::max(out.gp, g.gp[idx]);
+    }
+  return out;
+}
+
+// Shares of a set of samples by cause, as metrics under prefix.
+struct Causes {
+  std::map<std::string, int64_t> n;
+  int64_t total = 0;
+  void add(const std::string& cause) {
+    ++n[cause];
+    ++total;
+  }
+  void put(Metrics& m, const std::string& prefix) const {
+    m.set(prefix + ".samples", total);
+    for (const auto& [k, v] : n) m.set(prefix + "." + k, total > 0 ? double(v) / double(total) : 0.0);
+  }
+};
+}  // namespace
+
+void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen, const EvalOptions& o,
+                           Metrics& m) {
+  if (log.agm_tactical.empty() || log.sim_states.size() < 2) return;
+  constexpr double kMisplaced = 0.30;  // [m] an occupied cell this near: the echoes went to a neighbouring cell
+  constexpr int64_t kRecentUs = 1'000'000;  // located only within the last second
+  constexpr double kForgetM = 15.0;  // [m] the shipped navigator.agm.h_max_m
+  TruthTrack truth(log.sim_states);
+  const auto boundary = sonarOnlyCandidates(sc, seen);
+  // Every locating echo of every point, and how the complement stage classified it.
+  std::vector<std::vector<std::pair<int64_t, int>>> echoes(boundary.size());
+  double prev_x = 0, prev_y = 0;
+  forEachLocating(
+      log, sc, boundary, o.located_radius, &seen, o.seen_radius, hypothesisRangeLimit(log, o),
+      [](size_t, int64_t) { return false; },
+      [&](size_t i, int64_t utime, int sensor) { echoes[i].emplace_back(utime, sensor); });
+  std::map<std::pair<int64_t, int>, int> cls;
+  for (const auto& c : log.complements)
+    for (const auto& r : c.readings) cls[{c.utime, r.sensor_id}] = r.cls;
+  auto complementaryBefore = [&](size_t i, int64_t utime, int64_t& last) {
+    int n = 0;
+    last = -1;
+    for (const auto& [t, sensor] : echoes[i]) {
+      if (t >= utime) break;
+      const auto it = cls.find({t, sensor});
+      if (it != cls.end() && it->second == complement_reading_t::CLASS_COMPLEMENTARY) {
+        ++n;
+        last = t;
+      }
+    }
+    return n;
+  };
+  // The classes of the locating echoes before utime (the most common one names the cause).
+  auto echoClass = [&](size_t i, int64_t utime) {
+    std::map<int, int> n;
+    for (const auto& [t, sensor] : echoes[i]) {
+      if (t >= utime) break;
+      const auto it = cls.find({t, sensor});
+      ++n[it == cls.end() ? -1 : it->second];
+    }
+    int best = -1, most = -1;
+    for (const auto& [c, k] : n)
+      if (k > most) {
+        most = k;
+        best = c;
+      }
+    switch (best) {
+      case complement_reading_t::CLASS_REDUNDANT: return std::string("redundant");
+      case complement_reading_t::CLASS_FALSE: return std::string("false");
+      case complement_reading_t::CLASS_UNVERIFIABLE: return std::string("unverifiable");
+      default: return std::string("other");
+    }
+  };
+  // Distance the robot drove (true path) up to each SIM_STATE, to tell forgetting by distance.
+  std::vector<std::pair<int64_t, double>> odo;
+  for (const auto& st : log.sim_states) {
+    const double d = odo.empty() ? 0.0 : odo.back().second + std::hypot(st.robot_pose.x - prev_x, st.robot_pose.y - prev_y);
+    prev_x = st.robot_pose.x;
+    prev_y = st.robot_pose.y;
+    odo.emplace_back(st.utime, d);
+  }
+  auto drivenAt = [&](int64_t utime) {
+    auto it = std::lower_bound(odo.begin(), odo.end(), utime,
+                               [](const std::pair<int64_t, double>& a, int64_t t) { return a.first < t; });
+    return it == odo.end() ? odo.back().second : it->second;
+  };
+  auto materialOf = [&](int obstacle) {
+    return obstacle >= 0 && static_cast<size_t>(obstacle) < sc.obstacles.size()
+               ? sc.obstacles[static_cast<size_t>(obstacle)].material
+               : std::string("unknown");
+  };
+  std::map<std::string, Ratio> by_material;
+  std::map<std::string, int64_t> samples_by_material;
+  Causes agm_causes, line_causes, off_lines;
+  std::vector<char> found_before(boundary.size(), 0), left_window(boundary.size(), 0);
+  const LineGenerationParams lp;  // the shipped line generation (code default == deploy/config)
+  for (const auto& g : log.agm_tactical) {
+    const geom::Pose2 true_from_odom = truth.robotAt(g.utime).compose(toPose(g.robot_pose).inverse());
+    const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
+    const auto occupied = occupiedCells(g, true_from_odom);
+    const Window win(g, true_from_odom);
+    const int scan = seen.newestAt(g.utime);
+    const geom::Pose2 odom_from_true = true_from_odom.inverse();
+    // The line generation redone on this map's occupied cells (centres, odometry frame), to tell
+    // where an uncovered point's cells were lost.
+    std::vector<CandidateCell> cand;
+    for (const auto& c : occupied) cand.push_back({odom_from_true.transform(c), g.gp_threshold, 0});
+    const geom::Pose2 robot = toPose(g.robot_pose);
+    std::vector<std::vector<PolarCell>> runs;
+    std::vector<std::vector<AgmLine>> run_lines;
+    auto addRuns = [&](const std::vector<CandidateCell>& group) {
+      const auto nearest = nearestPerAngle(toPolar(group, robot), geom::deg2rad(lp.angle_bin_deg), g.cell_size);
+      for (auto& run : splitAtGaps(nearest, lp.max_gap)) {
+        run_lines.push_back(fitRun(run, lp, g.cell_size, &group));
+        runs.push_back(std::move(run));
+      }
+    };
+    if (lp.occlusion == LineGenerationParams::Occlusion::Global) addRuns(cand);
+    else
+      for (const auto& cluster : clusterCells(cand, lp.max_gap)) addRuns(cluster);
+    const line_map_t* csm = sameTime(log.current_sensor_maps, g.utime);
+    std::vector<geom::Segment> sonar;
+    if (csm)
+      for (const auto& s : csm->segments)
+        if (s.source == line_segment_t::SOURCE_SONAR) sonar.push_back({{s.x0, s.y0}, {s.x1, s.y1}});  // odometry frame
+    // Where the sonar lines' length off every static surface lies: how far off, and the nearest
+    // surface's material (a mover's trace counts as "none").
+    for (const auto& seg : sonar) {
+      const geom::Segment t{true_from_odom.transform(seg.a), true_from_odom.transform(seg.b)};
+      const int n = std::max(1, static_cast<int>(std::ceil(t.length() / 0.01)));
+      for (int k = 0; k < n; ++k) {
+        const geom::Vec2 q = t.a + (t.b - t.a) * ((k + 0.5) / n);
+        double best = kInf;
+        int obstacle = -1;
+        for (const auto& p : sc.statics)
+          if (const double d = distanceTo(p, q); d < best) {
+            best = d;
+            obstacle = p.obstacle;
+          }
+        if (best <= o.line_tolerance) continue;
+        off_lines.add(std::string(best <= 0.2 ? "within_20cm_of_" : best <= 0.4 ? "within_40cm_of_" : "farther_from_") +
+                      materialOf(obstacle));
+      }
+    }
+    for (size_t i = 0; i < boundary.size(); ++i) {
+      if (echoes[i].empty() || echoes[i].front().first >= g.utime) continue;
+      if (!win.contains(boundary[i].p)) {
+        if (found_before[i]) left_window[i] = 1;  // the window's re-centring cleared its cells
+        continue;
+      }
+      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
+      const geom::Vec2 q = odom_from_true.transform(boundary[i].p);
+      const NearCells near = nearCells(g, q, tol);
+      const bool found = near.gp > 0 && near.gp >= g.gp_threshold;
+      by_material[materialOf(boundary[i].obstacle)].add(found);
+      ++samples_by_material[materialOf(boundary[i].obstacle)];
+      if (found) {
+        found_before[i] = 1;
+        left_window[i] = 0;
+      } else {
+        int64_t last = -1;
+        const int ncomp = complementaryBefore(i, g.utime, last);
+        if (found_before[i])
+          agm_causes.add(left_window[i]                                                ? "forgotten_left_window"
+                         : last >= 0 && drivenAt(g.utime) - drivenAt(last) > kForgetM ? "forgotten_after_15m"
+                                                                                      : "forgotten_other");
+        else if (ncomp == 0) agm_causes.add("no_complementary_echo_" + echoClass(i, g.utime));
+        else if (near.g > 0 || near.gp > 0) agm_causes.add("below_threshold");
+        else if (nearCells(g, q, kMisplaced).gp >= g.gp_threshold) {
+          // An occupied cell 0.17-0.3 m away: on the point's own surface (a gap between the cells
+          // along it) or off it (the echoes were placed in front of or behind the surface).
+          bool on_surface = false;
+          for (const auto& c : occupied)
+            if ((c - boundary[i].p).norm() <= kMisplaced &&
+                distanceTo(sc.statics[static_cast<size_t>(boundary[i].surface)], c) <= tol)
+              on_surface = true;
+          agm_causes.add(on_surface ? "gap_along_surface" : "misplaced_off_surface");
+        }
+        else if (g.utime - echoes[i].front().first < kRecentUs) agm_causes.add("located_within_1s");
+        else if (ncomp == 1) agm_causes.add("one_complementary_echo");
+        else agm_causes.add("not_placed");
+      }
+      if (!csm) continue;
+      bool covered = false;
+      for (const auto& s : sonar)
+        if (geom::distance(s, q) <= o.line_tolerance) covered = true;
+      if (covered) continue;
+      if (!found) {
+        line_causes.add("no_cell");
+        continue;
+      }
+      // Where did the cells near q go?
+      std::string cause = "hidden_by_nearer_cell";
+      for (size_t r = 0; r < runs.size() && cause == "hidden_by_nearer_cell"; ++r) {
+        bool in_run = false;
+        for (const auto& pc : runs[r])
+          if ((pc.cell.centre - q).norm() <= tol) in_run = true;
+        if (!in_run) continue;
+        if (runs[r].size() < static_cast<size_t>(lp.min_cells)) {
+          cause = "short_run";
+          break;
+        }
+        cause = "short_piece_or_off_line";
+        for (const auto& l : run_lines[r])
+          if (geom::distance(l.seg, q) <= o.line_tolerance) cause = "line_from_centroids_off";
+      }
+      line_causes.add(cause);
+    }
+  }
+  agm_causes.put(m, "agm_tactical.breakdown.missed");
+  line_causes.put(m, "lines.breakdown.uncovered");
+  off_lines.put(m, "lines.breakdown.off_surface");
+  for (const auto& [mat, r] : by_material) setRatio(m, "agm_tactical.breakdown.recall_by_material." + mat, r);
+  for (const auto& [mat, n] : samples_by_material) m.set("agm_tactical.breakdown.samples_by_material." + mat, n);
 }
 
 }  // namespace lasonic::eval

@@ -7,7 +7,7 @@ namespace lasonic {
 
 std::vector<std::string> echoPlacementKeys() {
   return {"agm_bearing",       "agm_placement", "evidence_min_g",    "arc_halfwidth_deg",
-          "arc_min_votes",     "arc_require_votes", "neighbour_bearing"};
+          "arc_min_votes",     "arc_require_votes", "arc_wait_cycles", "neighbour_bearing"};
 }
 
 EchoPlacementConfig echoPlacementConfig(const Config& c, EchoPlacementConfig p) {
@@ -19,6 +19,7 @@ EchoPlacementConfig echoPlacementConfig(const Config& c, EchoPlacementConfig p) 
   p.arc_halfwidth = geom::deg2rad(c.get("arc_halfwidth_deg", geom::rad2deg(p.arc_halfwidth), Range::between(0, 89)));
   p.arc_min_votes = c.get("arc_min_votes", p.arc_min_votes, Range::nonNegative());
   p.arc_require_votes = c.get<bool>("arc_require_votes", p.arc_require_votes);
+  p.arc_wait_cycles = c.get("arc_wait_cycles", p.arc_wait_cycles, Range::between(0, 1e6));
   const Config nb = c.section("neighbour_bearing");
   nb.allowOnly({"beam_deg", "similar", "max_age_s"});
   p.params.beam_width =
@@ -32,15 +33,15 @@ namespace {
 // ArcVotes: the bearing within +-halfwidth of the axis whose arc cell holds the most votes (at
 // least min_votes; ties: the one nearest to the estimate), else the estimate.
 // nullopt: no cell with min_votes.
-std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEcho& e, double halfwidth,
+std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEcho& e, double centre, double halfwidth,
                                    double min_votes, double estimate) {
   const double range = e.range;
-  if (!(range > 0) || !(halfwidth > 0) || !(range * halfwidth <= agm.size() * agm.cellSize())) return std::nullopt;
+  if (!(range > 0) || !(halfwidth >= 0) || !(range * halfwidth <= agm.size() * agm.cellSize())) return std::nullopt;
   const double step = 0.5 * agm.cellSize() / range;
-  const int half = static_cast<int>(std::ceil(halfwidth / step));
+  const int half = std::max(1, static_cast<int>(std::ceil(halfwidth / step)));
   double best = estimate, best_v = 0, best_off = 1e9;
   for (int q = -half; q <= half; ++q) {
-    const double b = e.sensor.theta + halfwidth * q / half;
+    const double b = centre + halfwidth * q / half;
     int ix = 0, iy = 0;
     if (!agm.cellAt(e.sensor.position() + range * geom::unitVector(b), ix, iy)) continue;
     const double v = agm.arcVotes(ix, iy);
@@ -58,6 +59,22 @@ std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEc
 
 std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm) {
   std::vector<geom::Vec2> hits;
+  // Echoes that waited for later arcs: placed now if those crossed theirs, forgotten when too old.
+  if (!waiting_.empty()) {
+    std::vector<Waiting> still;
+    for (const Waiting& w : waiting_) {
+      if (agm.cycle() - w.cycle > cfg_.arc_wait_cycles) continue;
+      // Its own arc voted too, after its group: it needs arc_min_votes from other arcs, as when it came.
+      const auto b = votedBearing(agm, w.echo, w.estimate, w.halfwidth, cfg_.arc_min_votes + 1.0, w.estimate);
+      const geom::Vec2 p = w.echo.sensor.position() + w.echo.range * geom::unitVector(b.value_or(w.estimate));
+      int ix = 0, iy = 0;
+      if (b && agm.cellAt(p, ix, iy) && agm.g(ix, iy) > 0)
+        hits.push_back(p);
+      else
+        still.push_back(w);
+    }
+    waiting_ = std::move(still);
+  }
   std::vector<std::pair<int, std::optional<SonarEcho>>> latest;
   latest.reserve(group.size());
   for (const GroupReading& r : group) {
@@ -79,8 +96,11 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     if (cfg_.placement == AgmPlacement::Evidence)
       b = evidenceBearing(agm, echo.sensor.position(), echo.range, est, cfg_.evidence_min_g);
     else if (cfg_.placement == AgmPlacement::ArcVotes) {
-      const auto voted = votedBearing(agm, echo, cfg_.arc_halfwidth, cfg_.arc_min_votes, est.bearing);
-      if (!voted && cfg_.arc_require_votes) continue;
+      const auto voted = votedBearing(agm, echo, echo.sensor.theta, cfg_.arc_halfwidth, cfg_.arc_min_votes, est.bearing);
+      if (!voted && cfg_.arc_require_votes) {
+        if (cfg_.arc_wait_cycles > 0) waiting_.push_back({echo, est.bearing, est.halfwidth, agm.cycle()});
+        continue;
+      }
       b = voted.value_or(est.bearing);
     }
     // On the axis: exactly the paper's point (the reading's own end point).

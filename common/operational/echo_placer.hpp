@@ -39,12 +39,17 @@ struct EchoPlacementConfig {
   // ArcVotes, no cell with arc_min_votes on the echo's arc: false = the estimate's cell; true = no
   // cell at all (the echo still votes): a level that is not in a hurry waits for a second arc.
   bool arc_require_votes = false;
+  // ArcVotes with arc_require_votes: how many update cycles an echo whose arc crossed no voted
+  // cell waits for later arcs (retried every group, placed once a cell on its arc has
+  // arc_min_votes). 0: it is dropped at once. The first echoes of a surface are as good as the
+  // later ones; only their crossing arcs come later.
+  int arc_wait_cycles = 0;
   SonarBearingParams params;
 };
 
 // Reads the placement keys of a level's config section over `base`: agm_bearing (axis |
 // neighbours), agm_placement (estimate | evidence | arc_votes), evidence_min_g, arc_halfwidth_deg,
-// arc_min_votes, arc_require_votes, neighbour_bearing {beam_deg, similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
+// arc_min_votes, arc_require_votes, arc_wait_cycles, neighbour_bearing {beam_deg, similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
 EchoPlacementConfig echoPlacementConfig(const Config& section, EchoPlacementConfig base = {});
 // The keys echoPlacementConfig reads, for the caller's allowOnly().
 std::vector<std::string> echoPlacementKeys();
@@ -65,13 +70,21 @@ class EchoPlacer {
   explicit EchoPlacer(const EchoPlacementConfig& c) : cfg_(c), tracker_(c.params) {}
   const EchoPlacementConfig& config() const { return cfg_; }
   // One point per echo of the group that is a hit (global frame), in the group's order, then records the group's readings as their
-  // sensors' latest. An echo whose sensor pose is not finite is put at its axis end point and is
+  // sensors' latest. With arc_wait_cycles, first the points of waiting echoes of earlier groups
+  // that later arcs now place (oldest first); agm.cycle() is the clock. An echo whose sensor pose is not finite is put at its axis end point and is
   // no neighbour to others.
   std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm);
 
  private:
+  struct Waiting {
+    SonarEcho echo;
+    double estimate = 0;   // [rad] its bearing estimate
+    double halfwidth = 0;  // [rad] the estimate's uncertainty: where later arcs may place it
+    int64_t cycle = 0;    // the AGM cycle it arrived in
+  };
   EchoPlacementConfig cfg_;
   SonarBearingTracker tracker_;
+  std::vector<Waiting> waiting_;
 };
 
 }  // namespace lasonic

@@ -26,6 +26,7 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
   EchoPlacementConfig p;
   p.placement = AgmPlacement::ArcVotes;
   p.arc_require_votes = true;
+  p.arc_wait_cycles = 100;
   return p;
 }
 

@@ -9,7 +9,7 @@
 namespace lasonic {
 
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
-  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge"});
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells"});
   p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
   p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
   p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
@@ -18,6 +18,9 @@ LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams 
   p.min_length = c.get("min_length", p.min_length, Range::nonNegative());
   p.refit = c.get<bool>("refit", p.refit);
   p.merge = c.get<bool>("merge", p.merge);
+  p.refit_cells = c.getChoice("refit_cells", p.refit_cells,
+                              {{"run", LineGenerationParams::RefitCells::Run},
+                               {"band", LineGenerationParams::RefitCells::Band}});
   p.occlusion = c.getChoice("occlusion", p.occlusion,
                             {{"global", LineGenerationParams::Occlusion::Global},
                              {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
@@ -141,7 +144,26 @@ std::vector<complement::IndexRange> mergePieces(const std::vector<geom::Vec2>& p
 }
 }  // namespace
 
-std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size) {
+namespace {
+// The cells of `band` within threshold of seg (the run's fitted line), ordered along it.
+std::vector<geom::Vec2> bandPoints(const geom::Segment& seg, const std::vector<CandidateCell>& band, double threshold) {
+  std::vector<std::pair<double, geom::Vec2>> near;
+  const double len = seg.length();
+  if (!(len > 0)) return {};
+  const geom::Vec2 dir = (seg.b - seg.a) / len;
+  for (const CandidateCell& c : band)
+    if (geom::distance(seg, c.centre) <= threshold + 1e-6)  // a row exactly one threshold away belongs to it
+      near.emplace_back((c.centre - seg.a).dot(dir), c.centre);
+  std::sort(near.begin(), near.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<geom::Vec2> out;
+  out.reserve(near.size());
+  for (const auto& n : near) out.push_back(n.second);
+  return out;
+}
+}  // namespace
+
+std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size,
+                            const std::vector<CandidateCell>* band) {
   std::vector<AgmLine> out;
   if (run.size() < static_cast<size_t>(p.min_cells) || run.size() < 2) return out;
   std::vector<geom::Vec2> pts;
@@ -153,7 +175,12 @@ std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerat
     if (r.size() < static_cast<size_t>(p.min_cells)) continue;
     AgmLine l;
     if (p.refit) {
-      const complement::RmSegment s = complement::fitLine(pts, r);
+      complement::RmSegment s = complement::fitLine(pts, r);
+      if (p.refit_cells == LineGenerationParams::RefitCells::Band && band) {
+        // The run's cells are always in the band (each lies within the threshold of its own fit).
+        const std::vector<geom::Vec2> b = bandPoints(s.seg, *band, p.split_threshold);
+        if (b.size() >= r.size()) s = complement::fitLine(b, {0, b.size() - 1});
+      }
       l.seg = s.seg;
       l.rms = s.rms;
     } else {
@@ -213,7 +240,7 @@ std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, cons
   const double bin = geom::deg2rad(p.angle_bin_deg);
   auto lines = [&](const std::vector<CandidateCell>& group) {
     for (const auto& run : splitAtGaps(nearestPerAngle(toPolar(group, robot), bin, cell_size), p.max_gap))
-      for (const AgmLine& l : fitRun(run, p, cell_size)) out.push_back(l);
+      for (const AgmLine& l : fitRun(run, p, cell_size, &group)) out.push_back(l);
   };
   if (p.occlusion == LineGenerationParams::Occlusion::Global) lines(cells);
   else

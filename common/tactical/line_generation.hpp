@@ -13,7 +13,8 @@
 //   fitRun           iterative end-point fit along each run (the Radar Map's own
 //                    iterativeEndPointFit), neighbouring pieces merged again while one line fits
 //                    them (split-and-merge; beyond the paper); runs of fewer than min_cells cells
-//                    dropped (isolated cells: noise); optional total-least-squares refit; each end
+//                    dropped (isolated cells: noise); optional total-least-squares refit (on the
+//                    run's cells, or on every cell of the band along the line); each end
 //                    extended by half a cell, since a cell stands for the square around its centre
 //   generateLines    all of the above
 // Everything is in the global (odometry) frame except the polar coordinates.
@@ -35,6 +36,11 @@ struct LineGenerationParams {
   int min_cells = 3;              // lines fitted to fewer cells are dropped
   double min_length = 0.0;        // [m] shorter lines (after the half-cell extension) are dropped
   bool refit = true;              // total-least-squares refit of each line's cells
+  // Which cells the refit uses. Run: the cells the line was fitted to (nearest per angle: the
+  // paper). Band: every candidate cell of the obstacle within split_threshold of the fitted line,
+  // also those behind a nearer one; an obstacle heard from both sides, or a band of cells two
+  // deep, has its surface in the band's middle, not on the face nearest to the robot.
+  enum class RefitCells { Run, Band } refit_cells = RefitCells::Band;
   // Split-and-merge: neighbouring pieces of a run are merged again while one line fits all their
   // cells within split_threshold (a band of cells two deep, seen at an angle, zigzags in the
   // angle order and would otherwise be split into slanted pieces).
@@ -42,7 +48,7 @@ struct LineGenerationParams {
   // Global: the paper's rule, a cell hidden behind any nearer cell is dropped. PerCluster: only
   // behind a nearer cell of its own cluster (cells connected within max_gap), so a remembered
   // obstacle is not dropped because another one now stands in front of it.
-  enum class Occlusion { Global, PerCluster } occlusion = Occlusion::Global;
+  enum class Occlusion { Global, PerCluster } occlusion = Occlusion::PerCluster;
 };
 // Reads a `lines:` section over `base`. Throws ConfigError naming the key path.
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams base = {});
@@ -89,7 +95,9 @@ std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<Candidate
 
 // The lines of one run: iterative end-point fit, min_cells, optional refit, ends extended by
 // cell_size/2.
-std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size);
+// band: the candidate cells a RefitCells::Band refit may use (null: the run's own).
+std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size,
+                            const std::vector<CandidateCell>* band = nullptr);
 
 std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, const geom::Pose2& robot,
                                    double cell_size, const LineGenerationParams& p);

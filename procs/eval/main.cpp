@@ -23,6 +23,10 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_files,
                  "YAML configuration the log was replayed with (sections pilot and baselines: the baselines' "
                  "parameters and read-out; repeat to layer overrides); without it the code's defaults");
+  bool breakdown = false;
+  app.add_flag("--breakdown", breakdown,
+               "also say why located points are missed by the tactical AGM and its lines "
+               "(agm_tactical.breakdown.*, lines.breakdown.*)");
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
   try {
@@ -38,7 +42,9 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
-    const auto metrics = lasonic::eval::evaluate(log, scenario, {}, &baselines);
+    lasonic::eval::EvalOptions opts;
+    opts.breakdown = breakdown;
+    const auto metrics = lasonic::eval::evaluate(log, scenario, opts, &baselines);
     // Never silently: without the laser's truth "laser-invisible" falls back to the material.
     if (metrics.has("sensors.laser_truth") && metrics.number("sensors.laser_truth") == 0 &&
         (!log.sonar_truths.empty() || !log.agm_tactical.empty() || !log.agm_operational.empty()))

@@ -533,3 +533,52 @@ robot: {radius: 0.35, path: [[1.5,2],[2,2]], speed: 0.1}
   EXPECT_GT(near_hidden, 0);  // there is something to leave out
   EXPECT_GT(seen_side, 4);
 }
+
+TEST(EvalTacticalBreakdown, SaysWhyLocatedPointsAreMissed) {
+  const auto sc = boxRoom();
+  // The one occupied cell (2.75, 2.05) covers the face's points from y = 1.9 up; the two below
+  // (y = 1.80, 1.85) are missed, with that cell on the same face 0.21-0.26 m away.
+  auto breakdown = [&](const RunLog& log) {
+    Metrics m;
+    EvalOptions o;
+    o.breakdown = true;
+    evalTacticalBreakdown(log, sc, LaserSeen(log), o, m);
+    return m;
+  };
+  RunLog never = twoScans(sc);
+  addBoxEcho(never, 800'000);  // located, but no SONAR_COMPLEMENT ever classified it
+  never.agm_tactical = {agmAt(850'000)};
+  const Metrics a = breakdown(never);
+  EXPECT_EQ(a.number("agm_tactical.breakdown.missed.samples"), 2.0);
+  EXPECT_DOUBLE_EQ(a.number("agm_tactical.breakdown.missed.no_complementary_echo_other"), 1.0);
+  EXPECT_DOUBLE_EQ(a.number("agm_tactical.breakdown.recall_by_material.black_cardboard"), 0.8);
+  EXPECT_EQ(a.number("agm_tactical.breakdown.samples_by_material.black_cardboard"), 10.0);
+
+  RunLog heard = twoScans(sc);
+  addBoxEcho(heard, 800'000, complement_reading_t::CLASS_COMPLEMENTARY);
+  heard.agm_tactical = {agmAt(850'000)};
+  const Metrics b = breakdown(heard);
+  EXPECT_DOUBLE_EQ(b.number("agm_tactical.breakdown.missed.gap_along_surface"), 1.0);
+  // With a CURRENT_SENSOR_MAP holding no sonar line: the two points without a cell are `no_cell`,
+  // the eight with one were lost in the line generation: one cell is a run shorter than min_cells.
+  line_map_t csm{};
+  csm.utime = 850'000;
+  csm.robot_pose = heard.agm_tactical[0].robot_pose;
+  heard.current_sensor_maps = {csm};
+  const Metrics l = breakdown(heard);
+  EXPECT_EQ(l.number("lines.breakdown.uncovered.samples"), 10.0);
+  EXPECT_DOUBLE_EQ(l.number("lines.breakdown.uncovered.no_cell"), 0.2);
+  EXPECT_DOUBLE_EQ(l.number("lines.breakdown.uncovered.short_run"), 0.8);
+  heard.current_sensor_maps.clear();
+
+  // The same cell below G_T: the eight points near it are below threshold, the two beyond it
+  // were located only 50 ms before the map.
+  heard.agm_tactical[0].gp[static_cast<size_t>(20 * 60 + 27)] = 1;
+  const Metrics c = breakdown(heard);
+  EXPECT_EQ(c.number("agm_tactical.breakdown.missed.samples"), 10.0);
+  EXPECT_DOUBLE_EQ(c.number("agm_tactical.breakdown.missed.below_threshold"), 0.8);
+  EXPECT_DOUBLE_EQ(c.number("agm_tactical.breakdown.missed.located_within_1s"), 0.2);
+
+  // Off by default.
+  EXPECT_FALSE(evaluate(heard, sc).has("agm_tactical.breakdown.missed.samples"));
+}

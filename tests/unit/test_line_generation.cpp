@@ -154,7 +154,9 @@ TEST(LineGeneration, IsolatedNoiseCellsGiveNoLines) {
 TEST(LineGeneration, OnlyTheNearestCellsPerAngleUnlessPerCluster) {
   // A near wall (y = 1) hides a far one (y = 3) behind it, at the same bearings.
   const auto cells = join(along({-0.5, 1}, {0.5, 1}), along({-0.5, 3}, {0.5, 3}));
-  const auto global = generateLines(cells, {0, 0, 0}, kCell, params());
+  LineGenerationParams paper = params();
+  paper.occlusion = LineGenerationParams::Occlusion::Global;
+  const auto global = generateLines(cells, {0, 0, 0}, kCell, paper);
   ASSERT_EQ(global.size(), 1u);
   EXPECT_LT(offLine(global[0], {0, 1}), 0.02);
   LineGenerationParams p = params();
@@ -164,6 +166,38 @@ TEST(LineGeneration, OnlyTheNearestCellsPerAngleUnlessPerCluster) {
   const auto visible = nearestPerAngle(toPolar(join(along({-1, 1}, {1, 1}), along({-1, 1.1}, {1, 1.1})), {0, 0, 0}),
                                        geom::deg2rad(1.0), kCell);
   for (const auto& c : visible) EXPECT_NEAR(c.cell.centre.y(), 1.0, 1e-9);
+}
+
+TEST(LineGeneration, BandRefitPutsTheLineInTheMiddleOfATwoDeepBand) {
+  // A mesh at y = 1.05 heard from both sides: its cells fill the rows y = 1.0 and y = 1.1. Only
+  // the nearer row is nearest per angle; the band refit uses both rows.
+  const auto cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.1}, {1, 1.1}));
+  LineGenerationParams run = params();
+  run.refit_cells = LineGenerationParams::RefitCells::Run;
+  const auto near_face = generateLines(cells, {0, 0, 0}, kCell, run);
+  ASSERT_EQ(near_face.size(), 1u);
+  EXPECT_LT(offLine(near_face[0], {0, 1.0}), 0.01);
+  LineGenerationParams band = params();
+  band.refit_cells = LineGenerationParams::RefitCells::Band;
+  const auto middle = generateLines(cells, {0, 0, 0}, kCell, band);
+  ASSERT_EQ(middle.size(), 1u);
+  EXPECT_LT(offLine(middle[0], {0, 1.05}), 0.01);
+  EXPECT_LT(std::abs(std::sin(angleOf(middle[0]))), 0.01);
+  EXPECT_EQ(middle[0].ncells, 21);  // the cells the line was found on (the run)
+}
+
+TEST(LineGeneration, BandRefitLeavesAnotherObstacleBehindAlone) {
+  // A second wall 0.3 m behind the first (more than split_threshold): not part of the band, and
+  // with per-cluster occlusion its own line (both walls are one cluster only within max_gap).
+  const auto cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.3}, {1, 1.3}));
+  LineGenerationParams p = params();
+  p.refit_cells = LineGenerationParams::RefitCells::Band;
+  p.occlusion = LineGenerationParams::Occlusion::Global;
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, p);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_LT(offLine(lines[0], {0, 1.0}), 0.01);
+  EXPECT_LT(std::abs(std::sin(angleOf(lines[0]))), 0.01);
+  EXPECT_NEAR(lines[0].seg.length(), 2.1, 1e-6);  // band cells beyond the ends: none
 }
 
 TEST(LineGeneration, WallBehindTheRobotIsNotCutAtTheBearingSeam) {
@@ -202,18 +236,23 @@ TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
 TEST(LineGeneration, ConfigKeysAndErrors) {
   const auto p = lineGenerationParams(Config::fromString(
       "lines: {gp_threshold: 7, angle_bin_deg: 2, max_gap: 0.3, split_threshold: 0.05, min_cells: 4, refit: false, "
-      "occlusion: per_cluster, merge: false, min_length: 0.3}").section("lines"));
+      "occlusion: global, merge: false, min_length: 0.3, refit_cells: run}").section("lines"));
   EXPECT_EQ(p.gp_threshold, 7);
   EXPECT_DOUBLE_EQ(p.angle_bin_deg, 2);
   EXPECT_DOUBLE_EQ(p.max_gap, 0.3);
   EXPECT_DOUBLE_EQ(p.split_threshold, 0.05);
   EXPECT_EQ(p.min_cells, 4);
   EXPECT_FALSE(p.refit);
-  EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::PerCluster);
+  EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::Global);
+  EXPECT_EQ(p.refit_cells, LineGenerationParams::RefitCells::Run);
   EXPECT_FALSE(p.merge);
+  // The defaults are the shipped configuration's.
+  const LineGenerationParams d;
+  EXPECT_EQ(d.occlusion, LineGenerationParams::Occlusion::PerCluster);
+  EXPECT_EQ(d.refit_cells, LineGenerationParams::RefitCells::Band);
   EXPECT_DOUBLE_EQ(p.min_length, 0.3);
   for (const char* bad : {"lines: {max_gap: 0}", "lines: {min_cells: 1}", "lines: {angle_bin_deg: -1}",
-                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {colour: red}"})
+                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {refit_cells: all}", "lines: {colour: red}"})
     EXPECT_THROW(lineGenerationParams(Config::fromString(bad).section("lines")), ConfigError) << bad;
 }
 

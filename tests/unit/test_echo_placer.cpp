@@ -1,0 +1,136 @@
+// EchoPlacer with arc votes: an echo whose arc crosses no voted cell waits (arc_wait_cycles) for
+// later arcs, and then joins only a cell the grid already holds.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "core/config.hpp"
+#include "operational/echo_placer.hpp"
+
+using namespace lasonic;
+using geom::Vec2;
+
+namespace {
+
+AgmParams tactical() {
+  AgmParams p;
+  p.size = 100;
+  p.cell_size = 0.1;
+  p.t = 1;
+  p.g_threshold = 5;
+  p.h_max = 2000;
+  p.g_max = 100;
+  p.arc_vote_tau = 100;
+  return p;
+}
+
+EchoPlacementConfig waiting(int cycles) {
+  EchoPlacementConfig c;
+  c.bearing = AgmBearing::Axis;
+  c.placement = AgmPlacement::ArcVotes;
+  c.arc_require_votes = true;
+  c.arc_wait_cycles = cycles;
+  c.arc_min_votes = 1.5;  // two arcs, some cycles old (votes fade with arc_vote_tau)
+  return c;
+}
+
+// One echo from a transducer at `from` aimed at `target`, at the target's range.
+std::vector<GroupReading> echoAt(int id, const Vec2& from, const Vec2& target) {
+  GroupReading r;
+  r.sensor_id = id;
+  r.echo = true;
+  const Vec2 d = target - from;
+  r.e.range = d.norm();
+  r.e.sensor = geom::Pose2{from.x(), from.y(), std::atan2(d.y(), d.x())};
+  r.e.beam_width = geom::deg2rad(30);
+  r.axis_end = target;
+  return {r};
+}
+
+const Vec2 kTarget{1.55, 0.05};  // a cell centre
+
+// The first three echoes of a surface point from three poses, each in its own update cycle, then
+// an empty cycle; returns the points each cycle placed.
+std::vector<std::vector<Vec2>> threeArcs(EchoPlacer& placer, AccumulativeGridMap& agm) {
+  std::vector<std::vector<Vec2>> placed;
+  const std::vector<std::vector<GroupReading>> groups = {
+      echoAt(0, {0, 0}, kTarget), echoAt(1, {0.3, 0.9}, kTarget), echoAt(2, {0.3, -0.9}, kTarget), {}};
+  for (const auto& g : groups) {
+    placed.push_back(placer.place(g, agm));
+    agm.update(placed.back());
+  }
+  return placed;
+}
+
+}  // namespace
+
+TEST(EchoPlacer, WithoutWaitingTheFirstTwoEchoesOfASurfaceAreLost) {
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  EchoPlacer placer(waiting(0));
+  const auto placed = threeArcs(placer, agm);
+  EXPECT_TRUE(placed[0].empty());
+  EXPECT_TRUE(placed[1].empty());
+  ASSERT_EQ(placed[2].size(), 1u);  // two earlier arcs cross the third's at the target
+  EXPECT_LT((placed[2][0] - kTarget).norm(), 0.1);
+  EXPECT_TRUE(placed[3].empty());
+}
+
+TEST(EchoPlacer, WaitingEchoesJoinTheCellLaterArcsConfirm) {
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  EchoPlacer placer(waiting(100));
+  const auto placed = threeArcs(placer, agm);
+  EXPECT_TRUE(placed[0].empty());
+  EXPECT_TRUE(placed[1].empty());
+  ASSERT_EQ(placed[2].size(), 1u);
+  // The next cycle: the first two echoes, each crossed by two arcs besides its own, join the
+  // cell the third one started.
+  ASSERT_EQ(placed[3].size(), 2u);
+  for (const Vec2& p : placed[3]) EXPECT_LT((p - kTarget).norm(), 0.1);
+  int ix = 0, iy = 0;
+  ASSERT_TRUE(agm.cellAt(kTarget, ix, iy));
+  EXPECT_EQ(agm.g(ix, iy), 3);
+}
+
+TEST(EchoPlacer, AWaitingEchoNeverStartsACellOfItsOwn) {
+  // Later arcs cross the waiting echo's arc at the target, but no echo was placed there: the
+  // waiting echo stays out until the grid holds that cell, and is dropped after arc_wait_cycles.
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  EchoPlacer placer(waiting(5));
+  auto crossAt = [&](const Vec2& target) {
+    for (const Vec2 from : {Vec2{0.3, 0.9}, Vec2{0.3, -0.9}}) {
+      const Vec2 d = target - from;
+      const double b = std::atan2(d.y(), d.x());
+      agm.addArcVotes(from, d.norm(), b - 0.3, b + 0.3);
+    }
+  };
+  EXPECT_TRUE(placer.place(echoAt(0, {0, 0}, kTarget), agm).empty());
+  agm.update({});
+  crossAt(kTarget);
+  EXPECT_TRUE(placer.place({}, agm).empty());  // votes enough, but the cell holds nothing
+  agm.update({});
+  agm.update({kTarget});  // now the grid holds it
+  const auto placed = placer.place({}, agm);
+  ASSERT_EQ(placed.size(), 1u);
+  EXPECT_LT((placed[0] - kTarget).norm(), 0.1);
+  // Another waiting echo whose wait runs out before its cell is confirmed: dropped (with a wait
+  // of 20 cycles it would be placed, as above).
+  for (const int wait : {5, 20}) {
+    EchoPlacer p(waiting(wait));
+    const Vec2 other{1.55, wait == 5 ? 1.05 : -0.95};  // a fresh spot each time
+    EXPECT_TRUE(p.place(echoAt(0, {0, 0.2}, other), agm).empty());
+    for (int i = 0; i < 7; ++i) agm.update({});
+    agm.update({other});
+    crossAt(other);
+    EXPECT_EQ(p.place({}, agm).size(), wait == 5 ? 0u : 1u) << "wait " << wait;
+  }
+}
+
+TEST(EchoPlacer, WaitCyclesKey) {
+  const auto c = echoPlacementConfig(Config::fromString("arc_wait_cycles: 12"));
+  EXPECT_EQ(c.arc_wait_cycles, 12);
+  EXPECT_EQ(echoPlacementConfig(Config::fromString("{}")).arc_wait_cycles, 0);  // the pilot: none
+  EXPECT_THROW(echoPlacementConfig(Config::fromString("arc_wait_cycles: -1")), ConfigError);
+}
