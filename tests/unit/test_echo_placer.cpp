@@ -100,7 +100,7 @@ TEST(EchoPlacer, AWaitingEchoNeverStartsACellOfItsOwn) {
   agm.centreOn({0.05, 0.05});
   EchoPlacer placer(waiting(5));
   auto crossAt = [&](const Vec2& target) {
-    for (const Vec2 from : {Vec2{0.3, 0.9}, Vec2{0.3, -0.9}}) {
+    for (const Vec2& from : {Vec2{0.3, 0.9}, Vec2{0.3, -0.9}}) {
       const Vec2 d = target - from;
       const double b = std::atan2(d.y(), d.x());
       agm.addArcVotes(from, d.norm(), b - 0.3, b + 0.3);
