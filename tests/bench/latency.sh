@@ -9,18 +9,9 @@
 # waiting for a CPU that other programs hold.
 set -euo pipefail
 log=$1 speed=$2 min_groups=$3 samples=${4:-}
-bin=${LASONIC_BIN:?set LASONIC_BIN}
-src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
-url='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304'
-config=$src/deploy/config/lasonic.yaml
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+# bin, src, config, tmp and pids (killed on exit), as the integration tests have them.
+source "$(dirname "$0")/../integration/lib.sh"
+url+='&recv_buf_size=4194304'
 # Inside the namespace only: lo must be the sole interface that is up.
 if ip -o link show up | grep -qv ' lo:'; then
   echo "latency.sh: refusing to run outside a private network namespace (use tests/netns/in-netns.sh)" >&2
