@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <ostream>
 
 #include "core/geometry.hpp"
 #include "eval/baselines.hpp"
@@ -273,6 +274,47 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
   evalSectorMap(log, sectorTruthTable(log, sc, o), o, m);
 }
 
+namespace {
+const char* const kSourceNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
+const char* const kCueNames[5] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
+
+// One value of a sector map as a CSV field: empty when unknown (< 0).
+void csvDistance(std::ostream& out, double d) {
+  if (d >= 0) out << d;
+}
+
+void writeSectorSample(std::ostream& out, const RunLog& log, const sector_map_t& sm, size_t k, const SectorSample& s,
+                       const std::vector<std::string>& materials, const EvalOptions& o) {
+  const int64_t t0 = log.sim_states.front().utime;
+  const double reported = sm.distance[k];
+  const bool has = reported >= 0;
+  const bool in_range = s.truth <= o.sector_range;
+  const bool miss = in_range && (!has || reported > s.truth + o.sector_tolerance);
+  const bool fa = has && reported <= o.sector_range && reported < s.truth - o.sector_tolerance;
+  const int source = sm.source[k] >= 0 && sm.source[k] < 5 ? sm.source[k] : 0;
+  // The sector's centre bearing in the robot frame (sector 0 starts at -180 deg, behind).
+  const double bearing = -180.0 + 360.0 * (static_cast<double>(k) + 0.5) / static_cast<double>(sm.nsectors);
+  out << static_cast<double>(sm.utime - t0) * 1e-6 << ',' << k << ',' << bearing << ',';
+  if (std::isfinite(s.truth)) out << s.truth;
+  out << ',';
+  csvDistance(out, reported);
+  out << ',' << kSourceNames[source] << ',';
+  csvDistance(out, sm.laser_distance[k]);
+  out << ',';
+  csvDistance(out, sm.sonar_distance[k]);
+  out << ',';
+  if (k < sm.remembered_distance.size()) csvDistance(out, sm.remembered_distance[k]);
+  out << ',' << (s.material >= 0 && static_cast<size_t>(s.material) < materials.size() ? materials[static_cast<size_t>(s.material)] : "")
+      << ',' << (in_range && s.observable ? kCueNames[static_cast<int>(s.cue)] : in_range ? "unobservable" : "")
+      << ',' << (miss ? 1 : 0) << ',' << (fa ? 1 : 0) << '\n';
+}
+}  // namespace
+
+void writeSectorSampleHeader(std::ostream& out) {
+  out << "t_s,sector,bearing_deg,truth_m,reported_m,source,laser_m,sonar_m,remembered_m,material,cue,missed,"
+         "false_alarm\n";
+}
+
 void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m) {
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
   SectorScore fused, laser_only;
@@ -282,6 +324,7 @@ void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalO
     for (size_t k = 0; k < static_cast<size_t>(truth.sectors(i)); ++k) {
       fused.add(sm.distance[k], s[k], o, sm.source[k]);
       laser_only.add(sm.laser_distance[k], s[k], o);
+      if (o.samples_csv) writeSectorSample(*o.samples_csv, log, sm, k, s[k], truth.materials, o);
     }
   }
   m.set("sector_map.maps", static_cast<int64_t>(truth.maps.size()));

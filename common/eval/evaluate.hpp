@@ -1,7 +1,9 @@
 #pragma once
-// Scoring a run against the simulator's ground truth (DESIGN.md "Evaluation"). Each section
+
+// Scoring a run against the simulator's ground truth (README "Evaluation"). Each section
 // is a function of the decoded log and the scenario, so it can be tested on hand-made data.
 // The definitions are in README.md, section "Evaluation"; keep both in step.
+#include <iosfwd>
 #include <limits>
 #include <string>
 #include <vector>
@@ -55,7 +57,13 @@ struct EvalOptions {
   double recent_echo_s = 0.54;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
   bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
+  // Also every scored sector sample of the pilot's SECTOR_MAP as one CSV row (writeSectorSampleHeader
+  // first): where the misses and false alarms are, sample by sample. Not owned.
+  std::ostream* samples_csv = nullptr;
 };
+
+// The CSV columns of EvalOptions::samples_csv.
+void writeSectorSampleHeader(std::ostream& out);
 
 struct SectorTruthTable;  // eval/observability.hpp
 class LaserSeen;          // eval/laser_seen.hpp

@@ -27,6 +27,10 @@ int main(int argc, char** argv) {
   app.add_flag("--breakdown", breakdown,
                "also say why located points are missed by the tactical AGM and its lines "
                "(agm_tactical.breakdown.*, lines.breakdown.*)");
+  std::string samples_path;
+  app.add_option("--samples", samples_path,
+                 "also write every scored sector sample of SECTOR_MAP as CSV to FILE (time, sector, truth, "
+                 "reported value and source, each source's value, material, observability cue, missed, false alarm)");
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
   try {
@@ -44,6 +48,16 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     lasonic::eval::EvalOptions opts;
     opts.breakdown = breakdown;
+    std::ofstream samples;
+    if (!samples_path.empty()) {
+      samples.open(samples_path);
+      if (!samples) {
+        std::cerr << "lasonic-eval: cannot write " << samples_path << "\n";
+        return 1;
+      }
+      lasonic::eval::writeSectorSampleHeader(samples);
+      opts.samples_csv = &samples;
+    }
     const auto metrics = lasonic::eval::evaluate(log, scenario, opts, &baselines);
     // Never silently: without the laser's truth "laser-invisible" falls back to the material.
     if (metrics.has("sensors.laser_truth") && metrics.number("sensors.laser_truth") == 0 &&

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include "eval/evaluate.hpp"
 
@@ -116,6 +118,62 @@ TEST(EvalSectorMap, MissedAndFalseAlarm) {
   evalSectorMap(log, sc, EvalOptions{}, s);
   EXPECT_EQ(s.number("sector_map.maps"), 2.0);
   EXPECT_NEAR(s.number("sector_map.missed_rate"), 0.5, 1e-12);
+}
+
+// --samples: one CSV row per scored sector sample, agreeing with the rates.
+TEST(EvalSectorMap, SamplesCsvRowPerSectorAgreeingWithTheRates) {
+  const auto sc = boxRoom();
+  RunLog log;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  sector_map_t sm{};
+  sm.utime = 500'000;
+  sm.robot_radius = 0.35f;
+  sm.max_range = 3.0f;
+  sm.nsectors = 48;
+  sim::WorldGeometry world(sc);
+  const auto truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
+  for (int k = 0; k < 48; ++k) {
+    sm.distance.push_back(static_cast<float>(truth[k]));
+    sm.laser_distance.push_back(static_cast<float>(truth[k]));
+    sm.sonar_distance.push_back(-1);
+    sm.remembered_distance.push_back(-1);
+    sm.source.push_back(int8_t{sector_map_t::SOURCE_LASER});
+  }
+  sm.distance[24] = sm.laser_distance[24] = -1;  // the mesh ahead (sector 24: straight ahead) missed
+  sm.source[24] = sector_map_t::SOURCE_NONE;
+  sm.distance[0] = 0.5f;                          // a false alarm behind (truth 1.65)
+  sm.source[0] = sector_map_t::SOURCE_SONAR_COPIED;
+  log.sector_maps.push_back(sm);
+  std::ostringstream csv;
+  writeSectorSampleHeader(csv);
+  EvalOptions o;
+  o.samples_csv = &csv;
+  Metrics m;
+  evalSectorMap(log, sc, o, m);
+  std::istringstream in(csv.str());
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.rfind("t_s,sector,bearing_deg,truth_m,reported_m,source,", 0), 0u);
+  int rows = 0, missed = 0, fa = 0;
+  std::string row0, row24;
+  while (std::getline(in, line)) {
+    if (rows == 0) row0 = line;
+    if (rows == 24) row24 = line;
+    ++rows;
+    missed += line.size() >= 4 && line.compare(line.size() - 4, 4, ",1,0") == 0;
+    fa += line.size() >= 4 && line.compare(line.size() - 4, 4, ",0,1") == 0;
+  }
+  EXPECT_EQ(rows, 48);
+  int within = 0;
+  for (double t : truth) within += t <= 2.0;
+  EXPECT_NEAR(m.number("sector_map.missed_rate"), static_cast<double>(missed) / within, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.false_alarm_rate"), static_cast<double>(fa) / 48, 1e-12);
+  EXPECT_EQ(missed, 1);
+  EXPECT_EQ(fa, 1);
+  // Sector 24 is centred straight ahead (sector 0 starts behind, at -180 deg); nothing reported.
+  EXPECT_EQ(row24.rfind("0.5,24,3.75,", 0), 0u) << row24;
+  EXPECT_NE(row24.find(",,none,,,,mesh,"), std::string::npos) << row24;
+  EXPECT_NE(row0.find(",0.5,sonar_copied,"), std::string::npos) << row0;
 }
 
 TEST(EvalComplement, JoinsTruthAndClasses) {
