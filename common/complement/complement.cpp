@@ -13,6 +13,7 @@ const char* className(SonarClass c) {
     case SonarClass::False: return "false";
     case SonarClass::Unverifiable: return "unverifiable";
     case SonarClass::Invalid: return "invalid";
+    case SonarClass::OutsideView: return "outside_view";
   }
   return "invalid";
 }
@@ -22,6 +23,17 @@ SonarClass classify(double real, bool no_echo, double hyp, double tol, double li
   if (real < hyp - tol) return SonarClass::Complementary;
   if (real > hyp + tol) return SonarClass::False;
   return SonarClass::Redundant;
+}
+
+bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const LaserView& view) {
+  if (view.full_circle) return true;
+  // The echo's arc within the beam, every 1/8 of its width (3 deg of a 25 deg beam).
+  constexpr int kSteps = 8;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double a = sensor.theta + beam_width * (static_cast<double>(i) / kSteps - 0.5);
+    if (!view.covers(sensor.position() + range * geom::Vec2(std::cos(a), std::sin(a)))) return false;
+  }
+  return true;
 }
 
 bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {
@@ -60,6 +72,10 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
       c.cls = SonarClass::Unverifiable;
     else
       c.cls = classify(r.range, r.no_echo, c.hypothetical_range, p.tolerance, p.model.range_limit);
+    if (p.outside_view_complementary && rm && c.end && c.sensor_pose &&
+        (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
+        !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))
+      c.cls = SonarClass::OutsideView;
     out.readings.push_back(c);
   }
   return out;

@@ -19,7 +19,7 @@
 namespace lasonic::complement {
 
 // Values equal to complement_reading_t::CLASS_* (the message layer relies on it).
-enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4 };
+enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4, OutsideView = 5 };
 const char* className(SonarClass c);  // "complementary", ... (counter names)
 
 // DESIGN.md step 3, with real range r, hypothesis h and tolerance tol:
@@ -55,7 +55,15 @@ struct ComplementParams {
   // Radar Map noise turn wall echoes complementary.
   double tolerance = 0.10;
   int64_t max_rm_age_us = 500'000;      // older Radar Map -> stale
+  // A redundant or false reading whose echo arc (its range, across its beam) reaches where the
+  // scanner cannot see (behind a 270 deg laser) is OutsideView instead: the echo may come from
+  // there, where the laser has nothing to say, so the levels use it as a complementary echo.
+  // false: the paper's rule everywhere. A full-circle scanner sees everywhere: no effect.
+  bool outside_view_complementary = true;
 };
+
+// True if the scanner's view covers the whole arc at `range` across the sensor's beam.
+bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const LaserView& view);
 
 struct ClassifiedReading {
   int sensor_id = 0;

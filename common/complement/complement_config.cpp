@@ -5,7 +5,7 @@
 namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
-  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map"});
+  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
   p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
@@ -14,6 +14,9 @@ ComplementConfig complementConfig(const Config& c) {
   p.model.range_limit = c.get("range_limit", p.model.range_limit, Range::positive());
   p.max_rm_age_us = std::llround(
       1e6 * c.get("rm_max_age_s", static_cast<double>(p.max_rm_age_us) * 1e-6, Range::positive()));
+
+  p.outside_view_complementary = c.getChoice("outside_laser_view", p.outside_view_complementary,
+                                              {{"complementary", true}, {"paper", false}});
 
   const Config rm = c.section("radar_map");
   rm.allowOnly({"jump_abs", "jump_rel", "split_threshold", "min_points", "min_length"});

@@ -59,7 +59,7 @@ std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vecto
 struct ComplementInput {
   int sensor_id = 0;
   SonarClass cls = SonarClass::Invalid;
-  // Complementary readings only: usable = finite range and end point, range in
+  // Complementary (and outside-view) readings only: usable = finite range and end point, range in
   // [0, kMaxSonarRange]; the sensor pose when it is finite.
   bool usable = false;
   double range = 0;

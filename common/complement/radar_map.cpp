@@ -226,12 +226,27 @@ std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapCon
   return out;
 }
 
+bool LaserView::covers(const geom::Vec2& p) const {
+  if (full_circle) return true;
+  const geom::Vec2 d = p - sensor.position();
+  // The bearing relative to the first reading, in [0, 2 pi): inside when not beyond the last one.
+  double a = std::atan2(d.y(), d.x()) - sensor.theta - angle_min;
+  a -= 2 * geom::kPi * std::floor(a / (2 * geom::kPi));
+  return a <= angle_max - angle_min;
+}
+
 RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
                          int* no_pose) {
   RadarMap rm;
   rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
   rm.robot_pose = pose_at(rm.utime).value_or(geom::Pose2{});
+  rm.view.full_circle = scan.full_circle || scan.readings.empty();
+  rm.view.sensor = rm.robot_pose.compose(scan.mount);
+  if (!scan.readings.empty()) {
+    rm.view.angle_min = scan.readings.front().angle;
+    rm.view.angle_max = scan.readings.back().angle;
+  }
   for (const Cluster& cl : splitClusters(placeReadings(scan, pose_at, no_pose), scan.full_circle, cfg))
     for (const RmSegment& s : clusterSegments(cl, cfg)) rm.segments.push_back(s);
   return rm;

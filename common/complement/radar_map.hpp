@@ -64,11 +64,23 @@ struct RmSegment {
   double rms = 0;  // [m] RMS orthogonal distance of its points to the line
 };
 
+// Where the scan could see: a scanner of less than a full turn (a 270 deg one) is blind behind,
+// and there the Radar Map's lack of a line says nothing.
+struct LaserView {
+  bool full_circle = true;
+  geom::Pose2 sensor;              // the scanner's global pose at the scan's last reading
+  double angle_min = 0, angle_max = 0;  // [rad] sensor frame: the first and the last reading's angle
+  // True if the scanner could have seen point p (global): a full circle, or p's bearing from the
+  // sensor within [angle_min, angle_max].
+  bool covers(const geom::Vec2& p) const;
+};
+
 struct RadarMap {
   int64_t utime = 0;          // [us] time of the scan's last reading
   int64_t source_utime = 0;   // [us] time of the scan's first reading
   geom::Pose2 robot_pose;     // at utime
   std::vector<RmSegment> segments;
+  LaserView view;
 };
 
 // Indices [first, last] (inclusive) into a point list.

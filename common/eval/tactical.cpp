@@ -387,7 +387,8 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     for (const auto& [t, sensor] : echoes[i]) {
       if (t >= utime) break;
       const auto it = cls.find({t, sensor});
-      if (it != cls.end() && it->second == complement_reading_t::CLASS_COMPLEMENTARY) {
+      if (it != cls.end() && (it->second == complement_reading_t::CLASS_COMPLEMENTARY ||
+                              it->second == complement_reading_t::CLASS_OUTSIDE_VIEW)) {
         ++n;
         last = t;
       }

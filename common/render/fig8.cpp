@@ -364,6 +364,7 @@ void panelComplement(cairo_t* cr, Panel& p, const Snapshot& s) {
   for (const auto& b : s.complement) {
     if (!validBeam(b)) continue;
     switch (b.cls) {
+      case complement_reading_t::CLASS_OUTSIDE_VIEW:  // used as complementary (beyond the laser's view)
       case complement_reading_t::CLASS_COMPLEMENTARY:
         if (!wedgePath(cr, p.view, b.pose, b.beam_width, b.range)) break;
         set(cr, colour::kComplementary, 0.30);

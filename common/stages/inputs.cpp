@@ -59,7 +59,9 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
   for (const complement::ComplementInput& r : readings) {
     GroupReading g;
     g.sensor_id = r.sensor_id;
-    g.echo = r.cls == complement::SonarClass::Complementary && r.usable;
+    // An echo from beyond the laser's view is used as a complementary one (complement.hpp).
+    g.echo = (r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView) &&
+             r.usable;
     if (g.echo) {
       g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN}), r.beam_width};
       g.axis_end = r.end;

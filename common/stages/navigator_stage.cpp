@@ -133,6 +133,8 @@ void NavigatorStage::onComplement(const complement_t& m) {
     PendingGroup p;
     p.utime = m.utime;
     p.readings = std::move(group);
+    // A later scan cannot vouch for what lies beyond its view either: such echoes are kept.
+    for (const auto& r : readings) p.outside_view.push_back(r.cls == complement::SonarClass::OutsideView);
     // The hypothesis model the complement stage used (a malformed one: the paper's).
     if (geom::plausibleBeamWidth(m.beam_width)) p.model.beam_width = m.beam_width;
     else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.beam_width = " + std::to_string(m.beam_width) +
@@ -156,8 +158,9 @@ void NavigatorStage::flushPending() {
   while (!pending_.empty()) {
     PendingGroup& g = pending_.front();
     if (rm_source_utime_ && *rm_source_utime_ >= g.utime) {
-      for (GroupReading& r : g.readings) {
-        if (!r.echo) continue;
+      for (size_t i = 0; i < g.readings.size(); ++i) {
+        GroupReading& r = g.readings[i];
+        if (!r.echo || (i < g.outside_view.size() && g.outside_view[i])) continue;
         complement::IdealSonarModel model = g.model;  // with the reading's own beam, as the complement used
         if (r.e.beam_width > 0) model.beam_width = r.e.beam_width;
         const double h = complement::hypotheticalRange(r.e.sensor, rm_, model);

@@ -103,6 +103,7 @@ class NavigatorStage {
   struct PendingGroup {
     int64_t utime = 0;
     std::vector<GroupReading> readings;
+    std::vector<bool> outside_view;  // per reading: beyond the laser's view (kept unverified)
     complement::IdealSonarModel model;
     double tolerance = 0;
   };

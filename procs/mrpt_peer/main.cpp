@@ -239,7 +239,8 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
     const auto gc = complement::extractComplement(g, robot, rm ? &*rm : nullptr, ccfg.params);
     std::vector<geom::Vec2> hits;
     for (const auto& c : gc.readings)
-      if (c.cls == complement::SonarClass::Complementary && c.end) hits.push_back(*c.end);
+      if ((c.cls == complement::SonarClass::Complementary || c.cls == complement::SonarClass::OutsideView) && c.end)
+        hits.push_back(*c.end);
     agm.follow(robot->position(), replay.speed());
     agm.update(hits);
     own_map.setSonarTime(msg.utime);

@@ -19,6 +19,7 @@ constexpr int8_t kComplementary = complement_reading_t::CLASS_COMPLEMENTARY;
 constexpr int8_t kRedundant = complement_reading_t::CLASS_REDUNDANT;
 constexpr int8_t kUnverifiable = complement_reading_t::CLASS_UNVERIFIABLE;
 constexpr int8_t kInvalid = complement_reading_t::CLASS_INVALID;
+constexpr int8_t kOutsideView = complement_reading_t::CLASS_OUTSIDE_VIEW;
 using namespace lasonic::complement;
 using geom::Pose2;
 
@@ -292,6 +293,10 @@ TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
   EXPECT_NE(err("complement: {tolerance: -1}").find("complement.tolerance"), std::string::npos);
   EXPECT_NE(err("complement: {radar_map: {split: 1}}").find("complement.radar_map.split"), std::string::npos);
   EXPECT_NE(err("complement: {beam_width_deg: 0}").find("beam_width_deg"), std::string::npos);
+  EXPECT_TRUE(def.params.outside_view_complementary);
+  EXPECT_FALSE(complementConfig(Config::fromString("complement: {outside_laser_view: paper}").section("complement"))
+                   .params.outside_view_complementary);
+  EXPECT_NE(err("complement: {outside_laser_view: maybe}").find("complement.outside_laser_view"), std::string::npos);
 }
 
 TEST(ExtractComplement, EachReadingsHypothesisUsesItsOwnBeam) {
@@ -313,4 +318,62 @@ TEST(ExtractComplement, EachReadingsHypothesisUsesItsOwnBeam) {
   const complement_t m = complementToMessage(out, {});
   EXPECT_NEAR(m.readings[1].beam_width, geom::deg2rad(25.0), 1e-6);
   EXPECT_NEAR(m.beam_width, geom::deg2rad(30.0), 1e-6);  // the widest
+}
+
+// A 270 deg scanner cannot see behind: its Radar Map's lack of a line says nothing there.
+TEST(LaserView, CoversTheScannersFieldOfViewOnly) {
+  LaserView v;
+  v.full_circle = false;
+  v.sensor = {0.1, 0.0, geom::kPi / 2};  // mounted 0.1 m ahead, robot facing +y
+  v.angle_min = geom::deg2rad(-135.0);
+  v.angle_max = geom::deg2rad(135.0);
+  EXPECT_TRUE(v.covers({0.1, 2.0}));     // straight ahead of the sensor
+  EXPECT_TRUE(v.covers({2.1, 0.0}));     // 90 deg right
+  EXPECT_TRUE(v.covers({-0.9, -0.9}));   // 135 deg left: the last reading's direction
+  EXPECT_FALSE(v.covers({-0.9, -1.1}));  // just beyond it
+  EXPECT_FALSE(v.covers({0.1, -2.0}));   // straight behind
+  v.full_circle = true;
+  EXPECT_TRUE(v.covers({0.1, -2.0}));
+}
+
+TEST(ExtractComplement, AnEchoFromBeyondTheLasersViewIsOutsideViewNotRedundant) {
+  // A wall along the robot's right (y = -1, x in [-3, 3]) that the Radar Map holds; the
+  // scanner sees +-135 deg. A rear-right transducer (axis -150 deg) and a right one (-90 deg)
+  // both hear the wall at the hypothesis' range.
+  RadarMap rm;
+  rm.utime = 0;
+  rm.segments = {{{{-3.0, -1.0}, {3.0, -1.0}}, 200, 0.0}};
+  rm.view.full_circle = false;
+  rm.view.sensor = Pose2{};
+  rm.view.angle_min = geom::deg2rad(-135.0);
+  rm.view.angle_max = geom::deg2rad(135.0);
+  SonarGroup g;
+  const double beam = geom::deg2rad(25.0);
+  g.readings.push_back({1, 0.0, false, {0, 0, geom::deg2rad(-150.0)}, true, beam});
+  g.readings.push_back({2, 0.0, false, {0, 0, geom::deg2rad(-90.0)}, true, beam});
+  // Each at its hypothesis (redundant by the paper's rule).
+  const auto probe = extractComplement(g, Pose2{}, &rm, {});
+  for (size_t i = 0; i < 2; ++i) g.readings[i].range = probe.readings[i].hypothetical_range;
+  ComplementParams paper;
+  paper.outside_view_complementary = false;
+  const auto by_paper = extractComplement(g, Pose2{}, &rm, paper);
+  EXPECT_EQ(by_paper.readings[0].cls, SonarClass::Redundant);
+  EXPECT_EQ(by_paper.readings[1].cls, SonarClass::Redundant);
+  const auto out = extractComplement(g, Pose2{}, &rm, {});  // the default
+  EXPECT_EQ(out.readings[0].cls, SonarClass::OutsideView);  // its arc reaches behind the scanner
+  EXPECT_EQ(out.readings[1].cls, SonarClass::Redundant);    // wholly in view: the laser has it
+  EXPECT_STREQ(className(SonarClass::OutsideView), "outside_view");
+  // A full-circle scanner sees everywhere: the paper's classes.
+  rm.view.full_circle = true;
+  EXPECT_EQ(extractComplement(g, Pose2{}, &rm, {}).readings[0].cls, SonarClass::Redundant);
+  // The message carries the class, and its consumers read it back as a usable echo.
+  const complement_t m = complementToMessage(out, {});
+  EXPECT_EQ(m.readings[0].cls, kOutsideView);
+  std::vector<InputProblem> problems;
+  const auto back = complementFromMessage(m, problems);
+  EXPECT_TRUE(problems.empty());
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].cls, SonarClass::OutsideView);
+  EXPECT_TRUE(back[0].usable);
+  EXPECT_NEAR(back[0].range, g.readings[0].range, 1e-6);
 }

@@ -326,4 +326,5 @@ INSTANTIATE_TEST_SUITE_P(Suite, ShippedScenario,
 // Holdout scenes (README "Scene suite"): the same checks.
 INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                          ::testing::Values("holdout/glass_lobby", "holdout/warehouse_aisle", "holdout/corridor_fast",
-                                           "holdout/glass_showroom", "holdout/pioneer_corridor"));
+                                           "holdout/glass_showroom", "holdout/pioneer_corridor",
+                                           "holdout/pioneer_workshop"));
