@@ -1,5 +1,7 @@
 #include "complement/radar_map.hpp"
 
+#include "core/pose_history.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -50,7 +52,10 @@ class UnitVectors {
 };
 }  // namespace
 
-std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
+namespace {
+// Reading -> global point; pose_at(utime) -> std::optional<geom::Pose2>.
+template <typename PoseAt>
+std::vector<ScanPoint> placeWith(const LaserScan& scan, PoseAt&& pose_at, int* no_pose) {
   std::vector<ScanPoint> out(scan.readings.size());
   int missing = 0;
   CachedRotation mount_rot, robot_rot;
@@ -68,6 +73,16 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
   }
   if (no_pose) *no_pose = missing;
   return out;
+}
+}  // namespace
+
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
+  return placeWith(scan, pose_at, no_pose);
+}
+
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
+  PoseHistory::Cursor cursor(poses);
+  return placeWith(scan, [&cursor](int64_t utime) { return cursor.at(utime); }, no_pose);
 }
 
 namespace {
@@ -226,15 +241,31 @@ std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapCon
   return out;
 }
 
-RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
-                         int* no_pose) {
+namespace {
+RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points, std::optional<geom::Pose2> pose,
+                    const RadarMapConfig& cfg) {
   RadarMap rm;
   rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
-  rm.robot_pose = pose_at(rm.utime).value_or(geom::Pose2{});
-  for (const Cluster& cl : splitClusters(placeReadings(scan, pose_at, no_pose), scan.full_circle, cfg))
+  rm.robot_pose = pose.value_or(geom::Pose2{});
+  for (const Cluster& cl : splitClusters(points, scan.full_circle, cfg))
     for (const RmSegment& s : clusterSegments(cl, cfg)) rm.segments.push_back(s);
   return rm;
+}
+int64_t lastReadingTime(const LaserScan& scan) {
+  return scan.readings.empty() ? scan.utime : scan.readings.back().utime;
+}
+}  // namespace
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
+                         int* no_pose) {
+  const auto pose = pose_at(lastReadingTime(scan));
+  return radarMapOf(scan, placeReadings(scan, pose_at, no_pose), pose, cfg);
+}
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg, int* no_pose) {
+  const auto pose = poses.at(lastReadingTime(scan));
+  return radarMapOf(scan, placeReadings(scan, poses, no_pose), pose, cfg);
 }
 
 }  // namespace lasonic::complement

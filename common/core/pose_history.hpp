@@ -26,6 +26,27 @@ class PoseHistory {
   // search hint: not for concurrent callers on one history (each stage owns its own).
   std::optional<geom::Pose2> at(int64_t utime) const;
 
+  // Poses at many times, mostly increasing (a laser scan's readings): exactly the values of
+  // at(), with the odometry interval that holds a time and its differences found once per
+  // interval instead of once per query. Valid while the history is not changed.
+  class Cursor {
+   public:
+    explicit Cursor(const PoseHistory& h) : h_(h) {}
+    std::optional<geom::Pose2> at(int64_t utime) {
+      if (!(lo_ < utime && utime <= hi_) && !enter(utime)) return h_.at(utime);
+      // geom::interpolate(a, b, s) with b - a taken once: the same operations, the same values.
+      const double s = static_cast<double>(utime - lo_) / den_;
+      return geom::Pose2{a_.x + s * dx_, a_.y + s * dy_, geom::normalizeAngle(a_.theta + s * dtheta_)};
+    }
+
+   private:
+    bool enter(int64_t utime);  // the interval holding utime, if at() interpolates there
+    const PoseHistory& h_;
+    int64_t lo_ = 0, hi_ = -1;  // at(t) interpolates in this interval for lo_ < t <= hi_
+    geom::Pose2 a_;
+    double dx_ = 0, dy_ = 0, dtheta_ = 0, den_ = 1;
+  };
+
   bool empty() const { return first_ == poses_.size(); }
   int64_t newestTime() const { return empty() ? 0 : poses_.back().utime; }
   std::optional<geom::Pose2> newest() const;

@@ -183,3 +183,32 @@ TEST(PoseHistory, QueriesInAnyOrderGiveTheSamePoses) {
   }
   EXPECT_GT(interpolated, 200);
 }
+
+// A Cursor gives exactly at()'s poses, for queries in any order, at the entries' own times (the
+// newest entry's pose itself, not an interpolation at s = 1) and outside the history.
+TEST(PoseHistory, CursorGivesAtsPoses) {
+  using lasonic::PoseHistory;
+  PoseHistory h(200'000, 30'000);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int64_t> t(-50'000, 400'000);
+  int interpolated = 0;
+  for (int64_t s = 0; s <= 300'000; s += 20'000) {
+    h.add(s, {u(rng), u(rng), 3.0 * u(rng)});
+    std::vector<int64_t> queries;
+    for (int k = 0; k < 30; ++k) queries.push_back(t(rng));
+    for (int64_t q = s - 60'000; q <= s + 40'000; q += 1'111) queries.push_back(q);  // scan-like runs
+    for (int64_t q = s - 60'000; q <= s + 1; q += 20'000) queries.insert(queries.end(), {q - 1, q, q + 1});
+    PoseHistory::Cursor cursor(h);
+    for (const int64_t q : queries) {
+      const auto a = cursor.at(q), b = h.at(q);
+      ASSERT_EQ(a.has_value(), b.has_value()) << q;
+      if (!a) continue;
+      ASSERT_EQ(a->x, b->x) << q;
+      ASSERT_EQ(a->y, b->y) << q;
+      ASSERT_EQ(a->theta, b->theta) << q;
+      interpolated += q % 20'000 != 0 && q > 0 && q < s;
+    }
+  }
+  EXPECT_GT(interpolated, 300);
+}

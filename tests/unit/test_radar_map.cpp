@@ -93,6 +93,40 @@ TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
   EXPECT_GT(offWalls(uncorrected, rectangleRoom()), 0.10);
 }
 
+// The placement from a PoseHistory (interval by interval) is the placement with its at().
+TEST(RadarMap, PlacementFromAHistoryEqualsPlacementWithItsLookup) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, t0, dur));
+  // The history ends inside the scan (the last readings are held or have no pose) and starts
+  // after its first reading's time minus the extrapolation limit.
+  PoseHistory odo(5'000'000, 30'000);
+  for (int64_t t = t0 + 15'000; t <= t0 + 150'000; t += 20'000) odo.add(t, traj(t));
+  int missing_a = 0, missing_b = 0;
+  const auto a = placeReadings(scan, odo, &missing_a);
+  const auto b = placeReadings(scan, [&](int64_t t) { return odo.at(t); }, &missing_b);
+  EXPECT_EQ(missing_a, missing_b);
+  EXPECT_GT(missing_a, 0);
+  ASSERT_EQ(a.size(), b.size());
+  int placed = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].valid, b[i].valid) << i;
+    ASSERT_EQ(a[i].p.x(), b[i].p.x()) << i;
+    ASSERT_EQ(a[i].p.y(), b[i].p.y()) << i;
+    ASSERT_EQ(a[i].range, b[i].range) << i;
+    placed += a[i].valid;
+  }
+  EXPECT_GT(placed, 400);
+  const RadarMap ra = extractRadarMap(scan, odo, {}), rb = extractRadarMap(scan, [&](int64_t t) { return odo.at(t); }, {});
+  ASSERT_EQ(ra.segments.size(), rb.segments.size());
+  for (size_t i = 0; i < ra.segments.size(); ++i) {
+    EXPECT_EQ(ra.segments[i].seg.a, rb.segments[i].seg.a);
+    EXPECT_EQ(ra.segments[i].seg.b, rb.segments[i].seg.b);
+  }
+  EXPECT_EQ(ra.robot_pose.x, rb.robot_pose.x);
+  EXPECT_EQ(ra.robot_pose.theta, rb.robot_pose.theta);
+}
+
 TEST(RadarMap, GapsStayGaps) {
   // A wall at y = 3 with a window (no laser return) over x in [2.5, 3.5].
   fixture::World w;
