@@ -86,9 +86,21 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& p
 }
 
 namespace {
+// std::sqrt(d2) > t, decided on d2 against t * t where that is safe. sqrt is correctly rounded, so
+// outside a relative band of 2^-48 around t * t (both roundings are within 2^-52 of it) the
+// squares decide as the roots would; inside it, and for NaN, the root itself.
+inline bool rootGreater(double d2, double t) {
+  if (!(t > 1e-150 && t < 1e150)) return std::sqrt(d2) > t;  // (t * t neither underflows nor overflows)
+  const double t2 = t * t;
+  if (d2 > t2 * (1.0 + 0x1p-48)) return true;
+  if (d2 < t2 * (1.0 - 0x1p-48)) return false;
+  return std::sqrt(d2) > t;
+}
+
 // A range jump: the threshold grows with range because neighbouring rays diverge.
 bool isJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
-  return (a.p - b.p).norm() > cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range);
+  // (a.p - b.p).norm() > threshold
+  return rootGreater((a.p - b.p).squaredNorm(), cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range));
 }
 }  // namespace
 
@@ -100,7 +112,7 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
   // breakBefore(i): point i cannot continue the cluster of point i-1.
   auto breakBefore = [&](size_t i) {
     if (i == 0 && !full_circle) return true;
-    const ScanPoint& prev = points[(i + n - 1) % n];
+    const ScanPoint& prev = points[i == 0 ? n - 1 : i - 1];
     const ScanPoint& cur = points[i];
     return !prev.valid || !cur.valid || isJump(prev, cur, cfg);
   };
@@ -110,21 +122,26 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
     if (breakBefore(i)) start = i;
   if (!start) {  // a full circle without a single break
     Cluster all;
+    all.points.reserve(n);
     for (const ScanPoint& p : points) all.points.push_back(p.p);
     all.closed = true;
     clusters.push_back(std::move(all));
     return clusters;
   }
-  Cluster cur;
-  for (size_t k = 0; k < n; ++k) {
-    const size_t i = (*start + k) % n;
-    if (k > 0 && breakBefore(i) && !cur.points.empty()) {
-      clusters.push_back(std::move(cur));
-      cur = Cluster{};
-    }
-    if (points[i].valid) cur.points.push_back(points[i].p);
+  // Each cluster's points are gathered in one buffer and copied out once, at their number.
+  std::vector<geom::Vec2> cur;
+  cur.reserve(n);
+  const auto close = [&] {
+    if (cur.empty()) return;
+    clusters.emplace_back();
+    clusters.back().points.assign(cur.begin(), cur.end());
+    cur.clear();
+  };
+  for (size_t k = 0, i = *start; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {  // i = (start + k) % n
+    if (k > 0 && breakBefore(i)) close();
+    if (points[i].valid) cur.push_back(points[i].p);
   }
-  if (!cur.points.empty()) clusters.push_back(std::move(cur));
+  close();
   return clusters;
 }
 
@@ -134,11 +151,12 @@ namespace {
 class ChordDistance {
  public:
   explicit ChordDistance(const geom::Segment& s) : a_(s.a), e_(s.b - s.a), l2_(e_.squaredNorm()) {}
-  double operator()(const Vec2& p) const {
-    if (l2_ <= 0.0) return (a_ - p).norm();
+  // The square of the distance (norm() is the root of squaredNorm()).
+  double squared(const Vec2& p) const {
+    if (l2_ <= 0.0) return (a_ - p).squaredNorm();
     const double u = std::clamp((p - a_).dot(e_) / l2_, 0.0, 1.0);
     const Vec2 closest = a_ + u * e_;
-    return (closest - p).norm();
+    return (closest - p).squaredNorm();
   }
 
  private:
@@ -146,18 +164,27 @@ class ChordDistance {
   double l2_;
 };
 
+// sqrt(d2) > sqrt(m2) for d2 > m2 >= 0: on the squares unless they are within 2^-48 (then both
+// roots may round to the same double).
+inline bool rootOfLarger(double d2, double m2) {
+  return d2 > m2 * (1.0 + 0x1p-48) || std::sqrt(d2) > std::sqrt(m2);
+}
+
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
-  double dmax = -1;
+  // The first point farthest from the chord: a point takes over only if its distance (the root
+  // of its square) is larger, so ties keep the first. m2: the leader's square, -1 for none.
+  double m2 = -1;
   size_t kmax = i;
   const ChordDistance distance(geom::Segment{pts[i], pts[j]});
   for (size_t k = i + 1; k < j; ++k) {
-    const double d = distance(pts[k]);
-    if (d > dmax) {
-      dmax = d;
+    const double d2 = distance.squared(pts[k]);
+    if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {  // (NaN never takes over)
+      m2 = d2;
       kmax = k;
     }
   }
+  const double dmax = m2 < 0 ? -1.0 : std::sqrt(m2);
   if (dmax < threshold) {
     out.push_back({i, j});
     return;

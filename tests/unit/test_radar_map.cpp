@@ -1,6 +1,8 @@
 // RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "complement_fixture.hpp"
@@ -183,6 +185,59 @@ TEST(IterativeEndPointFit, SplitsAnLAtItsCorner) {
   EXPECT_EQ(parts[1].last, 20u);
   // A straight run within the threshold is not split.
   EXPECT_EQ(iterativeEndPointFit(pts, {0, 10}, 0.03).size(), 1u);
+}
+
+namespace {
+// The definition: split at the first point farthest from the chord (geom::distance) until all
+// are within the threshold.
+void referenceFit(const std::vector<Vec2>& p, size_t i, size_t j, double thr, std::vector<IndexRange>& out) {
+  double dmax = -1;
+  size_t kmax = i;
+  for (size_t k = i + 1; k < j; ++k) {
+    const double d = geom::distance(Segment{p[i], p[j]}, p[k]);
+    if (d > dmax) {
+      dmax = d;
+      kmax = k;
+    }
+  }
+  if (dmax < thr) {
+    out.push_back({i, j});
+    return;
+  }
+  referenceFit(p, i, kmax, thr, out);
+  referenceFit(p, kmax, j, thr, out);
+}
+}  // namespace
+
+// The fit compares squared distances; it splits where the definition (roots, first of equal
+// roots) does: noisy polylines, exact ties, and distances within a few ulp of each other and
+// of the threshold.
+TEST(IterativeEndPointFit, SplitsWhereTheDefinitionSplits) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int splits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<Vec2> pts;
+    const int n = 5 + trial % 60;
+    for (int k = 0; k < n; ++k) {
+      const double x = 0.05 * k;
+      double y = 0.02 * u(rng) + (k > n / 2 ? 0.3 * (x - 0.025 * n) : 0.0);
+      if (trial % 3 == 0) y = (k % 4 == 1 || k % 4 == 2) ? 0.07 : 0.0;  // exact ties
+      if (trial % 3 == 1 && k % 5 == 2) y = std::nextafter(0.07, trial % 2 ? 1.0 : 0.0);  // near ties
+      pts.emplace_back(x, y);
+    }
+    const double thr = trial % 3 == 2 ? 0.03 : 0.07;  // 0.07: distances at the threshold
+    std::vector<IndexRange> expected;
+    referenceFit(pts, 0, pts.size() - 1, thr, expected);
+    const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
+    ASSERT_EQ(got.size(), expected.size()) << trial;
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].first, expected[k].first) << trial;
+      EXPECT_EQ(got[k].last, expected[k].last) << trial;
+    }
+    splits += static_cast<int>(got.size()) - 1;
+  }
+  EXPECT_GT(splits, 300);
 }
 
 TEST(FitLine, TotalLeastSquaresWithEndpointsProjected) {
