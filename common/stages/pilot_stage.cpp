@@ -161,6 +161,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   int no_pose = 0;
   const auto placed = complement::placeReadings(*scan, poses_, &no_pose);
   std::vector<geom::Vec2> points;
+  points.reserve(placed.size());
   int64_t newest = m.utime;
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);

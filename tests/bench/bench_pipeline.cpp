@@ -147,6 +147,7 @@ class Replayer {
       // Pilot stage: the scan's points, then the first sector map after it.
       const auto placed = cp::placeReadings(*scan, poses_);
       std::vector<geom::Vec2> points;
+      points.reserve(placed.size());
       int64_t newest = ls->utime;
       for (size_t i = 0; i < placed.size(); ++i) {
         newest = std::max(newest, scan->readings[i].utime);
