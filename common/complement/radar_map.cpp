@@ -81,8 +81,26 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
 }
 
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
+  // As placeWith, with the robot's rotation from the cursor (angle addition while it turns).
+  std::vector<ScanPoint> out(scan.readings.size());
+  int missing = 0;
+  CachedRotation mount_rot;
+  thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
   PoseHistory::Cursor cursor(poses);
-  return placeWith(scan, [&cursor](int64_t utime) { return cursor.at(utime); }, no_pose);
+  for (size_t i = 0; i < scan.readings.size(); ++i) {
+    const LaserReading& r = scan.readings[i];
+    if (!r.valid) continue;
+    double c = 1, s = 0;
+    const auto robot = cursor.atRotated(r.utime, c, s);
+    if (!robot) {
+      ++missing;
+      continue;
+    }
+    const Vec2 l = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
+    out[i] = {Vec2(robot->x + c * l.x() - s * l.y(), robot->y + s * l.x() + c * l.y()), r.range, true};
+  }
+  if (no_pose) *no_pose = missing;
+  return out;
 }
 
 namespace {

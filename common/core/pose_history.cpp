@@ -68,6 +68,8 @@ bool PoseHistory::Cursor::enter(int64_t utime) {
   dy_ = b.pose.y - a.pose.y;
   dtheta_ = geom::angleDiff(b.pose.theta, a.pose.theta);
   den_ = static_cast<double>(b.utime - a.utime);
+  small_turn_ = std::abs(dtheta_) <= 0.1;
+  if (small_turn_) ca_ = std::cos(a.pose.theta), sa_ = std::sin(a.pose.theta);
   return true;
 }
 
