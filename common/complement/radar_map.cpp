@@ -1,5 +1,7 @@
 #include "complement/radar_map.hpp"
 
+#include "core/pose_history.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -50,7 +52,10 @@ class UnitVectors {
 };
 }  // namespace
 
-std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
+namespace {
+// Reading -> global point; pose_at(utime) -> std::optional<geom::Pose2>.
+template <typename PoseAt>
+std::vector<ScanPoint> placeWith(const LaserScan& scan, PoseAt&& pose_at, int* no_pose) {
   std::vector<ScanPoint> out(scan.readings.size());
   int missing = 0;
   CachedRotation mount_rot, robot_rot;
@@ -69,11 +74,51 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
   if (no_pose) *no_pose = missing;
   return out;
 }
+}  // namespace
+
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at, int* no_pose) {
+  return placeWith(scan, pose_at, no_pose);
+}
+
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
+  // As placeWith, with the robot's rotation from the cursor (angle addition while it turns).
+  std::vector<ScanPoint> out(scan.readings.size());
+  int missing = 0;
+  CachedRotation mount_rot;
+  thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
+  PoseHistory::Cursor cursor(poses);
+  for (size_t i = 0; i < scan.readings.size(); ++i) {
+    const LaserReading& r = scan.readings[i];
+    if (!r.valid) continue;
+    double c = 1, s = 0;
+    const auto robot = cursor.atRotated(r.utime, c, s);
+    if (!robot) {
+      ++missing;
+      continue;
+    }
+    const Vec2 l = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
+    out[i] = {Vec2(robot->x + c * l.x() - s * l.y(), robot->y + s * l.x() + c * l.y()), r.range, true};
+  }
+  if (no_pose) *no_pose = missing;
+  return out;
+}
 
 namespace {
+// std::sqrt(d2) > t, decided on d2 against t * t where that is safe. sqrt is correctly rounded, so
+// outside a relative band of 2^-48 around t * t (both roundings are within 2^-52 of it) the
+// squares decide as the roots would; inside it, and for NaN, the root itself.
+inline bool rootGreater(double d2, double t) {
+  if (!(t > 1e-150 && t < 1e150)) return std::sqrt(d2) > t;  // (t * t neither underflows nor overflows)
+  const double t2 = t * t;
+  if (d2 > t2 * (1.0 + 0x1p-48)) return true;
+  if (d2 < t2 * (1.0 - 0x1p-48)) return false;
+  return std::sqrt(d2) > t;
+}
+
 // A range jump: the threshold grows with range because neighbouring rays diverge.
 bool isJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
-  return (a.p - b.p).norm() > cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range);
+  // (a.p - b.p).norm() > threshold
+  return rootGreater((a.p - b.p).squaredNorm(), cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range));
 }
 }  // namespace
 
@@ -85,7 +130,7 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
   // breakBefore(i): point i cannot continue the cluster of point i-1.
   auto breakBefore = [&](size_t i) {
     if (i == 0 && !full_circle) return true;
-    const ScanPoint& prev = points[(i + n - 1) % n];
+    const ScanPoint& prev = points[i == 0 ? n - 1 : i - 1];
     const ScanPoint& cur = points[i];
     return !prev.valid || !cur.valid || isJump(prev, cur, cfg);
   };
@@ -95,21 +140,26 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
     if (breakBefore(i)) start = i;
   if (!start) {  // a full circle without a single break
     Cluster all;
+    all.points.reserve(n);
     for (const ScanPoint& p : points) all.points.push_back(p.p);
     all.closed = true;
     clusters.push_back(std::move(all));
     return clusters;
   }
-  Cluster cur;
-  for (size_t k = 0; k < n; ++k) {
-    const size_t i = (*start + k) % n;
-    if (k > 0 && breakBefore(i) && !cur.points.empty()) {
-      clusters.push_back(std::move(cur));
-      cur = Cluster{};
-    }
-    if (points[i].valid) cur.points.push_back(points[i].p);
+  // Each cluster's points are gathered in one buffer and copied out once, at their number.
+  std::vector<geom::Vec2> cur;
+  cur.reserve(n);
+  const auto close = [&] {
+    if (cur.empty()) return;
+    clusters.emplace_back();
+    clusters.back().points.assign(cur.begin(), cur.end());
+    cur.clear();
+  };
+  for (size_t k = 0, i = *start; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {  // i = (start + k) % n
+    if (k > 0 && breakBefore(i)) close();
+    if (points[i].valid) cur.push_back(points[i].p);
   }
-  if (!cur.points.empty()) clusters.push_back(std::move(cur));
+  close();
   return clusters;
 }
 
@@ -119,11 +169,12 @@ namespace {
 class ChordDistance {
  public:
   explicit ChordDistance(const geom::Segment& s) : a_(s.a), e_(s.b - s.a), l2_(e_.squaredNorm()) {}
-  double operator()(const Vec2& p) const {
-    if (l2_ <= 0.0) return (a_ - p).norm();
+  // The square of the distance (norm() is the root of squaredNorm()).
+  double squared(const Vec2& p) const {
+    if (l2_ <= 0.0) return (a_ - p).squaredNorm();
     const double u = std::clamp((p - a_).dot(e_) / l2_, 0.0, 1.0);
     const Vec2 closest = a_ + u * e_;
-    return (closest - p).norm();
+    return (closest - p).squaredNorm();
   }
 
  private:
@@ -131,18 +182,27 @@ class ChordDistance {
   double l2_;
 };
 
+// sqrt(d2) > sqrt(m2) for d2 > m2 >= 0: on the squares unless they are within 2^-48 (then both
+// roots may round to the same double).
+inline bool rootOfLarger(double d2, double m2) {
+  return d2 > m2 * (1.0 + 0x1p-48) || std::sqrt(d2) > std::sqrt(m2);
+}
+
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
-  double dmax = -1;
+  // The first point farthest from the chord: a point takes over only if its distance (the root
+  // of its square) is larger, so ties keep the first. m2: the leader's square, -1 for none.
+  double m2 = -1;
   size_t kmax = i;
   const ChordDistance distance(geom::Segment{pts[i], pts[j]});
   for (size_t k = i + 1; k < j; ++k) {
-    const double d = distance(pts[k]);
-    if (d > dmax) {
-      dmax = d;
+    const double d2 = distance.squared(pts[k]);
+    if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {  // (NaN never takes over)
+      m2 = d2;
       kmax = k;
     }
   }
+  const double dmax = m2 < 0 ? -1.0 : std::sqrt(m2);
   if (dmax < threshold) {
     out.push_back({i, j});
     return;
@@ -235,21 +295,37 @@ bool LaserView::covers(const geom::Vec2& p) const {
   return a <= angle_max - angle_min;
 }
 
-RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
-                         int* no_pose) {
+namespace {
+RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points, std::optional<geom::Pose2> pose,
+                    const RadarMapConfig& cfg) {
   RadarMap rm;
   rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
-  rm.robot_pose = pose_at(rm.utime).value_or(geom::Pose2{});
+  rm.robot_pose = pose.value_or(geom::Pose2{});
   rm.view.full_circle = scan.full_circle || scan.readings.empty();
   rm.view.sensor = rm.robot_pose.compose(scan.mount);
   if (!scan.readings.empty()) {
     rm.view.angle_min = scan.readings.front().angle;
     rm.view.angle_max = scan.readings.back().angle;
   }
-  for (const Cluster& cl : splitClusters(placeReadings(scan, pose_at, no_pose), scan.full_circle, cfg))
+  for (const Cluster& cl : splitClusters(points, scan.full_circle, cfg))
     for (const RmSegment& s : clusterSegments(cl, cfg)) rm.segments.push_back(s);
   return rm;
+}
+int64_t lastReadingTime(const LaserScan& scan) {
+  return scan.readings.empty() ? scan.utime : scan.readings.back().utime;
+}
+}  // namespace
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
+                         int* no_pose) {
+  const auto pose = pose_at(lastReadingTime(scan));
+  return radarMapOf(scan, placeReadings(scan, pose_at, no_pose), pose, cfg);
+}
+
+RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg, int* no_pose) {
+  const auto pose = poses.at(lastReadingTime(scan));
+  return radarMapOf(scan, placeReadings(scan, poses, no_pose), pose, cfg);
 }
 
 }  // namespace lasonic::complement

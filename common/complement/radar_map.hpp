@@ -20,6 +20,10 @@
 
 #include "core/geometry.hpp"
 
+namespace lasonic {
+class PoseHistory;
+}
+
 namespace lasonic::complement {
 
 // One laser reading in the sensor frame. `valid` is false for no-return readings (and for
@@ -93,6 +97,8 @@ struct IndexRange {
 // whose pose is unknown become gaps; *no_pose (if given) counts them.
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& pose_at,
                                      int* no_pose = nullptr);
+// The same with the poses of an odometry history (PoseHistory::at), found interval by interval.
+std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
 
 // Runs of valid consecutive points without a jump. For a full-circle scan a run that crosses
 // the end of the list continues at its start; if nothing breaks the circle at all (a closed room
@@ -126,6 +132,8 @@ RmSegment fitLine(const std::vector<geom::Vec2>& points, IndexRange r);
 void joinCorner(RmSegment& a, RmSegment& b, double max_shift);
 
 RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
+                         int* no_pose = nullptr);
+RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg,
                          int* no_pose = nullptr);
 
 }  // namespace lasonic::complement

@@ -5,15 +5,6 @@
 
 namespace lasonic::geom {
 
-double normalizeAngle(double a) {
-  if (!std::isfinite(a)) return a;
-  // fmod(a, 2pi) is a itself when |a| < 2pi (exactly: the quotient is 0); the common case.
-  if (!(std::abs(a) < 2.0 * kPi)) a = std::fmod(a, 2.0 * kPi);
-  if (a <= -kPi) a += 2.0 * kPi;
-  if (a > kPi) a -= 2.0 * kPi;
-  return a;
-}
-
 Vec2 Pose2::transform(const Vec2& l) const {
   const double c = std::cos(theta), s = std::sin(theta);
   return {x + c * l.x() - s * l.y(), y + s * l.x() + c * l.y()};

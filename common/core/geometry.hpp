@@ -18,7 +18,14 @@ inline double rad2deg(double r) { return r * 180.0 / kPi; }
 inline bool plausibleBeamWidth(double w) { return std::isfinite(w) && w > 0.0 && w < kPi; }
 
 // Wraps to (-pi, pi].
-double normalizeAngle(double a);
+inline double normalizeAngle(double a) {
+  if (!std::isfinite(a)) return a;
+  // fmod(a, 2pi) is a itself when |a| < 2pi (exactly: the quotient is 0); the common case.
+  if (!(std::abs(a) < 2.0 * kPi)) a = std::fmod(a, 2.0 * kPi);
+  if (a <= -kPi) a += 2.0 * kPi;
+  if (a > kPi) a -= 2.0 * kPi;
+  return a;
+}
 // Signed smallest difference a - b, in (-pi, pi].
 inline double angleDiff(double a, double b) { return normalizeAngle(a - b); }
 

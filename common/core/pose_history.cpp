@@ -52,4 +52,25 @@ std::optional<geom::Pose2> PoseHistory::at(int64_t utime) const {
   return geom::interpolate(a.pose, b.pose, s);
 }
 
+bool PoseHistory::Cursor::enter(int64_t utime) {
+  const std::vector<Entry>& e = h_.poses_;
+  if (h_.empty() || utime <= e[h_.first_].utime || utime >= e.back().utime) return false;
+  // As at(): b = the first entry not older than utime, a the one before.
+  const auto it = std::lower_bound(e.begin() + static_cast<std::ptrdiff_t>(h_.first_), e.end(), utime,
+                                   [](const Entry& x, int64_t t) { return x.utime < t; });
+  const Entry& b = *it;
+  const Entry& a = *(it - 1);
+  lo_ = a.utime;
+  // at() returns the newest pose itself at its time, not the interpolation at s = 1.
+  hi_ = it + 1 == e.end() ? b.utime - 1 : b.utime;
+  a_ = a.pose;
+  dx_ = b.pose.x - a.pose.x;
+  dy_ = b.pose.y - a.pose.y;
+  dtheta_ = geom::angleDiff(b.pose.theta, a.pose.theta);
+  den_ = static_cast<double>(b.utime - a.utime);
+  small_turn_ = std::abs(dtheta_) <= 0.1;
+  if (small_turn_) ca_ = std::cos(a.pose.theta), sa_ = std::sin(a.pose.theta);
+  return true;
+}
+
 }  // namespace lasonic

@@ -43,8 +43,7 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 
   int returns = 0, no_pose = 0;
   for (const auto& r : scan->readings) returns += r.valid ? 1 : 0;
-  cp::RadarMap rm = cp::extractRadarMap(
-      *scan, [this](int64_t t) { return poses_.at(t); }, cfg_.radar_map, &no_pose);
+  cp::RadarMap rm = cp::extractRadarMap(*scan, poses_, cfg_.radar_map, &no_pose);
   if (no_pose > 0) {
     node_.reportError("rejected.laser_no_odometry",
                       "LASER_SCAN utime " + std::to_string(m.utime) + ": no odometry for " +

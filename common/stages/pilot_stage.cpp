@@ -159,9 +159,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   last_scan_utime_ = m.utime;
 
   int no_pose = 0;
-  const auto placed = complement::placeReadings(
-      *scan, [this](int64_t t) { return poses_.at(t); }, &no_pose);
+  const auto placed = complement::placeReadings(*scan, poses_, &no_pose);
   std::vector<geom::Vec2> points;
+  points.reserve(placed.size());
   int64_t newest = m.utime;
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);

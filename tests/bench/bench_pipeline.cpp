@@ -142,12 +142,12 @@ class Replayer {
     }
     if (const auto* ls = std::get_if<laser_scan_t>(&ev)) {
       const auto scan = cp::laserScanFromMessage(*ls, problems_);
-      const auto lookup = [this](int64_t u) { return poses_.at(u); };
       // Complement stage: the Radar Map.
-      rm_ = cp::extractRadarMap(*scan, lookup, ccfg_.radar_map);
+      rm_ = cp::extractRadarMap(*scan, poses_, ccfg_.radar_map);
       // Pilot stage: the scan's points, then the first sector map after it.
-      const auto placed = cp::placeReadings(*scan, lookup);
+      const auto placed = cp::placeReadings(*scan, poses_);
       std::vector<geom::Vec2> points;
+      points.reserve(placed.size());
       int64_t newest = ls->utime;
       for (size_t i = 0; i < placed.size(); ++i) {
         newest = std::max(newest, scan->readings[i].utime);

@@ -183,3 +183,60 @@ TEST(PoseHistory, QueriesInAnyOrderGiveTheSamePoses) {
   }
   EXPECT_GT(interpolated, 200);
 }
+
+// A Cursor gives exactly at()'s poses, for queries in any order, at the entries' own times (the
+// newest entry's pose itself, not an interpolation at s = 1) and outside the history.
+TEST(PoseHistory, CursorGivesAtsPoses) {
+  using lasonic::PoseHistory;
+  PoseHistory h(200'000, 30'000);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int64_t> t(-50'000, 400'000);
+  int interpolated = 0;
+  for (int64_t s = 0; s <= 300'000; s += 20'000) {
+    h.add(s, {u(rng), u(rng), 3.0 * u(rng)});
+    std::vector<int64_t> queries;
+    for (int k = 0; k < 30; ++k) queries.push_back(t(rng));
+    for (int64_t q = s - 60'000; q <= s + 40'000; q += 1'111) queries.push_back(q);  // scan-like runs
+    for (int64_t q = s - 60'000; q <= s + 1; q += 20'000) queries.insert(queries.end(), {q - 1, q, q + 1});
+    PoseHistory::Cursor cursor(h), rotating(h);
+    for (const int64_t q : queries) {
+      const auto a = cursor.at(q), b = h.at(q);
+      double c = 2, sn = 2;
+      const auto r = rotating.atRotated(q, c, sn);
+      ASSERT_EQ(a.has_value(), b.has_value()) << q;
+      ASSERT_EQ(r.has_value(), b.has_value()) << q;
+      if (!a) continue;
+      ASSERT_EQ(a->x, b->x) << q;
+      ASSERT_EQ(a->y, b->y) << q;
+      ASSERT_EQ(a->theta, b->theta) << q;
+      ASSERT_EQ(r->x, b->x) << q;
+      ASSERT_EQ(r->theta, b->theta) << q;
+      // The rotation: within a few 1e-16 of cos and sin of the heading (angle addition).
+      ASSERT_NEAR(c, std::cos(b->theta), 1e-15) << q;
+      ASSERT_NEAR(sn, std::sin(b->theta), 1e-15) << q;
+      interpolated += q % 20'000 != 0 && q > 0 && q < s;
+    }
+  }
+  EXPECT_GT(interpolated, 300);
+}
+
+// atRotated while turning slowly (the angle-addition path, |turn| <= 0.1 rad per interval),
+// across the +-pi seam: cos and sin within a few 1e-16 of the heading's.
+TEST(PoseHistory, CursorRotationWhileTurning) {
+  using lasonic::PoseHistory;
+  PoseHistory h;
+  for (int64_t t = 0; t <= 2'000'000; t += 20'000)
+    h.add(t, {0.01 * static_cast<double>(t) * 1e-6, 0, lasonic::geom::normalizeAngle(2.9 + 4.9 * static_cast<double>(t) * 1e-6)});
+  PoseHistory::Cursor cursor(h);
+  double worst = 0;
+  for (int64_t q = 1; q < 2'000'000; q += 139) {
+    double c = 2, s = 2;
+    const auto p = cursor.atRotated(q, c, s);
+    ASSERT_TRUE(p);
+    ASSERT_EQ(p->theta, h.at(q)->theta);
+    worst = std::max({worst, std::abs(c - std::cos(p->theta)), std::abs(s - std::sin(p->theta))});
+  }
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_GT(worst, 0.0);  // (not the library's own cos and sin: angle addition)
+}

@@ -1,6 +1,8 @@
 // RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "complement_fixture.hpp"
@@ -93,6 +95,42 @@ TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
   EXPECT_GT(offWalls(uncorrected, rectangleRoom()), 0.10);
 }
 
+// The placement from a PoseHistory (interval by interval, the robot's rotation by angle
+// addition while it turns) is the placement with its at() to within 1e-12 m (a few 1e-16 of the
+// rotation's cos and sin), with the same readings placed.
+TEST(RadarMap, PlacementFromAHistoryIsThePlacementWithItsLookup) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, t0, dur));
+  // The history ends inside the scan (the last readings are held or have no pose) and starts
+  // after its first reading's time minus the extrapolation limit.
+  PoseHistory odo(5'000'000, 30'000);
+  for (int64_t t = t0 + 15'000; t <= t0 + 150'000; t += 20'000) odo.add(t, traj(t));
+  int missing_a = 0, missing_b = 0;
+  const auto a = placeReadings(scan, odo, &missing_a);
+  const auto b = placeReadings(scan, [&](int64_t t) { return odo.at(t); }, &missing_b);
+  EXPECT_EQ(missing_a, missing_b);
+  EXPECT_GT(missing_a, 0);
+  ASSERT_EQ(a.size(), b.size());
+  int placed = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].valid, b[i].valid) << i;
+    ASSERT_NEAR(a[i].p.x(), b[i].p.x(), 1e-12) << i;
+    ASSERT_NEAR(a[i].p.y(), b[i].p.y(), 1e-12) << i;
+    ASSERT_EQ(a[i].range, b[i].range) << i;
+    placed += a[i].valid;
+  }
+  EXPECT_GT(placed, 400);
+  const RadarMap ra = extractRadarMap(scan, odo, {}), rb = extractRadarMap(scan, [&](int64_t t) { return odo.at(t); }, {});
+  ASSERT_EQ(ra.segments.size(), rb.segments.size());
+  for (size_t i = 0; i < ra.segments.size(); ++i) {
+    EXPECT_LT((ra.segments[i].seg.a - rb.segments[i].seg.a).norm(), 1e-9);
+    EXPECT_LT((ra.segments[i].seg.b - rb.segments[i].seg.b).norm(), 1e-9);
+  }
+  EXPECT_EQ(ra.robot_pose.x, rb.robot_pose.x);
+  EXPECT_EQ(ra.robot_pose.theta, rb.robot_pose.theta);
+}
+
 TEST(RadarMap, GapsStayGaps) {
   // A wall at y = 3 with a window (no laser return) over x in [2.5, 3.5].
   fixture::World w;
@@ -149,6 +187,59 @@ TEST(IterativeEndPointFit, SplitsAnLAtItsCorner) {
   EXPECT_EQ(parts[1].last, 20u);
   // A straight run within the threshold is not split.
   EXPECT_EQ(iterativeEndPointFit(pts, {0, 10}, 0.03).size(), 1u);
+}
+
+namespace {
+// The definition: split at the first point farthest from the chord (geom::distance) until all
+// are within the threshold.
+void referenceFit(const std::vector<Vec2>& p, size_t i, size_t j, double thr, std::vector<IndexRange>& out) {
+  double dmax = -1;
+  size_t kmax = i;
+  for (size_t k = i + 1; k < j; ++k) {
+    const double d = geom::distance(Segment{p[i], p[j]}, p[k]);
+    if (d > dmax) {
+      dmax = d;
+      kmax = k;
+    }
+  }
+  if (dmax < thr) {
+    out.push_back({i, j});
+    return;
+  }
+  referenceFit(p, i, kmax, thr, out);
+  referenceFit(p, kmax, j, thr, out);
+}
+}  // namespace
+
+// The fit compares squared distances; it splits where the definition (roots, first of equal
+// roots) does: noisy polylines, exact ties, and distances within a few ulp of each other and
+// of the threshold.
+TEST(IterativeEndPointFit, SplitsWhereTheDefinitionSplits) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int splits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<Vec2> pts;
+    const int n = 5 + trial % 60;
+    for (int k = 0; k < n; ++k) {
+      const double x = 0.05 * k;
+      double y = 0.02 * u(rng) + (k > n / 2 ? 0.3 * (x - 0.025 * n) : 0.0);
+      if (trial % 3 == 0) y = (k % 4 == 1 || k % 4 == 2) ? 0.07 : 0.0;  // exact ties
+      if (trial % 3 == 1 && k % 5 == 2) y = std::nextafter(0.07, trial % 2 ? 1.0 : 0.0);  // near ties
+      pts.emplace_back(x, y);
+    }
+    const double thr = trial % 3 == 2 ? 0.03 : 0.07;  // 0.07: distances at the threshold
+    std::vector<IndexRange> expected;
+    referenceFit(pts, 0, pts.size() - 1, thr, expected);
+    const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
+    ASSERT_EQ(got.size(), expected.size()) << trial;
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].first, expected[k].first) << trial;
+      EXPECT_EQ(got[k].last, expected[k].last) << trial;
+    }
+    splits += static_cast<int>(got.size()) - 1;
+  }
+  EXPECT_GT(splits, 300);
 }
 
 TEST(FitLine, TotalLeastSquaresWithEndpointsProjected) {

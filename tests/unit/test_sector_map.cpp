@@ -457,6 +457,12 @@ TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
 // force: a cell is explained exactly when some point of the scan lies within the radius of its
 // centre. One obstacle cell per trial among a scan's worth of points around it, several maps
 // per scan (the per-scan memo), cells at every offset from the buckets' grid.
+namespace {
+double edgeOrNeighbour(double edge, int k) {
+  return k % 3 == 0 ? edge : std::nextafter(edge, k % 3 == 1 ? 1e9 : -1e9);
+}
+}  // namespace
+
 TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> u(-0.2, 0.2), far(-2.5, 2.5);
@@ -477,6 +483,12 @@ TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
     for (int i = 0; i < 40; ++i) points.emplace_back(far(rng), far(rng));  // elsewhere
     const int near = trial % 4;                                              // 0-3 points around the cell
     for (int i = 0; i < near; ++i) points.push_back(centre + Vec2(u(rng), u(rng)));
+    if (trial % 3 == 1)  // points on cell edges (k * 0.1, and one ulp either side): floor(v / c) at an integer
+      for (Vec2& q : points)
+        for (int a = 0; a < 2; ++a) {
+          const double edge = std::round(q[a] / 0.1) * 0.1;
+          q[a] = edgeOrNeighbour(edge, trial + a);
+        }
     bool brute = false;
     for (const Vec2& q : points) brute = brute || (q - centre).norm() <= p.laser_explains_radius;
     s.setSonarTime(0);
