@@ -12,6 +12,7 @@
 #include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "stages/navigator_stage.hpp"
 
 namespace lasonic::eval {
 
@@ -393,6 +394,14 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserS
   setRatio(m, "agm_operational.precision", precision);
   setRatio(m, "agm_operational.recall", recall);
   m.set("agm_operational.samples.boundary", recall.den);
+}
+
+EvalOptions evalOptions(const Config& config) {
+  EvalOptions o;
+  const NavigatorConfig nav = navigatorConfig(config.section("navigator"));
+  o.lines = nav.lines;
+  o.forget_after_m = nav.agm.h_max_m;
+  return o;
 }
 
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, const BaselinesConfig* baselines) {

@@ -23,6 +23,7 @@
 #include "eval/metrics.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
+#include "tactical/line_generation.hpp"
 
 namespace lasonic::eval {
 
@@ -60,7 +61,14 @@ struct EvalOptions {
   // Also every scored sector sample of the pilot's SECTOR_MAP as one CSV row (writeSectorSampleHeader
   // first): where the misses and false alarms are, sample by sample. Not owned.
   std::ostream* samples_csv = nullptr;
+  // The breakdown redoes the navigator's line generation and its forgetting by distance, so it
+  // needs the run's `navigator:` keys (evalOptions(config); defaults: the code's).
+  LineGenerationParams lines;
+  double forget_after_m = 15.0;    // [m] navigator.agm.h_max_m (0: never)
 };
+// The options for a run made with `config` (the navigator's line generation and h_max_m, for the
+// breakdown). Throws ConfigError naming the key path.
+EvalOptions evalOptions(const Config& config);
 
 // The CSV columns of EvalOptions::samples_csv.
 void writeSectorSampleHeader(std::ostream& out);

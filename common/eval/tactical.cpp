@@ -368,7 +368,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
   if (log.agm_tactical.empty() || log.sim_states.size() < 2) return;
   constexpr double kMisplaced = 0.30;  // [m] an occupied cell this near: the echoes went to a neighbouring cell
   constexpr int64_t kRecentUs = 1'000'000;  // located only within the last second
-  constexpr double kForgetM = 15.0;  // [m] the shipped navigator.agm.h_max_m
+  const double forget_m = o.forget_after_m > 0 ? o.forget_after_m : kInf;  // navigator.agm.h_max_m
   TruthTrack truth(log.sim_states);
   const auto boundary = sonarOnlyCandidates(sc, seen);
   // Every locating echo of every point, and how the complement stage classified it.
@@ -438,7 +438,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
   std::map<std::string, int64_t> samples_by_material;
   Causes agm_causes, line_causes, off_lines;
   std::vector<char> found_before(boundary.size(), 0), left_window(boundary.size(), 0);
-  const LineGenerationParams lp;  // the shipped line generation (code default == deploy/config)
+  const LineGenerationParams& lp = o.lines;  // the run's line generation (evalOptions(config))
   for (const auto& g : log.agm_tactical) {
     const geom::Pose2 true_from_odom = truth.robotAt(g.utime).compose(toPose(g.robot_pose).inverse());
     const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
@@ -507,7 +507,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
         const int ncomp = complementaryBefore(i, g.utime, last);
         if (found_before[i])
           agm_causes.add(left_window[i]                                                ? "forgotten_left_window"
-                         : last >= 0 && drivenAt(g.utime) - drivenAt(last) > kForgetM ? "forgotten_after_15m"
+                         : last >= 0 && drivenAt(g.utime) - drivenAt(last) > forget_m ? "forgotten_after_15m"
                                                                                       : "forgotten_other");
         else if (ncomp == 0) agm_causes.add("no_complementary_echo_" + echoClass(i, g.utime));
         else if (near.g > 0 || near.gp > 0) agm_causes.add("below_threshold");

@@ -1,5 +1,6 @@
 #include "operational/echo_placer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -7,7 +8,8 @@ namespace lasonic {
 
 std::vector<std::string> echoPlacementKeys() {
   return {"agm_bearing",       "agm_placement", "evidence_min_g",    "arc_halfwidth_deg",
-          "arc_min_votes",     "arc_require_votes", "arc_wait_cycles", "neighbour_bearing"};
+          "arc_min_votes",     "arc_require_votes", "arc_wait_cycles", "surface_fill", "surface_spread_m",
+          "surface_max_angle_deg", "surface_min_agree", "surface_max_gap_m", "neighbour_bearing"};
 }
 
 EchoPlacementConfig echoPlacementConfig(const Config& c, EchoPlacementConfig p) {
@@ -20,6 +22,12 @@ EchoPlacementConfig echoPlacementConfig(const Config& c, EchoPlacementConfig p) 
   p.arc_min_votes = c.get("arc_min_votes", p.arc_min_votes, Range::nonNegative());
   p.arc_require_votes = c.get<bool>("arc_require_votes", p.arc_require_votes);
   p.arc_wait_cycles = c.get("arc_wait_cycles", p.arc_wait_cycles, Range::between(0, 1e6));
+  p.surface_fill = c.get<bool>("surface_fill", p.surface_fill);
+  p.surface_spread_m = c.get("surface_spread_m", p.surface_spread_m, Range::between(0, 5));
+  p.surface_min_agree = c.get("surface_min_agree", p.surface_min_agree, Range::between(1, 100));
+  p.surface_max_gap_m = c.get("surface_max_gap_m", p.surface_max_gap_m, Range::positive());
+  p.surface_max_angle =
+      geom::deg2rad(c.get("surface_max_angle_deg", geom::rad2deg(p.surface_max_angle), Range::between(0, 45)));
   const Config nb = c.section("neighbour_bearing");
   nb.allowOnly({"beam_deg", "similar", "max_age_s"});
   p.params.beam_width =
@@ -57,8 +65,61 @@ std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEc
 }
 }  // namespace
 
+void EchoPlacer::spread(const geom::Vec2& sensor, double range, double beam_width, const geom::Vec2& p,
+                        AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits) {
+  if (!cfg_.surface_fill) return;
+  const geom::Vec2 d = p - sensor;
+  if (!(d.norm() > 1e-6) || !std::isfinite(d.x()) || !std::isfinite(d.y())) return;
+  const geom::Vec2 n = d / d.norm();
+  const double cell = agm.cellSize();
+  const double half_beam = 0.5 * (beam_width > 0 ? beam_width : cfg_.params.beam_width);
+  const double footprint = range * std::tan(half_beam);  // the beam's half footprint on a face-on plane
+  auto addEmpty = [&](const geom::Vec2& x) {
+    int ix = 0, iy = 0;
+    if (!agm.cellAt(x, ix, iy) || agm.g(ix, iy) > 0) return;
+    for (size_t k = 0; k < hits.size(); ++k) {  // one hit per cell and cycle
+      int jx = 0, jy = 0;
+      if (agm.cellAt(hits[k], jx, jy) && jx == ix && jy == iy) return;
+    }
+    int px = 0, py = 0;
+    if (agm.cellAt(p, px, py) && px == ix && py == iy) return;  // the echo's own cell
+    hits.push_back(x);
+  };
+  // The most recent agreeing echo: parallel bearings, both points on one line across them.
+  const Placed* best = nullptr;
+  int agree = 0;
+  for (const Placed& q : placed_) {
+    if (n.dot(q.normal) < std::cos(cfg_.surface_max_angle)) continue;
+    const geom::Vec2 dq = q.p - p;
+    const double along = dq.norm();
+    if (along < cell || along > std::min(2.0 * footprint, cfg_.surface_max_gap_m)) continue;
+    if (std::abs(n.dot(dq)) > 0.5 * cell) continue;
+    // Tangent to one line: on a plane the foot moves exactly as the sensor moves along it; a
+    // pole's or a corner's echoes stay where they are while the robot drives on.
+    const geom::Vec2 t(-n.y(), n.x());
+    if (std::abs(t.dot(dq) - t.dot(q.sensor - sensor)) > 0.5 * cell) continue;
+    ++agree;
+    if (!best || along < (best->p - p).norm()) best = &q;  // the nearest agreeing foot
+  }
+  if (best && agree >= cfg_.surface_min_agree) {
+    const geom::Vec2 t = (best->p - p) / (best->p - p).norm();  // along the surface, towards q
+    const double len = (best->p - p).norm();
+    const double step = 0.5 * cell;
+    for (double s = step; s < len; s += step) addEmpty(p + s * t);
+    for (double s = step; s <= cfg_.surface_spread_m + 1e-9; s += step) addEmpty(p - s * t);
+  }
+  placed_.push_back({p, n, sensor, agm.cycle()});
+}
+
 std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm) {
   std::vector<geom::Vec2> hits;
+  if (cfg_.surface_fill) {
+    const int64_t keep = std::max(1, cfg_.arc_wait_cycles);
+    std::vector<Placed> recent;
+    for (const Placed& q : placed_)
+      if (agm.cycle() - q.cycle <= keep) recent.push_back(q);
+    placed_ = std::move(recent);
+  }
   // Echoes that waited for later arcs: placed now if those crossed theirs, forgotten when too old.
   if (!waiting_.empty()) {
     std::vector<Waiting> still;
@@ -68,9 +129,10 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
       const auto b = votedBearing(agm, w.echo, w.estimate, w.halfwidth, cfg_.arc_min_votes + 1.0, w.estimate);
       const geom::Vec2 p = w.echo.sensor.position() + w.echo.range * geom::unitVector(b.value_or(w.estimate));
       int ix = 0, iy = 0;
-      if (b && agm.cellAt(p, ix, iy) && agm.g(ix, iy) > 0)
+      if (b && agm.cellAt(p, ix, iy) && agm.g(ix, iy) > 0) {
         hits.push_back(p);
-      else
+        spread(w.echo.sensor.position(), w.echo.range, w.echo.beam_width, p, agm, hits);
+      } else
         still.push_back(w);
     }
     waiting_ = std::move(still);
@@ -105,6 +167,8 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     }
     // On the axis: exactly the paper's point (the reading's own end point).
     hits.push_back(b == echo.sensor.theta ? r.axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
+    const geom::Vec2 p = hits.back();
+    spread(echo.sensor.position(), echo.range, echo.beam_width, p, agm, hits);
   }
   for (const auto& [id, echo] : latest) tracker_.record(id, echo);
   if (cfg_.placement == AgmPlacement::ArcVotes)

@@ -44,12 +44,28 @@ struct EchoPlacementConfig {
   // arc_min_votes). 0: it is dropped at once. The first echoes of a surface are as good as the
   // later ones; only their crossing arcs come later.
   int arc_wait_cycles = 0;
+  // Surface fill (beyond the paper; false: one cell per echo). A placed echo whose arc and an
+  // earlier placed echo's arc (within the last arc_wait_cycles, at least 1) are tangent to one
+  // line -- bearings parallel within surface_max_angle, both points within half a cell of the line
+  // across them, and the foot moved along that line as far as the sensor did (on a plane it does;
+  // a pole's or two poles' echoes stay put while the robot drives on), no farther apart than the
+  // beam's footprint on the line (2 r tan(beam/2)) nor surface_max_gap_m -- is one plane heard
+  // from two poses: the empty cells (G = 0) between the two feet get one hit each, and so do
+  // those up to surface_spread_m beyond this foot, away from the earlier one. Needs
+  // surface_min_agree such earlier feet. Only empty cells, at most one hit per cell and cycle, so
+  // a cell gains at most one hit from the fill until it is revised.
+  bool surface_fill = false;
+  double surface_spread_m = 0;                    // [m]
+  double surface_max_angle = geom::deg2rad(7.5);  // [rad]
+  int surface_min_agree = 2;
+  double surface_max_gap_m = 0.3;                 // [m]
   SonarBearingParams params;
 };
 
 // Reads the placement keys of a level's config section over `base`: agm_bearing (axis |
 // neighbours), agm_placement (estimate | evidence | arc_votes), evidence_min_g, arc_halfwidth_deg,
-// arc_min_votes, arc_require_votes, arc_wait_cycles, neighbour_bearing {beam_deg, similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
+// arc_min_votes, arc_require_votes, arc_wait_cycles, surface_fill, surface_spread_m,
+// surface_max_angle_deg, surface_min_agree, surface_max_gap_m, neighbour_bearing {beam_deg, similar, max_age_s}. The caller's allowOnly() lists them. Throws ConfigError naming the key.
 EchoPlacementConfig echoPlacementConfig(const Config& section, EchoPlacementConfig base = {});
 // The keys echoPlacementConfig reads, for the caller's allowOnly().
 std::vector<std::string> echoPlacementKeys();
@@ -85,6 +101,16 @@ class EchoPlacer {
   EchoPlacementConfig cfg_;
   SonarBearingTracker tracker_;
   std::vector<Waiting> waiting_;
+  struct Placed {
+    geom::Vec2 p;
+    geom::Vec2 normal;  // unit, from the sensor to the point
+    geom::Vec2 sensor;
+    int64_t cycle = 0;
+  };
+  std::vector<Placed> placed_;  // surface fill: recently placed echoes
+  // Surface fill: the extra points for the echo placed at p, heard from `sensor`, appended to `hits`.
+  void spread(const geom::Vec2& sensor, double range, double beam_width, const geom::Vec2& p,
+              AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);
 };
 
 }  // namespace lasonic

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "also write the metrics as JSON to FILE ('-' = standard output)");
   app.add_option("--config", config_files,
                  "YAML configuration the log was replayed with (sections pilot and baselines: the baselines' "
-                 "parameters and read-out; repeat to layer overrides); without it the code's defaults");
+                 "parameters and read-out; navigator: the breakdown's line generation; repeat to layer overrides); without it the code's defaults");
   bool breakdown = false;
   app.add_flag("--breakdown", breakdown,
                "also say why located points are missed by the tactical AGM and its lines "
@@ -33,8 +33,11 @@ int main(int argc, char** argv) {
                  "reported value and source, each source's value, material, observability cue, missed, false alarm)");
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
+  lasonic::eval::EvalOptions opts;
   try {
-    baselines = lasonic::eval::baselinesConfig(lasonic::Config::loadFiles(config_files));
+    const auto config = lasonic::Config::loadFiles(config_files);
+    baselines = lasonic::eval::baselinesConfig(config);
+    opts = lasonic::eval::evalOptions(config);  // the breakdown redoes the run's line generation
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-eval: bad config: " << e.what() << "\n";
     return 2;
@@ -46,7 +49,6 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
-    lasonic::eval::EvalOptions opts;
     opts.breakdown = breakdown;
     std::ofstream samples;
     if (!samples_path.empty()) {

@@ -134,3 +134,77 @@ TEST(EchoPlacer, WaitCyclesKey) {
   EXPECT_EQ(echoPlacementConfig(Config::fromString("{}")).arc_wait_cycles, 0);  // the pilot: none
   EXPECT_THROW(echoPlacementConfig(Config::fromString("arc_wait_cycles: -1")), ConfigError);
 }
+
+namespace {
+EchoPlacementConfig onTheAxis(bool fill, double spread = 0, int min_agree = 1) {
+  EchoPlacementConfig c;  // each echo at its own end point: the spread alone is tested
+  c.bearing = AgmBearing::Axis;
+  c.placement = AgmPlacement::Estimate;
+  c.arc_wait_cycles = 100;
+  c.surface_fill = fill;
+  c.surface_spread_m = spread;
+  c.surface_min_agree = min_agree;
+  c.surface_max_gap_m = 0.5;  // the feet below are 0.3 m apart
+  return c;
+}
+int gAt(const AccumulativeGridMap& agm, const Vec2& p) {
+  int ix = 0, iy = 0;
+  return agm.cellAt(p, ix, iy) ? agm.g(ix, iy) : -1;
+}
+// A wall at y = 1.55 heard face-on from three poses 0.3 m apart (cell centres, so no rounding).
+void driveAlongWall(EchoPlacer& placer, AccumulativeGridMap& agm) {
+  for (double x : {0.05, 0.35, 0.65}) agm.update(placer.place(echoAt(0, {x, 0.05}, {x, 1.55}), agm));
+}
+}  // namespace
+
+TEST(EchoPlacer, SurfaceFillJoinsTheFeetOfOnePlane) {
+  for (const bool fill : {false, true}) {
+    AccumulativeGridMap agm(tactical());
+    EchoPlacer placer(onTheAxis(fill, 0.1));
+    driveAlongWall(placer, agm);
+    for (double x : {0.05, 0.35, 0.65}) EXPECT_EQ(gAt(agm, {x, 1.55}), 1) << "the echo's own cell x " << x;
+    // Between the feet: one hit each with the fill, none without (the paper: one cell per echo).
+    for (double x : {0.15, 0.25, 0.45, 0.55}) EXPECT_EQ(gAt(agm, {x, 1.55}), fill ? 1 : 0) << "x " << x;
+    // Beyond the last foot, up to surface_spread_m (0.1 m), away from the earlier ones.
+    EXPECT_EQ(gAt(agm, {0.75, 1.55}), fill ? 1 : 0);
+    EXPECT_EQ(gAt(agm, {0.85, 1.55}), 0);
+    EXPECT_EQ(gAt(agm, {-0.05, 1.55}), 0);  // not beyond the first: it had no earlier foot
+    EXPECT_EQ(gAt(agm, {0.15, 1.45}), 0);   // nor off the line
+  }
+}
+
+TEST(EchoPlacer, SurfaceFillWaitsForEnoughAgreeingFeet) {
+  AccumulativeGridMap agm(tactical());
+  EchoPlacementConfig c = onTheAxis(true, 0, 2);
+  c.surface_max_gap_m = 0.7;  // both earlier feet count for the third (0.3 and 0.6 m away)
+  EchoPlacer placer(c);
+  driveAlongWall(placer, agm);
+  EXPECT_EQ(gAt(agm, {0.15, 1.55}), 0);  // the second foot had one earlier foot only
+  EXPECT_EQ(gAt(agm, {0.45, 1.55}), 1);  // the third had two
+}
+
+TEST(EchoPlacer, FeetThatDoNotMoveWithTheSensorAreNoPlane) {
+  // Two poles at one range, heard from poses 0.05 m apart: nearly parallel bearings, both points
+  // on one line across them, but the second foot moved 0.2 m while the sensor moved 0.05 m: the
+  // arcs are not tangent to one line, so nothing is filled between the poles.
+  AccumulativeGridMap agm(tactical());
+  EchoPlacer placer(onTheAxis(true, 0.2));
+  agm.update(placer.place(echoAt(0, {0.05, 0.05}, {0.05, 1.55}), agm));
+  agm.update(placer.place(echoAt(0, {0.10, 0.05}, {0.25, 1.55}), agm));
+  EXPECT_EQ(gAt(agm, {0.15, 1.55}), 0);
+  EXPECT_EQ(gAt(agm, {0.35, 1.55}), 0);
+}
+
+TEST(EchoPlacer, SurfaceKeys) {
+  const auto c = echoPlacementConfig(Config::fromString(
+      "{surface_fill: true, surface_spread_m: 0.15, surface_min_agree: 2, surface_max_gap_m: 0.3, "
+      "surface_max_angle_deg: 5}"));
+  EXPECT_TRUE(c.surface_fill);
+  EXPECT_DOUBLE_EQ(c.surface_spread_m, 0.15);
+  EXPECT_EQ(c.surface_min_agree, 2);
+  EXPECT_DOUBLE_EQ(c.surface_max_gap_m, 0.3);
+  EXPECT_NEAR(c.surface_max_angle, geom::deg2rad(5), 1e-12);
+  EXPECT_FALSE(echoPlacementConfig(Config::fromString("{}")).surface_fill);  // the paper: one cell per echo
+  EXPECT_THROW(echoPlacementConfig(Config::fromString("surface_spread_m: -1")), ConfigError);
+  EXPECT_THROW(echoPlacementConfig(Config::fromString("surface_min_agree: 0")), ConfigError);
+}

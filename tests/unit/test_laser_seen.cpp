@@ -582,3 +582,31 @@ TEST(EvalTacticalBreakdown, SaysWhyLocatedPointsAreMissed) {
   // Off by default.
   EXPECT_FALSE(evaluate(heard, sc).has("agm_tactical.breakdown.missed.samples"));
 }
+
+TEST(EvalTacticalBreakdown, RedoesTheLineGenerationWithTheRunsConfig) {
+  const auto sc = boxRoom();
+  RunLog log = twoScans(sc);
+  addBoxEcho(log, 800'000, complement_reading_t::CLASS_COMPLEMENTARY);
+  log.agm_tactical = {agmAt(850'000)};
+  log.agm_tactical[0].gp[static_cast<size_t>(21 * 60 + 27)] = 5;  // a second cell (2.75, 2.15)
+  line_map_t csm{};  // no sonar line published
+  csm.utime = 850'000;
+  csm.robot_pose = log.agm_tactical[0].robot_pose;
+  log.current_sensor_maps = {csm};
+  auto breakdown = [&](const std::string& yaml) {
+    Metrics m;
+    EvalOptions o = evalOptions(Config::fromString(yaml));
+    o.breakdown = true;
+    evalTacticalBreakdown(log, sc, LaserSeen(log), o, m);
+    return m;
+  };
+  // The code's line generation (min_cells 3): a run of two cells makes no line.
+  const Metrics paper = breakdown("pilot: {}\n");
+  EXPECT_GT(paper.number("lines.breakdown.uncovered.short_run"), 0.5);
+  // A run made with min_cells 2 had a line there: the points it misses are not "short_run".
+  const Metrics two = breakdown("navigator: {lines: {min_cells: 2}}\n");
+  EXPECT_FALSE(two.has("lines.breakdown.uncovered.short_run"));
+  EXPECT_GT(two.number("lines.breakdown.uncovered.samples"), 0.0);
+  // A bad key is named.
+  EXPECT_THROW(evalOptions(Config::fromString("navigator: {lines: {min_cels: 2}}\n")), ConfigError);
+}
