@@ -31,7 +31,7 @@ bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const L
   constexpr int kSteps = 8;
   for (int i = 0; i <= kSteps; ++i) {
     const double a = sensor.theta + beam_width * (static_cast<double>(i) / kSteps - 0.5);
-    if (!view.covers(sensor.position() + range * geom::Vec2(std::cos(a), std::sin(a)))) return false;
+    if (!view.covers(sensor.position() + range * geom::unitVector(a))) return false;
   }
   return true;
 }

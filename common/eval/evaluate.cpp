@@ -276,9 +276,6 @@ void evalSectorMap(const RunLog& log, const sim::Scenario& sc, const EvalOptions
 }
 
 namespace {
-const char* const kSourceNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
-const char* const kCueNames[5] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
-
 // One value of a sector map as a CSV field: empty when unknown (< 0).
 void csvDistance(std::ostream& out, double d) {
   if (d >= 0) out << d;
@@ -288,26 +285,22 @@ void writeSectorSample(std::ostream& out, const RunLog& log, const sector_map_t&
                        const std::vector<std::string>& materials, const EvalOptions& o) {
   const int64_t t0 = log.sim_states.front().utime;
   const double reported = sm.distance[k];
-  const bool has = reported >= 0;
   const bool in_range = s.truth <= o.sector_range;
-  const bool miss = in_range && (!has || reported > s.truth + o.sector_tolerance);
-  const bool fa = has && reported <= o.sector_range && reported < s.truth - o.sector_tolerance;
-  const int source = sm.source[k] >= 0 && sm.source[k] < 5 ? sm.source[k] : 0;
   // The sector's centre bearing in the robot frame (sector 0 starts at -180 deg, behind).
   const double bearing = -180.0 + 360.0 * (static_cast<double>(k) + 0.5) / static_cast<double>(sm.nsectors);
   out << static_cast<double>(sm.utime - t0) * 1e-6 << ',' << k << ',' << bearing << ',';
   if (std::isfinite(s.truth)) out << s.truth;
   out << ',';
   csvDistance(out, reported);
-  out << ',' << kSourceNames[source] << ',';
+  out << ',' << sectorSourceName(sm.source[k]) << ',';
   csvDistance(out, sm.laser_distance[k]);
   out << ',';
   csvDistance(out, sm.sonar_distance[k]);
   out << ',';
   if (k < sm.remembered_distance.size()) csvDistance(out, sm.remembered_distance[k]);
   out << ',' << (s.material >= 0 && static_cast<size_t>(s.material) < materials.size() ? materials[static_cast<size_t>(s.material)] : "")
-      << ',' << (in_range && s.observable ? kCueNames[static_cast<int>(s.cue)] : in_range ? "unobservable" : "")
-      << ',' << (miss ? 1 : 0) << ',' << (fa ? 1 : 0) << '\n';
+      << ',' << (in_range && s.observable ? cueName(s.cue) : in_range ? "unobservable" : "")
+      << ',' << (sectorMissed(reported, s, o) ? 1 : 0) << ',' << (sectorFalseAlarm(reported, s, o) ? 1 : 0) << '\n';
 }
 }  // namespace
 

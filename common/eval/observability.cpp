@@ -193,11 +193,30 @@ void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
 }
 }  // namespace
 
+bool sectorMissed(double reported, const SectorSample& s, const EvalOptions& o) {
+  return s.truth <= o.sector_range && (reported < 0 || reported > s.truth + o.sector_tolerance);
+}
+
+bool sectorFalseAlarm(double reported, const SectorSample& s, const EvalOptions& o) {
+  return reported >= 0 && reported <= o.sector_range && reported < s.truth - o.sector_tolerance;
+}
+
+const char* cueName(Cue c) {
+  static const char* kNames[kCues] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
+  const int i = static_cast<int>(c);
+  return i >= 0 && i < kCues ? kNames[i] : "none";
+}
+
+const char* sectorSourceName(int source) {
+  static const char* kNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
+  return source >= 0 && source < 5 ? kNames[source] : "none";
+}
+
 void SectorScore::add(double reported, const SectorSample& s, const EvalOptions& o, int source) {
   const bool has = reported >= 0;
   const double truth = s.truth;
   if (truth <= o.sector_range) {
-    const bool miss = !has || reported > truth + o.sector_tolerance;
+    const bool miss = sectorMissed(reported, s, o);
     missed_.add(miss);
     unobservable_.add(!s.observable);
     if (s.observable) {
@@ -217,7 +236,7 @@ void SectorScore::add(double reported, const SectorSample& s, const EvalOptions&
   // Every sector of every map is an opportunity for a false alarm (like missed_rate's
   // denominator is every sector that holds a true obstacle); the share among the sectors
   // that report something within range is kept too, as the stricter view.
-  const bool fa = has && reported <= o.sector_range && reported < truth - o.sector_tolerance;
+  const bool fa = sectorFalseAlarm(reported, s, o);
   false_alarm_.add(fa);
   if (has && reported <= o.sector_range) false_of_reports_.add(fa);
   if (fa && source >= 0 && source < 5) ++false_by_source_[source];
@@ -235,15 +254,13 @@ void SectorScore::write(Metrics& m, const std::string& prefix, bool details,
     setRatio(m, prefix + ".missed_by_material." + materials[i], missed_by_material_[i]);
   if (!details) return;
   if (observable_missed_.num > 0) {
-    static const char* kCueNames[kCues] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
     for (int c = 1; c < kCues; ++c)
-      m.set(prefix + ".observable_missed_by_cue." + kCueNames[c],
+      m.set(prefix + ".observable_missed_by_cue." + cueName(static_cast<Cue>(c)),
             static_cast<double>(observable_missed_by_cue_[c]) / static_cast<double>(observable_missed_.num));
   }
   if (false_alarm_.num > 0) {
-    static const char* kNames[5] = {"none", "laser", "sonar", "sonar_copied", "remembered"};
     for (int s = 1; s < 5; ++s)
-      m.set(prefix + ".false_alarms_by_source." + kNames[s],
+      m.set(prefix + ".false_alarms_by_source." + sectorSourceName(s),
             static_cast<double>(false_by_source_[s]) / static_cast<double>(false_alarm_.num));
   }
   m.set(prefix + ".samples.within_range", missed_.den);

@@ -104,6 +104,13 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
 // The same with a LaserSeen built from the log.
 SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o);
 
+// The sector map's scoring rules (README "Evaluation", sector map), for SectorScore and the
+// per-sample CSV alike. reported: [m], < 0 = nothing reported.
+bool sectorMissed(double reported, const SectorSample& s, const EvalOptions& o);      // truth within range only
+bool sectorFalseAlarm(double reported, const SectorSample& s, const EvalOptions& o);
+const char* cueName(Cue c);            // "none", "laser", "echo_once", "echo_repeated", "echo_old"
+const char* sectorSourceName(int source);  // sector_map_t::SOURCE_*: "none", "laser", ...; unknown: "none"
+
 // Scores of one sector-map source against the samples (README "Evaluation", sector map).
 class SectorScore {
  public:

@@ -67,23 +67,34 @@ TEST(SectorTruth, RoomWallsAndCircle) {
   EXPECT_NEAR(r[12], 0.9 - 0.35, 1e-9);
 }
 
-TEST(EvalSectorMap, MissedAndFalseAlarm) {
-  const auto sc = boxRoom();
-  RunLog log;
-  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+namespace {
+// A SECTOR_MAP of the robot at (2, 2), heading 0, in boxRoom() at 0.5 s whose laser reports every
+// sector's truth exactly (and nothing else).
+sector_map_t exactLaserMap(const sim::Scenario& sc, std::vector<double>& truth) {
   sector_map_t sm{};
   sm.utime = 500'000;
   sm.robot_radius = 0.35f;
   sm.max_range = 3.0f;
   sm.nsectors = 48;
   sim::WorldGeometry world(sc);
-  const auto truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
+  truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
   for (int k = 0; k < 48; ++k) {
     sm.distance.push_back(static_cast<float>(truth[k]));
     sm.laser_distance.push_back(static_cast<float>(truth[k]));
     sm.sonar_distance.push_back(-1);
+    sm.remembered_distance.push_back(-1);
     sm.source.push_back(int8_t{sector_map_t::SOURCE_LASER});
   }
+  return sm;
+}
+}  // namespace
+
+TEST(EvalSectorMap, MissedAndFalseAlarm) {
+  const auto sc = boxRoom();
+  RunLog log;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  std::vector<double> truth;
+  sector_map_t sm = exactLaserMap(sc, truth);
   sm.laser_distance[24] = -1;            // the laser misses the mesh obstacle
   sm.distance[0] = 0.5f;                 // false alarm behind (truth 1.65)
   log.sector_maps.push_back(sm);
@@ -125,20 +136,8 @@ TEST(EvalSectorMap, SamplesCsvRowPerSectorAgreeingWithTheRates) {
   const auto sc = boxRoom();
   RunLog log;
   log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
-  sector_map_t sm{};
-  sm.utime = 500'000;
-  sm.robot_radius = 0.35f;
-  sm.max_range = 3.0f;
-  sm.nsectors = 48;
-  sim::WorldGeometry world(sc);
-  const auto truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
-  for (int k = 0; k < 48; ++k) {
-    sm.distance.push_back(static_cast<float>(truth[k]));
-    sm.laser_distance.push_back(static_cast<float>(truth[k]));
-    sm.sonar_distance.push_back(-1);
-    sm.remembered_distance.push_back(-1);
-    sm.source.push_back(int8_t{sector_map_t::SOURCE_LASER});
-  }
+  std::vector<double> truth;
+  sector_map_t sm = exactLaserMap(sc, truth);
   sm.distance[24] = sm.laser_distance[24] = -1;  // the mesh ahead (sector 24: straight ahead) missed
   sm.source[24] = sector_map_t::SOURCE_NONE;
   sm.distance[0] = 0.5f;                          // a false alarm behind (truth 1.65)
