@@ -31,7 +31,8 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 }
 
 NavigatorConfig navigatorConfig(const Config& c) {
-  std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s"};
+  std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
+                                   "hit_weight_speed"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -44,6 +45,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
+  p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
   return p;
 }
 
@@ -52,6 +54,7 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
       cfg_(cfg),
       agm_(cfg.agm),
       placer_(cfg.placement),
+      look_weight_(cfg.hit_weight_speed),
       cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
@@ -65,6 +68,8 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.agm);
   placer_ = EchoPlacer(cfg_.placement);
+  look_weight_ = LookWeight(cfg_.hit_weight_speed);
+  last_integrated_utime_.reset();
   csm_ = CurrentSensorMap();
   std::fill(cycle_utime_.begin(), cycle_utime_.end(), 0);
   pending_.clear();
@@ -178,9 +183,21 @@ void NavigatorStage::flushPending() {
 }
 
 void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
-  const std::vector<geom::Vec2> hits = placer_.place(group, agm_);
-  if (const auto pose = poses_.at(utime); pose && agm_.follow(pose->position(), speed_))
-    node_.count("agm.recentred");
+  std::vector<geom::Vec2> hits = placer_.place(group, agm_);
+  const auto pose = poses_.at(utime);
+  if (look_weight_.refSpeed() > 0) {
+    // The robot's mean speed since the previous group (its newest odometry speed when there is
+    // none within a second): how fast it drove past what this group heard.
+    double v = -1;
+    if (last_integrated_utime_ && utime > *last_integrated_utime_ && utime - *last_integrated_utime_ <= 1000000)
+      if (const auto before = poses_.at(*last_integrated_utime_); before && pose)
+        v = LookWeight::meanSpeed(before->position(), pose->position(),
+                                  static_cast<double>(utime - *last_integrated_utime_) * 1e-6);
+    if (const int added = look_weight_.apply(hits, v >= 0 ? v : speed_); added > 0)
+      node_.count("agm.look_weight_hits", added);
+  }
+  last_integrated_utime_ = utime;
+  if (pose && agm_.follow(pose->position(), speed_)) node_.count("agm.recentred");
   const int inside = agm_.update(hits);
   cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;
   node_.count("agm.cycles");

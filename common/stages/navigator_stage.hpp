@@ -55,6 +55,7 @@
 #include "operational/echo_placer.hpp"
 #include "tactical/current_sensor_map.hpp"
 #include "tactical/line_generation.hpp"
+#include "tactical/look_weight.hpp"
 
 namespace lasonic {
 
@@ -69,6 +70,9 @@ struct NavigatorConfig {
   // time for that scan; then they go in as classified (the laser is gone).
   bool verify_with_next_scan = true;
   double verify_max_wait_s = 0.5;
+  // [m/s] Look weight (tactical/look_weight.hpp): above this robot speed an echo counts for
+  // speed / hit_weight_speed hits in the tactical AGM. 0: one hit per echo (the paper).
+  double hit_weight_speed = 0.4;
 
   // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
   static AgmParams tacticalAgmDefaults();
@@ -99,6 +103,8 @@ class NavigatorStage {
   double speed_ = 0;  // [m/s] newest ODOMETRY.v
   AccumulativeGridMap agm_;
   EchoPlacer placer_;
+  LookWeight look_weight_;
+  std::optional<int64_t> last_integrated_utime_;  // the previous firing group put into the AGM
   CurrentSensorMap csm_;
   struct PendingGroup {
     int64_t utime = 0;
