@@ -27,11 +27,15 @@ int main(int argc, char** argv) {
   std::vector<std::string> config_files;
   std::optional<double> duration;
   std::optional<uint64_t> seed;
+  std::optional<double> robot_speed;
   std::string profile;
   app.add_option("--scenario", scenario_file, "scenario YAML")->required();
   app.add_option("--out", out_file, "LCM log file to write")->required();
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
   app.add_option("--seed", seed, "random seed (default: the scenario's)");
+  app.add_option("--robot-speed", robot_speed,
+                 "the robot's speed along its path [m/s], overriding the scenario's robot.speed (the same scene "
+                 "driven faster or slower)");
   app.add_option("--config", config_files,
                  "lasonic YAML config (sections odometry, laser, sonar); repeat to layer overrides");
   app.add_option("--profile", profile,
@@ -61,8 +65,13 @@ int main(int argc, char** argv) {
     std::cerr << "lasonic-sim: --duration must be > 0\n";
     return 2;
   }
+  if (robot_speed && !(*robot_speed > 0 && *robot_speed <= 5)) {
+    std::cerr << "lasonic-sim: --robot-speed must be in (0, 5] m/s\n";
+    return 2;
+  }
   sim::Scenario& scenario = setup->scenario;
   if (duration) scenario.duration_s = *duration;
+  if (robot_speed) scenario.robot.speed = *robot_speed;
   if (seed) scenario.seed = *seed;
 
   const auto wall0 = std::chrono::steady_clock::now();

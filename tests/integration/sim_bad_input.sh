@@ -68,6 +68,7 @@ expect_error lasonic-sonar-driver bad_beam_scale "bad_beam_scale.yaml: sonar.bea
   --scenario "$tmp/bad_beam_scale.yaml"
 expect_error lasonic-sim bad_beam_scale "bad_beam_scale.yaml: sonar.beam_scale: must be in (0, 5]" \
   --scenario "$tmp/bad_beam_scale.yaml"
+expect_error lasonic-sim bad_robot_speed "--robot-speed must be in (0, 5] m/s" --scenario "$scenario" --robot-speed 0
 echo "$test_name: (1) ok: every start-up error exits 2 and names the file and key"
 
 # 2. Malformed messages on the laser driver's input.

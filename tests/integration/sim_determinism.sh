@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # sim_determinism.sh: lasonic-sim is deterministic: the same scenario and seed give a byte-identical
 # log, another seed another log; in both sensor profiles (physical, the default, and ideal), which
-# differ. Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
+# differ; --robot-speed drives the same scene at another speed (another log, ending later at a lower
+# speed). Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 set -euo pipefail
 bin=${LASONIC_BIN:?set LASONIC_BIN}
 src=${LASONIC_SOURCE:?set LASONIC_SOURCE}
@@ -14,10 +15,15 @@ sim --out "$tmp/c.lcmlog" --seed 5
 sim --out "$tmp/d.lcmlog" --profile ideal
 sim --out "$tmp/e.lcmlog" --profile ideal
 sim --out "$tmp/f.lcmlog" --profile ideal --seed 5
+sim --out "$tmp/g.lcmlog" --robot-speed 0.3  # the scene's own speed
+sim --out "$tmp/h.lcmlog" --robot-speed 0.6
 fail() { echo "sim_determinism.sh: FAIL: $*" >&2; exit 1; }
 cmp "$tmp/a.lcmlog" "$tmp/b.lcmlog" || fail "same seed, different logs"
 cmp "$tmp/d.lcmlog" "$tmp/e.lcmlog" || fail "same seed, different logs (ideal profile)"
 cmp -s "$tmp/a.lcmlog" "$tmp/c.lcmlog" && fail "another seed gave the same log"
 cmp -s "$tmp/d.lcmlog" "$tmp/f.lcmlog" && fail "another seed gave the same log (ideal profile)"
 cmp -s "$tmp/a.lcmlog" "$tmp/d.lcmlog" && fail "the physical and ideal profiles gave the same log"
+grep -q "^  speed: 0.3$" "$src/deploy/scenarios/fig4_room.yaml" || fail "fig4_room's robot speed is no longer 0.3: update this test"
+cmp "$tmp/a.lcmlog" "$tmp/g.lcmlog" || fail "--robot-speed at the scene's own speed changed the log"
+cmp -s "$tmp/a.lcmlog" "$tmp/h.lcmlog" && fail "--robot-speed 0.6 gave the same log"
 echo "sim_determinism.sh: PASS"
