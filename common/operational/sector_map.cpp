@@ -86,7 +86,13 @@ int SectorMap::sectorOfNormalized(double bearing) const {
   return k >= p_.sectors ? k - p_.sectors : std::max(k, 0);  // bearing pi is -pi: sector 0
 }
 
+void SectorMap::setLaserMovers(std::vector<MovingPoint> movers, double horizon_s) {
+  laser_movers_ = std::move(movers);
+  movers_horizon_s_ = std::isfinite(horizon_s) ? std::max(0.0, horizon_s) : 0.0;
+}
+
 void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
+  laser_movers_.clear();
   laser_points_ = std::move(points);
   laser_utime_ = utime;
   have_laser_ = true;
@@ -323,6 +329,16 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
       k = clearlyInside(up, lx, ly) ? up : clearlyInside(down, lx, ly) ? down : exact(lx, ly);
     }
     double& m = laser_r2_[static_cast<size_t>(k)];
+    if (m < 0 || r2 < m) m = r2;
+  }
+  // Moving returns where they are now (extrapolated from their own time, at most the horizon).
+  for (const MovingPoint& mp : laser_movers_) {
+    const double age = std::clamp(static_cast<double>(s_.utime - mp.utime) * 1e-6, 0.0, movers_horizon_s_);
+    const geom::Vec2 q = mp.p + age * mp.v;
+    const double dx = q.x() - pose.x, dy = q.y() - pose.y;
+    const double r2 = dx * dx + dy * dy;
+    if (!(r2 <= reach2)) continue;  // (also NaN: a mover is never put at the robot)
+    double& m = laser_r2_[static_cast<size_t>(exact(c * dx + s * dy, -s * dx + c * dy))];
     if (m < 0 || r2 < m) m = r2;
   }
   for (size_t j = 0; j < out.size(); ++j)

@@ -130,6 +130,15 @@ class SectorMap {
 
   // The newest laser scan: its returns in the global frame; utime: time of its newest reading.
   void setLaserPoints(int64_t utime, std::vector<geom::Vec2> points);
+  // Returns of the same scan found moving (operational/mover_prediction.hpp), left out of
+  // setLaserPoints' list: each is reported at p + v * min(age, horizon_s), age = the map's time
+  // minus the return's. They explain no AGM cell. Cleared by setLaserPoints.
+  struct MovingPoint {
+    geom::Vec2 p = geom::Vec2::Zero();
+    geom::Vec2 v = geom::Vec2::Zero();  // [m/s]
+    int64_t utime = 0;
+  };
+  void setLaserMovers(std::vector<MovingPoint> movers, double horizon_s);
   // Time of the newest sonar data the AGM holds (the newest complement message).
   void setSonarTime(int64_t utime);
   // The newest remembered obstacles (the tactical map's occupied cells, global frame) and the
@@ -195,6 +204,8 @@ class SectorMap {
   double explained_cell_size_ = 0;                       // 0: to be rebuilt
   std::vector<std::pair<std::pair<int64_t, int64_t>, geom::Vec2>> laser_buckets_;  // sorted by bucket
   double laser_bucket_size_ = 0;                                                   // 0: to be rebuilt
+  std::vector<MovingPoint> laser_movers_;
+  double movers_horizon_s_ = 0;
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;

@@ -43,7 +43,8 @@ PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-                                   "remembered_stale_s", "remembered_explains_radius", "copy_over_own"};
+                                   "remembered_stale_s", "remembered_explains_radius", "copy_over_own",
+                                   "predict_movers", "mover_prediction"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -71,6 +72,19 @@ PilotConfig pilotConfig(const Config& c) {
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
+  p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
+  {
+    const Config m = c.section("mover_prediction");
+    m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s"});
+    MoverPredictionParams& mp = p.mover_prediction;
+    mp.cluster_gap = m.get("cluster_gap", mp.cluster_gap, Range::between(0.01, 2));
+    mp.max_extent = m.get("max_extent", mp.max_extent, Range::between(0.05, 10));
+    mp.min_points = m.get("min_points", mp.min_points, Range::between(2, 1000));
+    mp.min_speed = m.get("min_speed", mp.min_speed, Range::between(0, 10));
+    mp.max_speed = m.get("max_speed", mp.max_speed, Range::between(0.01, 20));
+    mp.horizon_s = m.get("horizon_s", mp.horizon_s, Range::between(0, 2));
+    if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
+  }
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
   if (view < s.robot_radius + s.max_range) {
@@ -83,7 +97,12 @@ PilotConfig pilotConfig(const Config& c) {
 }
 
 PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
-    : node_(node), cfg_(cfg), agm_(cfg.agm), sector_map_(cfg.sector_map), placer_(cfg.placement) {
+    : node_(node),
+      cfg_(cfg),
+      agm_(cfg.agm),
+      sector_map_(cfg.sector_map),
+      placer_(cfg.placement),
+      movers_(cfg.mover_prediction) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -125,6 +144,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
+  movers_ = MoverPrediction(cfg_.mover_prediction);
   last_tactical_utime_.reset();
   last_scan_utime_.reset();
   last_complement_utime_.reset();
@@ -163,18 +183,34 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   std::vector<geom::Vec2> points;
   points.reserve(placed.size());
   int64_t newest = m.utime;
+  std::vector<TimedPoint> timed;
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);
-    if (placed[i].valid) points.push_back(placed[i].p);
+    if (!placed[i].valid) continue;
+    if (cfg_.predict_movers) timed.push_back({placed[i].p, scan->readings[i].utime});
+    else points.push_back(placed[i].p);
+  }
+  std::vector<SectorMap::MovingPoint> moving;
+  if (cfg_.predict_movers) {
+    // The robot at the middle of the scan (its readings span one revolution).
+    const int64_t mid = m.utime + (newest - m.utime) / 2;
+    const std::vector<geom::Vec2> v =
+        movers_.update(timed, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+    for (size_t i = 0; i < timed.size(); ++i) {
+      if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
+      else points.push_back(timed[i].p);
+    }
+    if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   }
   if (no_pose > 0) {
     node_.reportError("rejected.laser_no_odometry", "LASER_SCAN utime " + std::to_string(m.utime) +
                                                         ": no odometry for " + std::to_string(no_pose) +
                                                         " readings");
     // A scan none of whose returns could be placed says nothing: keep the previous one (it ages).
-    if (points.empty()) return;
+    if (points.empty() && moving.empty()) return;
   }
   sector_map_.setLaserPoints(newest, std::move(points));
+  sector_map_.setLaserMovers(std::move(moving), cfg_.mover_prediction.horizon_s);
   now_ = std::max(now_, newest);
   publishSectorMap();
 }

@@ -8,6 +8,7 @@
 //      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
 //      passed since the last one (the first cycle always publishes).
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
+// laser.moving_returns (returns moved by MoverPrediction),
 // sector_map.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -47,6 +48,7 @@
 #include "operational/echo_placer.hpp"
 #include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
+#include "operational/mover_prediction.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
 
@@ -68,6 +70,10 @@ struct PilotConfig {
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
+  // Beyond the paper: the laser's returns of people moved to where they are now
+  // (operational/mover_prediction.hpp); false: every return where the scan saw it (the paper).
+  bool predict_movers = true;
+  MoverPredictionParams mover_prediction;
 
   static AgmParams operationalAgmDefaults();
   static SectorMapParams sectorMapDefaults();
@@ -95,6 +101,7 @@ class PilotStage {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
+  MoverPrediction movers_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,
       last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time

@@ -5,3 +5,4 @@ lasonic_add_gtest(test_sonar_bearing SOURCES test_sonar_bearing.cpp LIBS lasonic
 lasonic_add_gtest(test_evidence_placement SOURCES test_evidence_placement.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_pilot_stage SOURCES test_pilot_stage.cpp LIBS lasonic_stages)
 lasonic_add_gtest(test_echo_placer SOURCES test_echo_placer.cpp LIBS lasonic_operational)
+lasonic_add_gtest(test_mover_prediction SOURCES test_mover_prediction.cpp LIBS lasonic_operational)

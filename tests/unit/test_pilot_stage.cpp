@@ -229,6 +229,15 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   expectError("pilot: {agm: {t: -1}}", "pilot.agm.t");
   expectError("pilot: {max_range: 6.0}", "pilot.max_range");  // beyond the AGM window
   expectError("pilot: {agm_publish_hz: 0}", "pilot.agm_publish_hz");
+  expectError("pilot: {predict_movers: maybe}", "pilot.predict_movers");
+  expectError("pilot: {mover_prediction: {horizon_s: -1}}", "pilot.mover_prediction.horizon_s");
+  expectError("pilot: {mover_prediction: {min_speed: 3, max_speed: 2}}", "pilot.mover_prediction.max_speed");
+  expectError("pilot: {mover_prediction: {speed: 2}}", "pilot.mover_prediction.speed");
+  const PilotConfig m = pilotConfig(
+      Config::fromString("pilot: {predict_movers: false, mover_prediction: {min_speed: 0.5, horizon_s: 0.2}}").section("pilot"));
+  EXPECT_FALSE(m.predict_movers);
+  EXPECT_DOUBLE_EQ(m.mover_prediction.min_speed, 0.5);
+  EXPECT_DOUBLE_EQ(m.mover_prediction.horizon_s, 0.2);
   const PilotConfig c =
       pilotConfig(Config::fromString("pilot: {agm: {g_threshold: 3}, max_range: 2.5}").section("pilot"));
   EXPECT_EQ(c.sector_map.gp_threshold, 3);  // defaults to G_T

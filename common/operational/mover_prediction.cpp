@@ -1,0 +1,78 @@
+#include "operational/mover_prediction.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace lasonic {
+
+MoverPrediction::MoverPrediction(const MoverPredictionParams& p) : p_(p) {
+  if (!(p.cluster_gap > 0) || !(p.max_extent > 0) || p.min_points < 2 || !(p.min_speed >= 0) ||
+      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0))
+    throw std::invalid_argument("MoverPrediction: inconsistent parameters");
+}
+
+std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector<TimedPoint>& scan) const {
+  std::vector<Blob> out;
+  const double gap2 = p_.cluster_gap * p_.cluster_gap, extent2 = p_.max_extent * p_.max_extent;
+  size_t first = 0;
+  for (size_t i = 1; i <= scan.size(); ++i) {
+    if (i < scan.size() && (scan[i].p - scan[i - 1].p).squaredNorm() <= gap2) continue;
+    // scan[first .. i-1] is one cluster.
+    const size_t n = i - first;
+    if (n >= static_cast<size_t>(p_.min_points)) {
+      geom::Vec2 lo = scan[first].p, hi = scan[first].p, sum = geom::Vec2::Zero();
+      double t = 0;
+      for (size_t j = first; j < i; ++j) {
+        lo = lo.cwiseMin(scan[j].p);
+        hi = hi.cwiseMax(scan[j].p);
+        sum += scan[j].p;
+        t += static_cast<double>(scan[j].utime - scan[first].utime);
+      }
+      if ((hi - lo).squaredNorm() <= extent2 && std::isfinite(sum.x()) && std::isfinite(sum.y()))
+        out.push_back({sum / static_cast<double>(n),
+                       static_cast<double>(scan[first].utime) * 1e-6 + t * 1e-6 / static_cast<double>(n),
+                       (hi - lo).norm(), first, i - 1});
+    }
+    first = i;
+  }
+  return out;
+}
+
+std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& scan, const geom::Vec2& robot) {
+  std::vector<geom::Vec2> v(scan.size(), geom::Vec2::Zero());
+  std::vector<Blob> now = candidates(scan);
+  movers_ = 0;
+  const auto nearest = [](const geom::Vec2& c, const std::vector<Blob>& in) {
+    size_t best = in.size();
+    double d2 = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < in.size(); ++k)
+      if (const double e = (in[k].centroid - c).squaredNorm(); e < d2) {
+        d2 = e;
+        best = k;
+      }
+    return best;
+  };
+  for (size_t a = 0; a < now.size(); ++a) {
+    const size_t b = nearest(now[a].centroid, prev_);
+    if (b == prev_.size() || nearest(prev_[b].centroid, now) != a) continue;  // not mutually nearest
+    const double dt = now[a].t_s - prev_[b].t_s;
+    if (!(dt > 0) || dt > 1.0) continue;  // not the scan before (or time went back)
+    const geom::Vec2 vel = (now[a].centroid - prev_[b].centroid) / dt;
+    const double speed = vel.norm();
+    // What a static object's visible centroid can do as the line of sight turns (file comment).
+    const geom::Vec2 los = now[a].centroid - robot;
+    const double dist = los.norm();
+    const geom::Vec2 v_robot = (robot - prev_robot_) / dt;
+    const double v_perp = dist > 0 ? std::abs(v_robot.x() * los.y() - v_robot.y() * los.x()) / dist : 0.0;
+    const double apparent = dist > 0 ? std::max(now[a].extent, prev_[b].extent) / geom::kPi * v_perp / dist : 0.0;
+    if (!(speed >= p_.min_speed + apparent) || speed > p_.max_speed) continue;
+    ++movers_;
+    for (size_t j = now[a].first; j <= now[a].last; ++j) v[j] = vel;
+  }
+  prev_ = std::move(now);
+  prev_robot_ = robot;
+  return v;
+}
+
+}  // namespace lasonic
