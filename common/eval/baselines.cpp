@@ -109,8 +109,9 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
   baselines::HimmGrid himm(cfg.himm);
   baselines::NaiveFusion naive(cfg.naive_fusion);
   baselines::LogOddsGrid log_odds(cfg.log_odds);
-  SectorMap himm_map(rp), naive_map(rp), log_odds_map(rp);
-  SectorScore himm_score, naive_score, log_odds_score;
+  SectorMap himm_map(rp), naive_map(rp), log_odds_map(rp), laser_map(rp);
+  SectorScore himm_score, naive_score, log_odds_score, laser_score;
+  const OccupancyWindow no_cells;  // laser only: the newest scan and nothing else
   RawChannelReplay replay(log);
 
   RawChannelReplay::Handlers h;
@@ -126,6 +127,7 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
     }
     if (points.empty()) return;
     naive_map.setLaserPoints(newest, points);
+    laser_map.setLaserPoints(newest, points);
     log_odds_map.setLaserPoints(newest, std::move(points));
   };
   h.sonar = [&](const sonar_ring_t& msg, const complement::SonarGroup& g, const std::optional<geom::Pose2>& robot) {
@@ -168,7 +170,9 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
     score(himm_map, himm.occupancy(), himm_score);
     score(naive_map, naive.agm(), naive_score);
     score(log_odds_map, log_odds.occupancy(), log_odds_score);
+    score(laser_map, no_cells, laser_score);
   }
+  laser_score.write(m, "baselines.laser_only.sector_map", false, truth.materials);
   himm_score.write(m, "baselines.sonar_himm.sector_map", false, truth.materials);
   naive_score.write(m, "baselines.naive_fusion.sector_map", false, truth.materials);
   log_odds_score.write(m, "baselines.log_odds.sector_map", false, truth.materials);

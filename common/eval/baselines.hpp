@@ -8,7 +8,9 @@
 //                 the laser (baselines/naive_fusion.hpp);
 // - log_odds:     an Elfes-style grid, cone model, laser and sonar, free space cleared, plus the
 //                 laser points (baselines/log_odds.hpp).
-// (laser_only, the laser part of the pilot's own maps, is scored by evalSectorMap.)
+// - laser_only:   the newest scan alone, moved into the current pose (what a laser-only robot
+//                 would report; the pilot's own laser part also moves people on, see
+//                 operational/mover_prediction.hpp).
 #include <functional>
 #include <optional>
 #include <vector>

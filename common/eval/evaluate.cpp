@@ -311,20 +311,18 @@ void writeSectorSampleHeader(std::ostream& out) {
 
 void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m) {
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
-  SectorScore fused, laser_only;
+  SectorScore fused;
   for (size_t i = 0; i < truth.maps.size(); ++i) {
     const sector_map_t& sm = log.sector_maps[truth.maps[i]];
     const SectorSample* s = truth.mapSamples(i);
     for (size_t k = 0; k < static_cast<size_t>(truth.sectors(i)); ++k) {
       fused.add(sm.distance[k], s[k], o, sm.source[k]);
-      laser_only.add(sm.laser_distance[k], s[k], o);
       if (o.samples_csv) writeSectorSample(*o.samples_csv, log, sm, k, s[k], truth.materials, o);
     }
   }
   m.set("sector_map.maps", static_cast<int64_t>(truth.maps.size()));
   m.set("sector_map.maps_before_first_data", truth.warmup);
   fused.write(m, "sector_map", true, truth.materials);
-  laser_only.write(m, "baselines.laser_only.sector_map", false, truth.materials);
 }
 
 // ------------------------------------------------------------------------------ AGM
