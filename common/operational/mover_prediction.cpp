@@ -8,7 +8,7 @@ namespace lasonic {
 
 MoverPrediction::MoverPrediction(const MoverPredictionParams& p) : p_(p) {
   if (!(p.cluster_gap > 0) || !(p.max_extent > 0) || p.min_points < 2 || !(p.min_speed >= 0) ||
-      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0))
+      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0) || !(p.agree_speed > 0))
     throw std::invalid_argument("MoverPrediction: inconsistent parameters");
 }
 
@@ -66,7 +66,11 @@ std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& s
     const geom::Vec2 v_robot = (robot - prev_robot_) / dt;
     const double v_perp = dist > 0 ? std::abs(v_robot.x() * los.y() - v_robot.y() * los.x()) / dist : 0.0;
     const double apparent = dist > 0 ? std::max(now[a].extent, prev_[b].extent) / geom::kPi * v_perp / dist : 0.0;
-    if (!(speed >= p_.min_speed + apparent) || speed > p_.max_speed) continue;
+    if (!(speed <= p_.max_speed)) continue;
+    now[a].paired = true;
+    now[a].vel = vel;
+    if (!(speed >= p_.min_speed + apparent) || !prev_[b].paired) continue;
+    if (!((vel - prev_[b].vel).norm() <= std::max(p_.agree_speed, 0.5 * speed))) continue;
     ++movers_;
     for (size_t j = now[a].first; j <= now[a].last; ++j) v[j] = vel;
   }

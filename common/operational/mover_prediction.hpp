@@ -12,7 +12,11 @@
 //   (bounding box diagonal <= max_extent, at least min_points returns) are candidates;
 // - a candidate is paired with the previous scan's candidate whose centroid is nearest, if each
 //   is the other's nearest and the centroid moved no faster than max_speed;
-// - a pair whose centroid moved at min_speed or faster gives its returns that velocity.
+// - a pair whose centroid moved at min_speed or faster, at a velocity that agrees (within
+//   max(agree_speed, half of it)) with the one the earlier cluster had from the scan before
+//   that, gives its returns that velocity: a person keeps walking, while the jitter of a
+//   static cluster's centroid (range noise, odometry between two scans, an edge's mixed
+//   pixels) points somewhere else every scan.
 // The sector map then reports such a return at p + v * min(age, horizon_s), age = map time minus
 // the return's own time (SectorMap::setLaserMovers). A static object seen from a driving robot
 // shows another side of itself as the line of sight turns: the visible half of a round object
@@ -36,6 +40,8 @@ struct MoverPredictionParams {
   double min_speed = 0.3;     // [m/s] slow walking is ~0.5 m/s; visible-centroid shifts stay below
   double max_speed = 2.5;     // [m/s] running; faster pairs are two different things
   double horizon_s = 0.3;     // [s] 1.5 scan periods: never further than the next scan is late
+  double agree_speed = 0.4;   // [m/s] two successive velocities of one person differ by less
+                              // (a turn of 30 deg at 0.8 m/s); jitter of 2-3 cm per scan does not
 };
 
 // A laser return (global frame) and the time it was taken.
@@ -62,6 +68,8 @@ class MoverPrediction {
     double t_s = 0;  // mean time of its returns [s]
     double extent = 0;  // [m] its bounding box's diagonal
     size_t first = 0, last = 0;  // its returns: scan[first..last]
+    bool paired = false;  // paired with the scan before; then vel is its centroid's velocity
+    geom::Vec2 vel = geom::Vec2::Zero();
   };
   std::vector<Blob> candidates(const std::vector<TimedPoint>& scan) const;
 

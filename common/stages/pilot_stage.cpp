@@ -75,7 +75,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   {
     const Config m = c.section("mover_prediction");
-    m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s"});
+    m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "agree_speed"});
     MoverPredictionParams& mp = p.mover_prediction;
     mp.cluster_gap = m.get("cluster_gap", mp.cluster_gap, Range::between(0.01, 2));
     mp.max_extent = m.get("max_extent", mp.max_extent, Range::between(0.05, 10));
@@ -83,6 +83,7 @@ PilotConfig pilotConfig(const Config& c) {
     mp.min_speed = m.get("min_speed", mp.min_speed, Range::between(0, 10));
     mp.max_speed = m.get("max_speed", mp.max_speed, Range::between(0.01, 20));
     mp.horizon_s = m.get("horizon_s", mp.horizon_s, Range::between(0, 2));
+    mp.agree_speed = m.get("agree_speed", mp.agree_speed, Range::between(0.01, 10));
     if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
   }
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
