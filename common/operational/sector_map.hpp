@@ -177,6 +177,7 @@ class SectorMap {
   double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
+  std::vector<double> laser_x_, laser_y_;  // the same points, x and y apart (laserValues, four at a time)
   // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
   // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
   // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the
