@@ -2,6 +2,7 @@
 // copy rules, staleness.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -565,4 +566,32 @@ TEST(SectorMap, LaserValuesFourAtATimeEqualThePointByPointDefinition) {
     ASSERT_EQ(st.laser, def) << "trial " << trial << ", " << points.size() << " points, " << p.sectors << " sectors";
   }
   EXPECT_GT(edge_points, 1000);
+}
+
+// cellIndices (two at a time) against clamp(floor(v / cell), -1e15, 1e15) one by one: values on
+// cell edges and one ulp either side, negative, zero of both signs, huge, infinite, an odd count.
+TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> u(-50.0, 50.0), coin(0.0, 1.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double cell : {0.1, 0.05, 0.25, 0.07, 1e-9}) {
+    std::vector<double> v;
+    for (int i = 0; i < 2001; ++i) {
+      const double pick = coin(rng);
+      if (pick < 0.4) {
+        v.push_back(u(rng));
+      } else if (pick < 0.8) {  // a cell edge k * cell, or one ulp beside it
+        const double edge = std::round(u(rng) / cell) * cell;
+        v.push_back(i % 3 == 0 ? edge : std::nextafter(edge, i % 3 == 1 ? inf : -inf));
+      } else {
+        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15};
+        v.push_back(special[i % 10]);
+      }
+    }
+    std::vector<int64_t> got(v.size());
+    cellIndices(v.data(), v.size(), cell, got.data());
+    for (size_t i = 0; i < v.size(); ++i)
+      ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(std::floor(v[i] / cell), -1e15, 1e15)))
+          << "v " << v[i] << " cell " << cell;
+  }
 }
