@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 #if defined(__SSE2__)
@@ -131,16 +130,9 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
   return false;
 }
 
-// The explained cells: cell (x, y) is explained when a point p of the newest scan has
-// (x, y) in its candidate box (within +-span cells of p's own cell, narrowed to the cells whose
-// centres can lie within rho, with one cell of margin against rounding) and the centre of
-// (x, y) lies within rho of p. A map asks about a few dozen cells (the AGM's cells at Gp >=
-// gp_threshold, the remembered points near the robot), so each cell is decided when first asked
-// and remembered until the next scan, from the points bucketed by cell once per scan: a few
-// microseconds per scan instead of marking every cell around each of the scan's points.
-// Two at a time where SSE2 is there: the quotient by the same division; floor(clamp(t)) =
-// clamp(floor(t)) as +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by rounding to an
-// integer at 1.5 * 2^52 and stepping down where that rounded up.
+// cellIndices, two at a time where SSE2 is there: the quotient by the same division;
+// floor(clamp(t)) = clamp(floor(t)) as +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by
+// rounding to an integer at 1.5 * 2^52 and stepping down where that rounded up.
 void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
   const auto one = [cell](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)); };
   size_t i = 0;
@@ -165,6 +157,13 @@ void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
   for (; i < n; ++i) out[i] = one(v[i]);
 }
 
+// The explained cells: cell (x, y) is explained when a point p of the newest scan has
+// (x, y) in its candidate box (within +-span cells of p's own cell, narrowed to the cells whose
+// centres can lie within rho, with one cell of margin against rounding) and the centre of
+// (x, y) lies within rho of p. A map asks about a few dozen cells (the AGM's cells at Gp >=
+// gp_threshold, the remembered points near the robot), so each cell is decided when first asked
+// and remembered until the next scan, from the points bucketed by cell once per scan: a few
+// microseconds per scan instead of marking every cell around each of the scan's points.
 int64_t SectorMap::explainedGlobal(double v) const {
   return static_cast<int64_t>(std::clamp(std::floor(v / explained_cell_size_), -1e15, 1e15));
 }
