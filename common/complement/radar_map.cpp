@@ -328,4 +328,9 @@ RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const 
   return radarMapOf(scan, placeReadings(scan, poses, no_pose), pose, cfg);
 }
 
+RadarMap radarMapFromPlaced(const LaserScan& scan, const std::vector<ScanPoint>& placed, const PoseHistory& poses,
+                            const RadarMapConfig& cfg) {
+  return radarMapOf(scan, placed, poses.at(lastReadingTime(scan)), cfg);
+}
+
 }  // namespace lasonic::complement

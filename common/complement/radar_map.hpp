@@ -135,5 +135,10 @@ RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const
                          int* no_pose = nullptr);
 RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg,
                          int* no_pose = nullptr);
+// The same from readings already placed with `poses` (placeReadings(scan, poses), e.g. through a
+// SharedPlacement): extractRadarMap(scan, poses, cfg) is radarMapFromPlaced(scan,
+// placeReadings(scan, poses), poses, cfg).
+RadarMap radarMapFromPlaced(const LaserScan& scan, const std::vector<ScanPoint>& placed, const PoseHistory& poses,
+                            const RadarMapConfig& cfg);
 
 }  // namespace lasonic::complement

@@ -1,6 +1,7 @@
 #include "core/pose_history.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace lasonic {
 
@@ -16,6 +17,14 @@ PoseHistory::AddResult PoseHistory::add(int64_t utime, const geom::Pose2& pose) 
     first_ = 0;
   }
   return AddResult::Ok;
+}
+
+bool PoseHistory::sameAs(const PoseHistory& other) const {
+  static_assert(sizeof(Entry) == sizeof(int64_t) + 3 * sizeof(double), "Entry without padding: compared as bytes");
+  const size_t n = poses_.size() - first_;
+  return max_age_us_ == other.max_age_us_ && max_extrapolation_us_ == other.max_extrapolation_us_ &&
+         n == other.poses_.size() - other.first_ &&
+         (n == 0 || std::memcmp(poses_.data() + first_, other.poses_.data() + other.first_, n * sizeof(Entry)) == 0);
 }
 
 std::optional<geom::Pose2> PoseHistory::newest() const {

@@ -79,6 +79,10 @@ class PoseHistory {
     bool small_turn_ = false;  // |dtheta_| <= 0.1
   };
 
+  // The same entries, bit for bit, and the same limits: at() (and a Cursor) give the same pose
+  // for every time on both.
+  bool sameAs(const PoseHistory& other) const;
+
   bool empty() const { return first_ == poses_.size(); }
   int64_t newestTime() const { return empty() ? 0 : poses_.back().utime; }
   std::optional<geom::Pose2> newest() const;

@@ -14,13 +14,6 @@ uint32_t be32(const uint8_t* p) {
   return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
 }
 uint64_t be64(const uint8_t* p) { return (uint64_t{be32(p)} << 32) | be32(p + 4); }
-void put32(std::vector<uint8_t>& b, uint32_t v) {
-  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<uint8_t>(v >> s));
-}
-void put64(std::vector<uint8_t>& b, uint64_t v) {
-  put32(b, static_cast<uint32_t>(v >> 32));
-  put32(b, static_cast<uint32_t>(v));
-}
 }  // namespace
 
 LogReader::LogReader(const std::string& path) : path_(path) {
@@ -119,11 +112,18 @@ void LogWriter::flush() {
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {
   if (size > 0x7fffffff) throw LogError(path_ + ": event on channel '" + channel + "' too large for an LCM log");
-  put32(buf_, kSync);
-  put64(buf_, static_cast<uint64_t>(events_));
-  put64(buf_, static_cast<uint64_t>(timestamp));
-  put32(buf_, static_cast<uint32_t>(channel.size()));
-  put32(buf_, static_cast<uint32_t>(size));
+  // The event header (big-endian), made apart and appended at once (not byte by byte).
+  uint8_t header[28];
+  const auto be = [&header](size_t at, uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i)
+      header[at + static_cast<size_t>(i)] = static_cast<uint8_t>(v >> (8 * (bytes - 1 - i)));
+  };
+  be(0, kSync, 4);
+  be(4, static_cast<uint64_t>(events_), 8);
+  be(12, static_cast<uint64_t>(timestamp), 8);
+  be(20, channel.size(), 4);
+  be(24, size, 4);
+  buf_.insert(buf_.end(), header, header + sizeof header);
   buf_.insert(buf_.end(), channel.begin(), channel.end());
   buf_.insert(buf_.end(), data, data + size);
   ++events_;

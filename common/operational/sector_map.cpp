@@ -4,6 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace lasonic {
 
 namespace {
@@ -94,6 +98,12 @@ void SectorMap::setLaserMovers(std::vector<MovingPoint> movers, double horizon_s
 void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_movers_.clear();
   laser_points_ = std::move(points);
+  laser_x_.resize(laser_points_.size());
+  laser_y_.resize(laser_points_.size());
+  for (size_t i = 0; i < laser_points_.size(); ++i) {
+    laser_x_[i] = laser_points_[i].x();
+    laser_y_[i] = laser_points_[i].y();
+  }
   laser_utime_ = utime;
   have_laser_ = true;
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
@@ -124,6 +134,33 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
         if ((it->second - p).norm() <= rho) return true;
     }
   return false;
+}
+
+// cellIndices, two at a time where SSE2 is there: the quotient by the same division;
+// floor(clamp(t)) = clamp(floor(t)) as +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by
+// rounding to an integer at 1.5 * 2^52 and stepping down where that rounded up.
+void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
+  const auto one = [cell](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)); };
+  size_t i = 0;
+#if defined(__SSE2__)
+  const __m128d c = _mm_set1_pd(cell), lo = _mm_set1_pd(-1e15), hi = _mm_set1_pd(1e15);
+  const __m128d big = _mm_set1_pd(6755399441055744.0), unit = _mm_set1_pd(1.0);
+  for (; i + 2 <= n; i += 2) {
+    const __m128d q = _mm_div_pd(_mm_loadu_pd(v + i), c);
+    // A NaN quotient goes the scalar way (the vector min and max would not keep it).
+    if (_mm_movemask_pd(_mm_cmpunord_pd(q, q)) != 0) {
+      out[i] = one(v[i]);
+      out[i + 1] = one(v[i + 1]);
+      continue;
+    }
+    const __m128d t = _mm_min_pd(_mm_max_pd(q, lo), hi);
+    const __m128d r = _mm_sub_pd(_mm_add_pd(t, big), big);
+    const __m128d f = _mm_sub_pd(r, _mm_and_pd(_mm_cmpgt_pd(r, t), unit));
+    out[i] = _mm_cvttsd_si64(f);
+    out[i + 1] = _mm_cvttsd_si64(_mm_unpackhi_pd(f, f));
+  }
+#endif
+  for (; i < n; ++i) out[i] = one(v[i]);
 }
 
 // The explained cells: cell (x, y) is explained when a point p of the newest scan has
@@ -176,10 +213,12 @@ void SectorMap::rebuildExplained(double c) {
   // sqrt(d2) <= rho exactly when d2 <= the largest double whose root is <= rho.
   explained_rho2_ = sqrtBound(rho);
   int64_t x0 = std::numeric_limits<int64_t>::max(), y0 = x0, x1 = std::numeric_limits<int64_t>::min(), y1 = x1;
-  point_cells_.resize(laser_points_.size());
+  point_gx_.resize(laser_points_.size());
+  point_gy_.resize(laser_points_.size());
+  cellIndices(laser_x_.data(), laser_points_.size(), c, point_gx_.data());  // explainedGlobal of each
+  cellIndices(laser_y_.data(), laser_points_.size(), c, point_gy_.data());
   for (size_t i = 0; i < laser_points_.size(); ++i) {
-    const int64_t gx = explainedGlobal(laser_points_[i].x()), gy = explainedGlobal(laser_points_[i].y());
-    point_cells_[i] = {gx, gy};
+    const int64_t gx = point_gx_[i], gy = point_gy_[i];
     x0 = std::min(x0, gx - span);
     x1 = std::max(x1, gx + span);
     y0 = std::min(y0, gy - span);
@@ -205,16 +244,36 @@ void SectorMap::rebuildExplained(double c) {
     const int64_t bucket_h = (explained_h_ + side - 1) / side;
     const auto buckets = static_cast<size_t>(bucket_w_ * bucket_h);
     bucket_start_.assign(buckets + 1, 0);
-    point_bucket_.resize(laser_points_.size());
-    for (size_t i = 0; i < laser_points_.size(); ++i) {
-      point_bucket_[i] = static_cast<uint32_t>(((point_cells_[i].second - y0) >> bucket_shift_) * bucket_w_ +
-                                               ((point_cells_[i].first - x0) >> bucket_shift_));
-      ++bucket_start_[point_bucket_[i] + 1];
+    const size_t np = laser_points_.size();
+    point_bucket_.resize(np);
+    bucket_points_.resize(np);
+    // (Through local pointers, and run by run: a scan's consecutive points mostly share a
+    // bucket, and a count kept in memory would make each point wait for the previous one's.)
+    const int64_t* gxs = point_gx_.data();
+    const int64_t* gys = point_gy_.data();
+    uint32_t* pb = point_bucket_.data();
+    uint32_t* count = bucket_start_.data() + 1;
+    const int64_t shift = bucket_shift_, w = bucket_w_;
+    for (size_t i = 0; i < np;) {
+      const auto b = static_cast<uint32_t>(((gys[i] - y0) >> shift) * w + ((gxs[i] - x0) >> shift));
+      size_t j = i;
+      do pb[j++] = b;
+      while (j < np && static_cast<uint32_t>(((gys[j] - y0) >> shift) * w + ((gxs[j] - x0) >> shift)) == b);
+      count[b] += static_cast<uint32_t>(j - i);
+      i = j;
     }
     for (size_t b = 1; b <= buckets; ++b) bucket_start_[b] += bucket_start_[b - 1];
-    bucket_points_.resize(laser_points_.size());
     bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (size_t i = 0; i < laser_points_.size(); ++i) bucket_points_[bucket_fill_[point_bucket_[i]]++] = laser_points_[i];
+    uint32_t* fill = bucket_fill_.data();
+    const geom::Vec2* src = laser_points_.data();
+    geom::Vec2* dst = bucket_points_.data();
+    for (size_t i = 0; i < np;) {
+      const uint32_t b = pb[i];
+      uint32_t at = fill[b];
+      do dst[at++] = src[i++];
+      while (i < np && pb[i] == b);
+      fill[b] = at;
+    }
     explained_any_ = true;  // (not known yet; every cell is decided when asked)
     return;
   }
@@ -305,21 +364,26 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   const double reach2 = reach * reach;
   // Per sector the smallest squared distance; the root only once per sector at the end: the
   // distance max(0, sqrt(r2) - robot_radius), rounded to float, never decreases with r2, so the
-  // minimum over the points is the distance of the smallest r2.
+  // minimum over the points is the distance of the smallest r2 (and the order in which the
+  // points are taken does not matter).
   std::fill(laser_r2_.begin(), laser_r2_.end(), -1.0);  // -1: no point
   const int n = p_.sectors;
   int k = 0;
   const auto exact = [&](double lx, double ly) {
     return sectorOfDirection(lx, ly, [&] { return sectorOfNormalized(std::atan2(ly, lx)); });
   };
-  for (const geom::Vec2& p : laser_points_) {
-    const double dx = p.x() - pose.x, dy = p.y() - pose.y;
+  const auto take = [&](int sector, double r2) {
+    double& m = laser_r2_[static_cast<size_t>(sector)];
+    if (m < 0 || r2 < m) m = r2;
+  };
+  // One point (dx, dy: from the robot, global frame), the defining computation.
+  const auto one = [&](double dx, double dy) __attribute__((noinline)) {  // (out of the four-lane loop's registers)
     const double r2 = dx * dx + dy * dy;
-    if (r2 > reach2) continue;
+    if (r2 > reach2) return;
     const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
     if (std::isnan(r2)) {  // (not from a valid scan) distance max(0, NaN) = 0, as for r2 = 0
       laser_r2_[static_cast<size_t>(exact(lx, ly))] = 0.0;
-      continue;
+      return;
     }
     // The scan's points come in bearing order, so most lie in the previous point's sector or
     // the next one; a direction clearly inside a sector is in that sector whatever candidate
@@ -328,9 +392,100 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
       const int up = k + 1 == n ? 0 : k + 1, down = k == 0 ? n - 1 : k - 1;
       k = clearlyInside(up, lx, ly) ? up : clearlyInside(down, lx, ly) ? down : exact(lx, ly);
     }
-    double& m = laser_r2_[static_cast<size_t>(k)];
-    if (m < 0 || r2 < m) m = r2;
+    take(k, r2);
+  };
+  const double* xs = laser_x_.data();
+  const double* ys = laser_y_.data();
+  const size_t np = laser_x_.size();
+  size_t i = 0;
+#if defined(__SSE2__)
+  // Four points at a time (two SSE2 registers of two; SSE2 is part of x86-64's baseline):
+  // distance, rotation and clearlyInside(k) for all four at once, each lane by the same
+  // operations as one() (no FMA on this target), hence with the same values. When every lane is
+  // beyond the reach or clearly inside the current sector k (nearly always), the lanes inside go
+  // into a running minimum for k (r^2 < reach2 < infinity: infinity means none); otherwise the
+  // lanes not beyond the reach go through one() in turn. (An infinite reach: one() only.)
+  if (std::isfinite(reach2)) {
+    const __m128d vc = _mm_set1_pd(c), vs = _mm_set1_pd(s), vms = _mm_set1_pd(-s);
+    const __m128d vpx = _mm_set1_pd(pose.x), vpy = _mm_set1_pd(pose.y), vreach2 = _mm_set1_pd(reach2);
+    const __m128d vinf = _mm_set1_pd(std::numeric_limits<double>::infinity());
+    // One margin for all lanes, at least clearlyInside's 1e-9 (|x| + |y|) for any lane within the
+    // reach (|x| + |y| <= sqrt(2) r <= 1.5 reach): inside by more is inside.
+    const __m128d m0 = _mm_set1_pd(2e-9 * reach), m1 = m0;
+    __m128d bc, bs, bc1, bs1;  // sector k's edges
+    const auto edges = [&] {
+      const auto kk = static_cast<size_t>(k);
+      bc = _mm_set1_pd(bound_c_[kk]), bs = _mm_set1_pd(bound_s_[kk]);
+      bc1 = _mm_set1_pd(bound_c_[kk + 1]), bs1 = _mm_set1_pd(bound_s_[kk + 1]);
+    };
+    edges();
+    __m128d acc = vinf;  // the smallest r^2 so far of the lanes clearly inside sector k
+    const auto flush = [&] {
+      const double m = _mm_cvtsd_f64(_mm_min_sd(acc, _mm_unpackhi_pd(acc, acc)));
+      if (m <= reach2) take(k, m);
+      acc = vinf;
+    };
+    for (; i + 4 <= np; i += 4) {
+      const __m128d dx0 = _mm_sub_pd(_mm_loadu_pd(xs + i), vpx), dx1 = _mm_sub_pd(_mm_loadu_pd(xs + i + 2), vpx);
+      const __m128d dy0 = _mm_sub_pd(_mm_loadu_pd(ys + i), vpy), dy1 = _mm_sub_pd(_mm_loadu_pd(ys + i + 2), vpy);
+      const __m128d r20 = _mm_add_pd(_mm_mul_pd(dx0, dx0), _mm_mul_pd(dy0, dy0));
+      const __m128d r21 = _mm_add_pd(_mm_mul_pd(dx1, dx1), _mm_mul_pd(dy1, dy1));
+      // Within the reach, or NaN (one() skips exactly the lanes with r2 > reach2).
+      const __m128d ok0 = _mm_cmpngt_pd(r20, vreach2), ok1 = _mm_cmpngt_pd(r21, vreach2);
+      const int todo = _mm_movemask_pd(ok0) | (_mm_movemask_pd(ok1) << 2);
+      if (todo == 0) continue;
+      const __m128d lx0 = _mm_add_pd(_mm_mul_pd(vc, dx0), _mm_mul_pd(vs, dy0));
+      const __m128d lx1 = _mm_add_pd(_mm_mul_pd(vc, dx1), _mm_mul_pd(vs, dy1));
+      const __m128d ly0 = _mm_add_pd(_mm_mul_pd(vms, dx0), _mm_mul_pd(vc, dy0));
+      const __m128d ly1 = _mm_add_pd(_mm_mul_pd(vms, dx1), _mm_mul_pd(vc, dy1));
+      // clearlyInside(k), lane by lane (never true for a NaN direction; the smaller of the two
+      // edge cross products above the margin).
+      const auto inside = [&](__m128d& in0, __m128d& in1) {
+        in0 = _mm_cmpgt_pd(_mm_min_pd(_mm_sub_pd(_mm_mul_pd(bc, ly0), _mm_mul_pd(bs, lx0)),
+                                      _mm_sub_pd(_mm_mul_pd(lx0, bs1), _mm_mul_pd(ly0, bc1))), m0);
+        in1 = _mm_cmpgt_pd(_mm_min_pd(_mm_sub_pd(_mm_mul_pd(bc, ly1), _mm_mul_pd(bs, lx1)),
+                                      _mm_sub_pd(_mm_mul_pd(lx1, bs1), _mm_mul_pd(ly1, bc1))), m1);
+        return _mm_movemask_pd(in0) | (_mm_movemask_pd(in1) << 2);
+      };
+      __m128d in0, in1;
+      int rest = todo & ~inside(in0, in1);
+      if (rest == 0) {
+        // Every lane within the reach is inside k: the others have r^2 > reach2, above all of
+        // those, so the plain minimum of the four is that of the lanes inside when it is <= reach2.
+        acc = _mm_min_pd(acc, _mm_min_pd(r20, r21));
+        continue;
+      }
+      // The lanes in `bits` (inside k) into the running minimum.
+      const auto accumulate = [&](int bits) {
+        const auto lane = [bits](int b) { return -static_cast<long long>(bits >> b & 1); };  // all ones or 0
+        const __m128d h0 = _mm_castsi128_pd(_mm_set_epi64x(lane(1), lane(0)));
+        const __m128d h1 = _mm_castsi128_pd(_mm_set_epi64x(lane(3), lane(2)));
+        acc = _mm_min_pd(acc, _mm_min_pd(_mm_or_pd(_mm_and_pd(h0, r20), _mm_andnot_pd(h0, vinf)),
+                                         _mm_or_pd(_mm_and_pd(h1, r21), _mm_andnot_pd(h1, vinf))));
+      };
+      accumulate(todo & ~rest);
+      // A lane outside k (the next sector, nearly always; or NaN): the last such lane through
+      // one(), which finds its sector and moves k there; the others tried against the new k,
+      // and what is left through one() as well.
+      flush();
+      const int last = 31 - __builtin_clz(static_cast<unsigned>(rest));
+      one(xs[i + static_cast<size_t>(last)] - pose.x, ys[i + static_cast<size_t>(last)] - pose.y);
+      rest &= ~(1 << last);
+      edges();
+      if (rest == 0) continue;
+      const int again = rest & inside(in0, in1);
+      accumulate(again);
+      rest &= ~again;
+      if (rest == 0) continue;
+      flush();
+      for (size_t j = 0; j < 4; ++j)
+        if (rest & (1 << j)) one(xs[i + j] - pose.x, ys[i + j] - pose.y);
+      edges();
+    }
+    flush();
   }
+#endif
+  for (; i < np; ++i) one(xs[i] - pose.x, ys[i] - pose.y);
   // Moving returns where they are now (extrapolated from their own time, at most the horizon).
   for (const MovingPoint& mp : laser_movers_) {
     const double age = std::clamp(static_cast<double>(s_.utime - mp.utime) * 1e-6, 0.0, movers_horizon_s_);
@@ -338,8 +493,7 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
     const double dx = q.x() - pose.x, dy = q.y() - pose.y;
     const double r2 = dx * dx + dy * dy;
     if (!(r2 <= reach2)) continue;  // (also NaN: a mover is never put at the robot)
-    double& m = laser_r2_[static_cast<size_t>(exact(c * dx + s * dy, -s * dx + c * dy))];
-    if (m < 0 || r2 < m) m = r2;
+    take(exact(c * dx + s * dy, -s * dx + c * dy), r2);
   }
   for (size_t j = 0; j < out.size(); ++j)
     if (laser_r2_[j] >= 0)

@@ -110,6 +110,10 @@ struct OccupancyWindow {
   }
 };
 
+// out[i] = clamp(floor(v[i] / cell), -1e15, 1e15) for i < n: cell indices, as SectorMap takes
+// them for the explained cells (several at once).
+void cellIndices(const double* v, size_t n, double cell, int64_t* out);
+
 struct SectorMapState {
   int64_t utime = 0;
   geom::Pose2 pose;
@@ -186,6 +190,7 @@ class SectorMap {
   double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range
   std::vector<double> bound_c_, bound_s_;  // unit vector of each sector's lower edge, k = 0..n
   std::vector<geom::Vec2> laser_points_;
+  std::vector<double> laser_x_, laser_y_;  // the same points, x and y apart (laserValues, four at a time)
   // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
   // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
   // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the
@@ -197,7 +202,7 @@ class SectorMap {
   std::vector<uint32_t> bucket_start_;     // per bucket (row-major, bucket_w_ wide) its first point; + end
   std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
   std::vector<uint32_t> bucket_fill_, point_bucket_;       // (scratch of rebuildExplained)
-  std::vector<std::pair<int64_t, int64_t>> point_cells_;  // (scratch: each point's cell)
+  std::vector<int64_t> point_gx_, point_gy_;  // (scratch: each point's cell)
   int64_t bucket_w_ = 0, bucket_shift_ = 0;  // buckets per row; log2 of a bucket's side [cells]
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large
   bool explained_any_ = false;

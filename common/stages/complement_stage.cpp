@@ -43,7 +43,9 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 
   int returns = 0, no_pose = 0;
   for (const auto& r : scan->readings) returns += r.valid ? 1 : 0;
-  cp::RadarMap rm = cp::extractRadarMap(*scan, poses_, cfg_.radar_map, &no_pose);
+  cp::RadarMap rm = placement_ ? cp::radarMapFromPlaced(*scan, placement_->place(*scan, poses_, &no_pose), poses_,
+                                                         cfg_.radar_map)
+                               : cp::extractRadarMap(*scan, poses_, cfg_.radar_map, &no_pose);
   if (no_pose > 0) {
     node_.reportError("rejected.laser_no_odometry",
                       "LASER_SCAN utime " + std::to_string(m.utime) + ": no odometry for " +

@@ -24,6 +24,7 @@
 //   driver, a looping log) resets the stage to its start state (counted: time_resets).
 #include "complement/complement_config.hpp"
 #include "complement/radar_map.hpp"
+#include "complement/shared_placement.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
@@ -32,6 +33,7 @@
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sonar_ring_t.hpp>
 
+#include <memory>
 #include <optional>
 
 namespace lasonic {
@@ -42,6 +44,9 @@ using complement::complementConfig;
 class ComplementStage {
  public:
   ComplementStage(Node& node, const ComplementConfig& cfg);
+  // Where the pilot stage runs in the same process (lasonic-replay): the scan's placed readings
+  // shared with it (complement/shared_placement.hpp; the same result, computed once).
+  void sharePlacement(std::shared_ptr<complement::SharedPlacement> placement) { placement_ = std::move(placement); }
 
  private:
   void onOdometry(const odometry_t& m);
@@ -57,6 +62,7 @@ class ComplementStage {
   std::optional<complement::RadarMap> radar_map_;
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
+  std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
 };
 
 }  // namespace lasonic

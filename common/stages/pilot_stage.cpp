@@ -180,7 +180,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   last_scan_utime_ = m.utime;
 
   int no_pose = 0;
-  const auto placed = complement::placeReadings(*scan, poses_, &no_pose);
+  std::vector<complement::ScanPoint> own;
+  const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose)
+                                                                 : (own = complement::placeReadings(*scan, poses_, &no_pose));
   std::vector<geom::Vec2> points;
   points.reserve(placed.size());
   int64_t newest = m.utime;

@@ -34,6 +34,7 @@
 // An input whose time jumps back by more than TimeReset::kJumpUs (a restarted simulator or
 // driver, a looping log) resets the stage to its start state (counted: time_resets).
 #include <cstdint>
+#include <memory>
 #include <optional>
 
 #include <lasonic/complement_t.hpp>
@@ -41,6 +42,7 @@
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/odometry_t.hpp>
 
+#include "complement/shared_placement.hpp"
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
@@ -84,6 +86,9 @@ PilotConfig pilotConfig(const Config& pilot_section);
 class PilotStage {
  public:
   PilotStage(Node& node, const PilotConfig& cfg);
+  // Where the complement stage runs in the same process (lasonic-replay): the scan's placed
+  // readings shared with it (complement/shared_placement.hpp; the same result, computed once).
+  void sharePlacement(std::shared_ptr<complement::SharedPlacement> placement) { placement_ = std::move(placement); }
 
  private:
   void onOdometry(const odometry_t& m);
@@ -106,6 +111,7 @@ class PilotStage {
       last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
+  std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
 };
 
 }  // namespace lasonic

@@ -82,6 +82,13 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
     nodes.push_back(std::make_unique<Node>("lasonic-navigator", lcm, offline));
     navigator_stage.emplace(*nodes.back(), navigator_cfg);
   }
+  // Both stages place each laser scan's readings with their own (equal) odometry history: once
+  // is enough (complement/shared_placement.hpp: used only when scan and history are equal).
+  const auto placement = std::make_shared<complement::SharedPlacement>();
+  if (complement_stage && pilot_stage) {
+    complement_stage->sharePlacement(placement);
+    pilot_stage->sharePlacement(placement);
+  }
   // ----
   std::set<std::string> derived = {channels::PROCESS_STATUS};
   for (const StageInfo& s : kStages)
@@ -112,6 +119,8 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
   std::cerr << "lasonic-replay: " << meter.summary() << std::endl;
+  spdlog::info("replay: laser readings placed {} times, shared {} times", placement->computed(),
+               placement->reused());
   for (const auto& n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
   return 0;

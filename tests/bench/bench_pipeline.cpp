@@ -10,7 +10,9 @@
 //   BM_Fig7LabFiringGroup: one iteration = one firing group: hypothetical scan + classification
 //     (extractComplement) + AGM cycle (echo placement, follow, update) + sector map;
 //   BM_Fig7LabLaserScan: one iteration = one laser scan: Radar Map (extractRadarMap) + the
-//     pilot's scan handling (placeReadings, the first sector map after the scan).
+//     pilot's scan handling (placeReadings, the first sector map after the scan);
+//   BM_Fig7LabLaserScanOneProcess: the same with the readings placed once for both stages
+//     (SharedPlacement, as lasonic-replay runs them), the pilot keeping its own pose history.
 // The other events in between are processed with the timer stopped (CPU time, so another
 // process taking the core does not count). At the end of the 60 s run the replay starts afresh.
 // Before timing, one pass checks that every sector map equals the SECTOR_MAP the real PilotStage
@@ -31,6 +33,7 @@
 #include "complement/complement.hpp"
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
+#include "complement/shared_placement.hpp"
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/eventlog.hpp"
@@ -109,8 +112,11 @@ const Run& recordedRun() {
 // left out: the scene's messages are all good), one input event at a time.
 class Replayer {
  public:
-  explicit Replayer(const Run& run)
+  // one_process: the two stages share the scan's placed readings (SharedPlacement), as in
+  // lasonic-replay; otherwise each places them, as the live processes do.
+  explicit Replayer(const Run& run, bool one_process = false)
       : run_(run),
+        one_process_(one_process),
         ccfg_(complementConfig(run.root.section("complement"))),
         pcfg_(pilotConfig(run.root.section("pilot"))),
         agm_(pcfg_.agm),
@@ -136,16 +142,21 @@ class Replayer {
     const Run::Event& ev = run_.inputs[next_++];
     if (const auto* od = std::get_if<odometry_t>(&ev)) {
       if (const auto odo = cp::odometryFromMessage(*od, problems_);
-          odo && poses_.add(odo->utime, odo->pose) == PoseHistory::AddResult::Ok)
+          odo && poses_.add(odo->utime, odo->pose) == PoseHistory::AddResult::Ok) {
         speed_ = odo->v;
+        if (one_process_) pilot_poses_.add(odo->utime, odo->pose);  // the pilot stage's own history
+      }
       return false;
     }
     if (const auto* ls = std::get_if<laser_scan_t>(&ev)) {
       const auto scan = cp::laserScanFromMessage(*ls, problems_);
       // Complement stage: the Radar Map.
-      rm_ = cp::extractRadarMap(*scan, poses_, ccfg_.radar_map);
+      rm_ = one_process_ ? cp::radarMapFromPlaced(*scan, shared_.place(*scan, poses_), poses_, ccfg_.radar_map)
+                         : cp::extractRadarMap(*scan, poses_, ccfg_.radar_map);
       // Pilot stage: the scan's points, then the first sector map after it.
-      const auto placed = cp::placeReadings(*scan, poses_);
+      std::vector<cp::ScanPoint> own;
+      const std::vector<cp::ScanPoint>& placed =
+          one_process_ ? shared_.place(*scan, pilot_poses_) : (own = cp::placeReadings(*scan, poses_));
       std::vector<geom::Vec2> points;
       points.reserve(placed.size());
       int64_t newest = ls->utime;
@@ -203,6 +214,9 @@ class Replayer {
   }
 
   const Run& run_;
+  bool one_process_;
+  cp::SharedPlacement shared_;
+  PoseHistory pilot_poses_;
   cp::ComplementConfig ccfg_;
   PilotConfig pcfg_;
   PoseHistory poses_;
@@ -216,13 +230,17 @@ class Replayer {
   std::vector<cp::InputProblem> problems_;
 };
 
-// One pass that checks the replayer against the real stages (and prepares the group readings).
+// One pass that checks the replayer against the real stages (and prepares the group readings),
+// with and without the shared placement.
 bool checkedOnce(benchmark::State& state) {
   static const bool ok = [] {
-    Replayer r(recordedRun());
-    while (!r.done())
-      if (r.step() && !r.mapMatches()) return false;
-    return r.allMapsSeen();
+    for (const bool one_process : {false, true}) {
+      Replayer r(recordedRun(), one_process);
+      while (!r.done())
+        if (r.step() && !r.mapMatches()) return false;
+      if (!r.allMapsSeen()) return false;
+    }
+    return true;
   }();
   if (!ok) state.SkipWithError("the benchmark's sector maps differ from the PilotStage's SECTOR_MAP messages");
   return ok;
@@ -257,14 +275,14 @@ BENCHMARK(BM_Fig7LabFiringGroup)->Unit(benchmark::kMicrosecond);
 
 // Iteration = one laser scan (Radar Map + the pilot's scan handling); everything between scans
 // is processed with the timer stopped.
-void BM_Fig7LabLaserScan(benchmark::State& state) {
+void laserScans(benchmark::State& state, bool one_process) {
   if (!checkedOnce(state)) return;
   const Run& run = recordedRun();
-  auto r = std::make_unique<Replayer>(run);
+  auto r = std::make_unique<Replayer>(run, one_process);
   for (auto _ : state) {
     state.PauseTiming();
     while (!r->nextIsScan()) {
-      if (r->done()) r = std::make_unique<Replayer>(run);
+      if (r->done()) r = std::make_unique<Replayer>(run, one_process);
       else r->step();
     }
     state.ResumeTiming();
@@ -272,6 +290,11 @@ void BM_Fig7LabLaserScan(benchmark::State& state) {
   }
   state.counters["scans"] = static_cast<double>(run.scans);
 }
+// As the live processes do it: each stage places the readings.
+void BM_Fig7LabLaserScan(benchmark::State& state) { laserScans(state, false); }
 BENCHMARK(BM_Fig7LabLaserScan)->Unit(benchmark::kMicrosecond);
+// As lasonic-replay does it: placed once, shared by the two stages (SharedPlacement).
+void BM_Fig7LabLaserScanOneProcess(benchmark::State& state) { laserScans(state, true); }
+BENCHMARK(BM_Fig7LabLaserScanOneProcess)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

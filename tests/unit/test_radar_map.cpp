@@ -1,10 +1,12 @@
 // RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
+#include "complement/shared_placement.hpp"
 #include "complement_fixture.hpp"
 #include "core/pose_history.hpp"
 
@@ -262,4 +264,85 @@ TEST(RadarMap, ShortOrSparseClustersAreDropped) {
   for (int i = 0; i < 4; ++i) scan.readings.push_back({0, 0.01 * i, 1.0, true});
   const RadarMap rm = extractRadarMap(scan, [](int64_t) { return std::optional(geom::Pose2{}); }, {});
   EXPECT_TRUE(rm.segments.empty());
+}
+
+// SharedPlacement: the stored placement is taken only for the same scan and an equal history
+// (then it is placeReadings' result, bit for bit); a history that differs in one pose by one ulp,
+// has one pose more, or other limits, or a scan that differs in one range by one ulp, is placed
+// afresh -- and that result too is placeReadings'.
+namespace {
+bool samePlacement(const std::vector<ScanPoint>& a, const std::vector<ScanPoint>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].valid != b[i].valid || std::memcmp(&a[i].p, &b[i].p, sizeof a[i].p) != 0 ||
+        std::memcmp(&a[i].range, &b[i].range, sizeof a[i].range) != 0)
+      return false;
+  return true;
+}
+}  // namespace
+
+TEST(SharedPlacement, TakenOnlyForTheSameScanAndAnEqualHistory) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const LaserScan scan = plain(fixture::simulateScan(rectangleRoom(), traj, t0, dur));
+  // Two stages' histories of the same odometry (the history ends inside the scan: some readings
+  // have no pose).
+  const auto history = [&](int64_t max_extrapolation_us) {
+    PoseHistory h(5'000'000, max_extrapolation_us);
+    for (int64_t t = t0 - 100'000; t <= t0 + 150'000; t += 20'000) h.add(t, traj(t));
+    return h;
+  };
+  const PoseHistory a = history(30'000), b = history(30'000);
+  SharedPlacement shared;
+  int missing = -1, expected_missing = -1;
+  const std::vector<ScanPoint> expected = placeReadings(scan, a, &expected_missing);
+  EXPECT_GT(expected_missing, 0);
+  EXPECT_TRUE(samePlacement(shared.place(scan, a, &missing), expected));
+  EXPECT_EQ(missing, expected_missing);
+  missing = -1;
+  EXPECT_TRUE(samePlacement(shared.place(scan, b, &missing), expected));  // the other stage's history
+  EXPECT_EQ(missing, expected_missing);
+  EXPECT_EQ(shared.computed(), 1);
+  EXPECT_EQ(shared.reused(), 1);
+
+  // One pose one ulp apart (where the scan's readings take their poses from).
+  PoseHistory c(5'000'000, 30'000);
+  for (int64_t t = t0 - 100'000; t <= t0 + 150'000; t += 20'000) {
+    geom::Pose2 p = traj(t);
+    if (t == t0 + 60'000) p.x = std::nextafter(p.x, 1e9);
+    c.add(t, p);
+  }
+  EXPECT_FALSE(c.sameAs(a));
+  const std::vector<ScanPoint> from_c = placeReadings(scan, c);
+  EXPECT_FALSE(samePlacement(from_c, expected));  // (the difference shows in the placement)
+  EXPECT_TRUE(samePlacement(shared.place(scan, c), from_c));
+  EXPECT_EQ(shared.computed(), 2);
+
+  // One pose more; other limits.
+  PoseHistory d = history(30'000);
+  d.add(t0 + 170'000, traj(t0 + 170'000));
+  EXPECT_FALSE(d.sameAs(a));
+  EXPECT_TRUE(samePlacement(shared.place(scan, d), placeReadings(scan, d)));
+  EXPECT_EQ(shared.computed(), 3);
+  const PoseHistory e = history(80'000);
+  EXPECT_FALSE(e.sameAs(a));
+  EXPECT_TRUE(samePlacement(shared.place(scan, e, &missing), placeReadings(scan, e, &expected_missing)));
+  EXPECT_EQ(missing, expected_missing);
+  EXPECT_EQ(shared.computed(), 4);
+
+  // The same history, a scan with one range one ulp longer.
+  LaserScan other = scan;
+  for (LaserReading& r : other.readings)
+    if (r.valid) {
+      r.range = std::nextafter(r.range, 1e9);
+      break;
+    }
+  EXPECT_FALSE(sameScan(other, scan));
+  EXPECT_TRUE(samePlacement(shared.place(other, a), placeReadings(other, a)));
+  EXPECT_TRUE(samePlacement(shared.place(scan, a), expected));
+  EXPECT_EQ(shared.computed(), 6);
+  EXPECT_EQ(shared.reused(), 1);
+  // Back to what is stored: taken again.
+  EXPECT_TRUE(samePlacement(shared.place(scan, b), expected));
+  EXPECT_EQ(shared.reused(), 2);
 }

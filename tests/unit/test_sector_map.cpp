@@ -2,6 +2,7 @@
 // copy rules, staleness.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -503,4 +504,94 @@ TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
   }
   EXPECT_GT(explained, 50);
   EXPECT_GT(not_explained, 50);
+}
+
+// The laser values (four points at a time, see laserValues) against the definition taken point
+// by point -- r^2 beyond the reach skipped, the sector from atan2 of the point in the robot
+// frame, a NaN distance counted as 0 -- on inputs that exercise every lane path: scans whose
+// length is not a multiple of four, points exactly on sector edges (and one ulp either side),
+// at the reach, NaN and infinite coordinates, scattered points, and 3 to 3600 sectors.
+TEST(SectorMap, LaserValuesFourAtATimeEqualThePointByPointDefinition) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), a(-kPi, kPi), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const int sector_counts[] = {3, 7, 48, 48, 360, 3600};
+  int edge_points = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    SectorMapParams p;
+    p.sectors = sector_counts[trial % 6];
+    SectorMap s(p);
+    const Pose2 pose{u(rng) * 0.5, u(rng) * 0.5, trial % 5 == 0 ? 0.0 : a(rng)};
+    const double reach = p.robot_radius + p.max_range;
+    std::vector<Vec2> points;
+    const int kind = trial % 4;
+    const int count = 1 + static_cast<int>(coin(rng) * 800);
+    for (int i = 0; i < count; ++i) {
+      const double pick = coin(rng);
+      if (kind == 0 || pick < 0.6) {  // scan-like: in bearing order, at varying range
+        const double bearing = -kPi + 2 * kPi * i / count;
+        points.push_back(pose.transform(geom::unitVector(bearing) * (0.2 + 4.0 * coin(rng))));
+      } else if (pick < 0.8) {  // on a sector edge (in the robot frame), or one ulp beside it
+        const int k = static_cast<int>(coin(rng) * p.sectors);
+        const double edge = -kPi + k * (2.0 * kPi / p.sectors);
+        Vec2 q = pose.transform(geom::unitVector(edge) * (0.5 + 2.5 * coin(rng)));
+        const int side = static_cast<int>(coin(rng) * 3);
+        if (side > 0) q.x() = std::nextafter(q.x(), side == 1 ? 1e9 : -1e9);
+        points.push_back(q);
+        ++edge_points;
+      } else if (pick < 0.85) {  // at the reach
+        const Vec2 d = geom::unitVector(a(rng)) * reach;
+        points.push_back(pose.position() + d);
+      } else if (pick < 0.9) {  // not from a valid scan
+        const double bad[] = {nan, inf, -inf};
+        points.emplace_back(coin(rng) < 0.5 ? bad[i % 3] : u(rng), coin(rng) < 0.5 ? bad[(i + 1) % 3] : u(rng));
+      } else {
+        points.emplace_back(u(rng), u(rng));
+      }
+    }
+    if (trial % 7 == 0) points.emplace_back(pose.x, pose.y);  // at the robot's centre
+    s.setLaserPoints(0, points);
+    const auto& st = s.update(0, pose, AccumulativeGridMap(agmParams01()));
+    std::vector<float> def(static_cast<size_t>(p.sectors), -1.0f);
+    const double c = std::cos(pose.theta), sn = std::sin(pose.theta);
+    for (const Vec2& q : points) {
+      const double dx = q.x() - pose.x, dy = q.y() - pose.y;
+      const double r2 = dx * dx + dy * dy;
+      if (r2 > reach * reach) continue;
+      const double lx = c * dx + sn * dy, ly = -sn * dx + c * dy;
+      const float d = std::isnan(r2) ? 0.0f : static_cast<float>(std::max(0.0, std::sqrt(r2) - p.robot_radius));
+      float& v = def[static_cast<size_t>(s.sectorOf(std::atan2(ly, lx)))];
+      if (v < 0 || d < v) v = d;
+    }
+    ASSERT_EQ(st.laser, def) << "trial " << trial << ", " << points.size() << " points, " << p.sectors << " sectors";
+  }
+  EXPECT_GT(edge_points, 1000);
+}
+
+// cellIndices (two at a time) against clamp(floor(v / cell), -1e15, 1e15) one by one: values on
+// cell edges and one ulp either side, negative, zero of both signs, huge, infinite, an odd count.
+TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> u(-50.0, 50.0), coin(0.0, 1.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double cell : {0.1, 0.05, 0.25, 0.07, 1e-9}) {
+    std::vector<double> v;
+    for (int i = 0; i < 2001; ++i) {
+      const double pick = coin(rng);
+      if (pick < 0.4) {
+        v.push_back(u(rng));
+      } else if (pick < 0.8) {  // a cell edge k * cell, or one ulp beside it
+        const double edge = std::round(u(rng) / cell) * cell;
+        v.push_back(i % 3 == 0 ? edge : std::nextafter(edge, i % 3 == 1 ? inf : -inf));
+      } else {
+        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15};
+        v.push_back(special[i % 10]);
+      }
+    }
+    std::vector<int64_t> got(v.size());
+    cellIndices(v.data(), v.size(), cell, got.data());
+    for (size_t i = 0; i < v.size(); ++i)
+      ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(std::floor(v[i] / cell), -1e15, 1e15)))
+          << "v " << v[i] << " cell " << cell;
+  }
 }

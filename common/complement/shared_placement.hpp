@@ -1,0 +1,37 @@
+#pragma once
+// Placing a laser scan's readings (placeReadings: each reading with the pose interpolated at its
+// own time) is a function of the scan and the odometry history alone. Where the complement and
+// pilot stages run in one process (lasonic-replay), each keeps its own history of the same
+// ODOMETRY messages and places the same scan: the second can take the first one's result instead
+// of repeating it (about a fifth of a scan's work). The stored result is used only when the scan
+// and the history are, bit for bit, the ones it was computed from -- then it is exactly what
+// placeReadings would return -- and is computed afresh otherwise. The live processes each run
+// one stage and do not use it.
+#include <cstdint>
+#include <vector>
+
+#include "complement/radar_map.hpp"
+#include "core/pose_history.hpp"
+
+namespace lasonic::complement {
+
+class SharedPlacement {
+ public:
+  // placeReadings(scan, poses, no_pose). The reference is valid until the next call.
+  const std::vector<ScanPoint>& place(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
+  int64_t reused() const { return reused_; }      // calls answered from the stored result
+  int64_t computed() const { return computed_; }  // calls that placed the readings
+
+ private:
+  bool have_ = false;
+  LaserScan scan_;     // what the stored result was computed from
+  PoseHistory poses_;
+  std::vector<ScanPoint> points_;
+  int no_pose_ = 0;
+  int64_t reused_ = 0, computed_ = 0;
+};
+
+// The same scan, bit for bit (times, angles, ranges, flags, the mount).
+bool sameScan(const LaserScan& a, const LaserScan& b);
+
+}  // namespace lasonic::complement
