@@ -9,6 +9,7 @@
 //      CURRENT_SENSOR_MAP  the Radar Map's lines and the AGM's lines, tagged by source, each with
 //                          the time it was last supported (line_map_t)
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
+// agm.look_weight_hits (the hits the look weight added),
 // lines.published, publish.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
