@@ -10,7 +10,8 @@ namespace lasonic {
 
 AgmParams agmParams(const Config& c, AgmParams p) {
   c.allowOnly({"size", "cell_size", "g_max", "h_max", "t", "g_threshold", "recenter_max_cells",
-               "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m", "arc_vote_tau"});
+               "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m", "forget_sigma_m", "odometry_trans_noise",
+               "odometry_rot_noise", "odometry_drift_noise", "arc_vote_tau"});
   p.size = c.get("size", p.size, Range::between(3, 10000));
   p.cell_size = c.get("cell_size", p.cell_size, Range::positive());
   p.g_max = c.get("g_max", p.g_max, Range::between(1, std::numeric_limits<int16_t>::max()));
@@ -22,6 +23,10 @@ AgmParams agmParams(const Config& c, AgmParams p) {
   p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::nonNegative());
   p.hit_centroids = c.get<bool>("hit_centroids", p.hit_centroids);
   p.h_max_m = c.get("h_max_m", p.h_max_m, Range::nonNegative());
+  p.forget_sigma_m = c.get("forget_sigma_m", p.forget_sigma_m, Range::nonNegative());
+  p.odometry_trans_noise = c.get("odometry_trans_noise", p.odometry_trans_noise, Range::between(0, 10));
+  p.odometry_rot_noise = c.get("odometry_rot_noise", p.odometry_rot_noise, Range::between(0, 10));
+  p.odometry_drift_noise = c.get("odometry_drift_noise", p.odometry_drift_noise, Range::between(0, 10));
   p.arc_vote_tau = c.get("arc_vote_tau", p.arc_vote_tau, Range::nonNegative());
   return p;
 }
@@ -63,11 +68,24 @@ int AccumulativeGridMap::recenterLimit(double speed) const {
   return static_cast<int>(std::clamp(k, double(p_.recenter_min_cells), double(p_.recenter_max_cells)));
 }
 
-bool AccumulativeGridMap::follow(const geom::Vec2& robot, double speed) {
+bool AccumulativeGridMap::follow(const geom::Vec2& robot, double speed, double heading) {
   if (!std::isfinite(robot.x()) || !std::isfinite(robot.y())) return false;
-  if (have_robot_) odometer_ += std::min((robot - last_robot_).norm(), 1e6);
+  const double step = have_robot_ ? std::min((robot - last_robot_).norm(), 1e6) : 0.0;
+  odometer_ += step;
   have_robot_ = true;
   last_robot_ = robot;
+  if (p_.forget_sigma_m > 0) {
+    double turn = 0;
+    if (std::isfinite(heading)) {
+      if (std::isfinite(last_heading_)) turn = std::abs(geom::angleDiff(heading, last_heading_));
+      last_heading_ = heading;
+    }
+    const double dv = p_.odometry_drift_noise * p_.odometry_drift_noise * step +
+                      p_.odometry_rot_noise * p_.odometry_rot_noise * turn;
+    heading_sums_.a += dv;
+    heading_sums_.b += dv * odometer_;
+    heading_sums_.c += dv * odometer_ * odometer_;
+  }
   const int64_t rx = globalCell(robot.x()), ry = globalCell(robot.y());
   const int64_t off = std::max(std::abs(rx - (ox_ + n_ / 2)), std::abs(ry - (oy_ + n_ / 2)));
   if (off <= recenterLimit(std::isfinite(speed) ? speed : 0.0)) return false;
@@ -181,14 +199,18 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
       hy_[s] += static_cast<float>(p.y() - static_cast<double>(gy) * p_.cell_size);
       ++hn_[s];
     }
-    hits_.push_back({gx, gy, cycle_, odometer_});
+    hits_.push_back({gx, gy, cycle_, odometer_, heading_sums_});
   }
   // Revision: H = cycle_ - last_hit > h_max -> G = 0 (and, with h_max_m, when the robot has
   // driven more than h_max_m since). Only cells hit that long ago can qualify (the queue is in
   // cycle order, hence in odometer order); entries of cells hit again since, or forgotten by
   // re-centring, are skipped.
-  while (!hits_.empty() && (cycle_ - hits_.front().cycle > p_.h_max ||
-                            (p_.h_max_m > 0 && odometer_ - hits_.front().odometer > p_.h_max_m))) {
+  // The same holds for forget_sigma_m: the displacement variance only grows with time.
+  const double max_var = p_.forget_sigma_m * p_.forget_sigma_m;
+  while (!hits_.empty() &&
+         (cycle_ - hits_.front().cycle > p_.h_max ||
+          (p_.h_max_m > 0 && odometer_ - hits_.front().odometer > p_.h_max_m) ||
+          (p_.forget_sigma_m > 0 && displacementVariance(hits_.front().odometer, hits_.front().heading) > max_var))) {
     const Hit hit = hits_.front();
     hits_.pop_front();
     if (!inWindow(hit.gx, hit.gy)) continue;
@@ -199,6 +221,14 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
     }
   }
   return inside;
+}
+
+double AccumulativeGridMap::displacementVariance(double odometer, const HeadingSums& then) const {
+  // trans^2 * driven + sum over later steps of dv * (odometer now - odometer at the step)^2.
+  const double d = odometer_;
+  const double heading = d * d * (heading_sums_.a - then.a) - 2 * d * (heading_sums_.b - then.b) +
+                         (heading_sums_.c - then.c);
+  return p_.odometry_trans_noise * p_.odometry_trans_noise * (d - odometer) + std::max(0.0, heading);
 }
 
 bool AccumulativeGridMap::cellAt(const geom::Vec2& p, int& ix, int& iy) const {
@@ -266,16 +296,23 @@ geom::Vec2 AccumulativeGridMap::evidencePoint(int ix, int iy) const {
 
 void AccumulativeGridMap::exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h,
                                       std::vector<int32_t>& gp) const {
-  const size_t cells = static_cast<size_t>(n_) * static_cast<size_t>(n_);
+  exportGrids(0, 0, n_, g, h, gp);
+}
+
+void AccumulativeGridMap::exportGrids(int ix0, int iy0, int w, std::vector<int16_t>& g, std::vector<int16_t>& h,
+                                      std::vector<int32_t>& gp) const {
+  if (ix0 < 0 || iy0 < 0 || w < 0 || ix0 + w > n_ || iy0 + w > n_)
+    throw std::invalid_argument("AccumulativeGridMap::exportGrids: sub-window outside the window");
+  const size_t cells = static_cast<size_t>(w) * static_cast<size_t>(w);
   g.assign(cells, 0);
   h.assign(cells, 0);
   gp.assign(cells, 0);
-  const int64_t sx0 = floorMod(ox_, n_);
-  int64_t sy = floorMod(oy_, n_);
+  const int64_t sx0 = floorMod(ox_ + ix0, n_);
+  int64_t sy = floorMod(oy_ + iy0, n_);
   size_t out = 0;
-  for (int iy = 0; iy < n_; ++iy) {
+  for (int iy = 0; iy < w; ++iy) {
     int64_t sx = sx0;
-    for (int ix = 0; ix < n_; ++ix, ++out) {
+    for (int ix = 0; ix < w; ++ix, ++out) {
       const size_t s = static_cast<size_t>(sx + sy * n_);
       if (g_[s] > 0) {
         g[out] = static_cast<int16_t>(g_[s]);

@@ -24,6 +24,7 @@
 // what the batch definitions above give.
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <vector>
 
 #include "core/config.hpp"
@@ -49,6 +50,17 @@ struct AgmParams {
   // beyond the paper, for long memories: what limits them is the odometry's drift per metre
   // driven, not time). Distance = the sum of the moves between the positions given to follow().
   double h_max_m = 0;
+  // Also forget a cell once the odometry's expected (1 sigma) displacement between where the cell
+  // was heard and the robot now exceeds this [m] (0: off; beyond the paper). Odometry modelled as
+  // random walks: distance error trans_noise [m/sqrt(m)], heading error drift_noise [rad/sqrt(m)]
+  // from driving and rot_noise [rad/sqrt(rad)] from turning; a heading error made at one moment
+  // displaces what was heard before it by the distance driven after it. So a turn on the spot
+  // costs nothing at once, but the way back after it costs more than the way out: the memory of
+  // a there-and-back path lasts as long as the odometry keeps it within this error.
+  double forget_sigma_m = 0;
+  double odometry_trans_noise = 0.01;
+  double odometry_rot_noise = 0.005;
+  double odometry_drift_noise = 0.002;
   // Arc votes (beyond the paper; 0: off): besides G, every cell keeps how many echo arcs (range
   // arcs within the echo's bearing uncertainty, EchoPlacer's arc placement) passed through it
   // lately, each vote fading with this time constant [update cycles]. Arcs of one surface heard
@@ -82,7 +94,8 @@ class AccumulativeGridMap {
   // Moves the window (whole cells) so that the robot's cell becomes the centre cell
   // (ix = iy = N/2) when the robot is farther than recenterLimit(speed) from it.
   // Returns true if the window moved. Also advances the odometer (h_max_m).
-  bool follow(const geom::Vec2& robot, double speed);
+  // heading (optional, radians): the turn since the previous call, for forget_sigma_m.
+  bool follow(const geom::Vec2& robot, double speed, double heading = std::numeric_limits<double>::quiet_NaN());
   double odometer() const { return odometer_; }
   // Centres the window on p unconditionally.
   void centreOn(const geom::Vec2& p);
@@ -126,6 +139,10 @@ class AccumulativeGridMap {
 
   // Row-major copies (index iy*N + ix) for grid_map_t.
   void exportGrids(std::vector<int16_t>& g, std::vector<int16_t>& h, std::vector<int32_t>& gp) const;
+  // The same for the w x w sub-window whose cell (0, 0) is window cell (ix0, iy0) (index
+  // iy*w + ix); the sub-window must lie inside the window.
+  void exportGrids(int ix0, int iy0, int w, std::vector<int16_t>& g, std::vector<int16_t>& h,
+                   std::vector<int32_t>& gp) const;
 
  private:
   static int64_t floorMod(int64_t a, int64_t n) { return ((a % n) + n) % n; }
@@ -159,13 +176,25 @@ class AccumulativeGridMap {
     if (p_.hit_centroids) hx_[s] = hy_[s] = 0, hn_[s] = 0;
   }
   double fadedVotes(size_t s) const;
+  // forget_sigma_m: sums over the follow() steps of the heading variance they added (dv), times
+  // the odometer at them and its square, so that the displacement variance since any earlier
+  // moment is a difference of sums (oneSigmaSince).
+  struct HeadingSums {
+    double a = 0, b = 0, c = 0;  // sum dv, sum dv * odometer, sum dv * odometer^2
+  };
   struct Hit {
     int64_t gx, gy, cycle;
     double odometer;
+    HeadingSums heading;
   };
+  // Variance [m^2] of the displacement, relative to the robot now, of a point heard when the
+  // odometer read `odometer` and the sums were `then`.
+  double displacementVariance(double odometer, const HeadingSums& then) const;
+  HeadingSums heading_sums_;
   double odometer_ = 0;  // [m] driven so far (follow() positions)
   bool have_robot_ = false;
   geom::Vec2 last_robot_ = geom::Vec2::Zero();
+  double last_heading_ = std::numeric_limits<double>::quiet_NaN();
   std::deque<Hit> hits_;  // increments in cycle order: the revision candidates
 };
 

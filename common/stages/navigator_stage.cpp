@@ -11,10 +11,11 @@ namespace lasonic {
 
 AgmParams NavigatorConfig::tacticalAgmDefaults() {
   AgmParams p;
-  p.size = 100;
+  p.size = 200;
   p.cell_size = 0.10;
   p.h_max = 2000;
   p.h_max_m = 15.0;
+  p.forget_sigma_m = 0.08;
   p.t = 1;
   p.g_threshold = 5;
   p.hit_centroids = true;
@@ -32,7 +33,7 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
-                                   "hit_weight_speed"};
+                                   "hit_weight_speed", "published_size"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -46,6 +47,10 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
+  p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
+  if (p.published_size > p.agm.size)
+    c.fail("published_size", std::to_string(p.published_size) + " cells, more than the tactical AGM's size (agm.size " +
+                                 std::to_string(p.agm.size) + ")");
   return p;
 }
 
@@ -197,7 +202,7 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
       node_.count("agm.look_weight_hits", added);
   }
   last_integrated_utime_ = utime;
-  if (pose && agm_.follow(pose->position(), speed_)) node_.count("agm.recentred");
+  if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
   const int inside = agm_.update(hits);
   cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;
   node_.count("agm.cycles");
@@ -225,10 +230,12 @@ void NavigatorStage::publish() {
     return;
   }
   last_publish_ = now_;
-  grid_map_t grid = gridMapMessage(agm_, now_, *pose, cfg_.lines.gp_threshold);
+  grid_map_t grid = gridMapMessage(agm_, now_, *pose, cfg_.lines.gp_threshold, cfg_.published_size);
   node_.publish(channels::AGM_TACTICAL, grid);
 
-  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, [this](int64_t c) { return cycleUtime(c); });
+  const int o = publishedOffset(agm_, cfg_.published_size);
+  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, o, o, grid.width,
+                                    [this](int64_t c) { return cycleUtime(c); });
   csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), cfg_.lines));
   const int64_t agm_utime = last_complement_utime_.value_or(0);
   line_map_t agm_lines = lineMapMessage(csm_.sonarLines(), now_, agm_utime, *pose);

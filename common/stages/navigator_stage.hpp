@@ -65,6 +65,10 @@ struct NavigatorConfig {
   EchoPlacementConfig placement = tacticalPlacementDefaults();
   LineGenerationParams lines;
   double publish_hz = 2.0;  // AGM_TACTICAL, AGM_LINES, CURRENT_SENSOR_MAP (message time)
+  // Cells per side of AGM_TACTICAL and of the window lines are generated from: the middle of the
+  // tactical AGM (which may be larger: it remembers what the robot may come back to, the
+  // published part is what the pilot and a display need). 0: the whole AGM.
+  int published_size = 100;
   // A complementary reading enters the tactical AGM only if it is still shorter than the ideal
   // sonar's hypothesis on the first Radar Map whose scan started after the firing (false: as
   // classified, against the scan before it). Groups wait at most verify_max_wait_s of message

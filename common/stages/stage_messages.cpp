@@ -1,18 +1,31 @@
 #include "stages/stage_messages.hpp"
 
+#include <algorithm>
+
 namespace lasonic {
 
-grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold) {
+int publishedOffset(const AccumulativeGridMap& agm, int published_size) {
+  if (published_size <= 0 || published_size >= agm.size()) return 0;
+  return agm.size() / 2 - published_size / 2;
+}
+
+grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold,
+                          int published_size) {
   grid_map_t msg{};
   msg.utime = utime;
   msg.robot_pose = {robot.x, robot.y, robot.theta};
-  const geom::Vec2 origin = agm.originMetres();
+  const int w = published_size <= 0 ? agm.size() : std::min(published_size, agm.size());
+  const int o = publishedOffset(agm, w);
+  const geom::Vec2 origin = agm.cellCorner(o, o);
   msg.origin_x = origin.x();
   msg.origin_y = origin.y();
   msg.cell_size = static_cast<float>(agm.cellSize());
-  msg.width = msg.height = agm.size();
+  msg.width = msg.height = w;
   msg.gp_threshold = gp_threshold;
-  agm.exportGrids(msg.g, msg.h, msg.gp);
+  if (w == agm.size())
+    agm.exportGrids(msg.g, msg.h, msg.gp);
+  else
+    agm.exportGrids(o, o, w, msg.g, msg.h, msg.gp);
   msg.ncells = static_cast<int32_t>(msg.g.size());
   return msg;
 }

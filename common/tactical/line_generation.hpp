@@ -77,6 +77,9 @@ struct AgmLine {
 // update cycle into the support time (identity if null).
 std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold,
                                           const std::function<int64_t(int64_t cycle)>& support_of = nullptr);
+// The same within the w x w sub-window whose cell (0, 0) is window cell (ix0, iy0).
+std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold, int ix0, int iy0, int w,
+                                          const std::function<int64_t(int64_t cycle)>& support_of = nullptr);
 
 std::vector<PolarCell> toPolar(const std::vector<CandidateCell>& cells, const geom::Pose2& robot);
 

@@ -428,6 +428,90 @@ TEST(Agm, DistanceRevisionForgetsAfterTheRobotDroveFar) {
   EXPECT_EQ(m.gp(6, 6), 0);
 }
 
+TEST(Agm, SubWindowExportIsTheWindowsMiddle) {
+  AccumulativeGridMap m(small(1, 1, 50));
+  m.centreOn({3.5, -2.5});  // origin not a multiple of N: the sub-window wraps the buffer
+  m.update({{3.5, -2.5}, {4.5, -4.5}, {-1.5, -7.5}});
+  std::vector<int16_t> g, h, sg, sh;
+  std::vector<int32_t> gp, sgp;
+  m.exportGrids(g, h, gp);
+  m.exportGrids(3, 2, 4, sg, sh, sgp);
+  ASSERT_EQ(sg.size(), 16u);
+  int weighted = 0;
+  for (int iy = 0; iy < 4; ++iy)
+    for (int ix = 0; ix < 4; ++ix) {
+      const size_t i = static_cast<size_t>(iy * 4 + ix), w = static_cast<size_t>((iy + 2) * 10 + ix + 3);
+      EXPECT_EQ(sg[i], g[w]);
+      EXPECT_EQ(sh[i], h[w]);
+      EXPECT_EQ(sgp[i], gp[w]);
+      weighted += sg[i] > 0;
+    }
+  EXPECT_EQ(weighted, 2);  // (3.5, -2.5) and (4.5, -4.5); (-1.5, -7.5) lies outside the sub-window
+  EXPECT_THROW(m.exportGrids(7, 0, 4, sg, sh, sgp), std::invalid_argument);
+  EXPECT_THROW(m.exportGrids(-1, 0, 4, sg, sh, sgp), std::invalid_argument);
+}
+
+// forget_sigma_m: the displacement variance since a hit is trans^2 * driven plus, for every
+// heading error since, its variance times the distance driven after it squared.
+TEST(Agm, OdometryErrorRevisionCountsTurnsByTheDistanceDrivenAfterThem) {
+  AgmParams p = small(1, 1, /*h_max=*/100000);
+  p.size = 400;  // 40 m: the robot never takes the window away from the cell
+  p.cell_size = 0.1;
+  const Vec2 cell{0.05, 0.55};
+  auto weight = [&](const AccumulativeGridMap& m) {
+    int ix = 0, iy = 0;
+    return m.cellAt(cell, ix, iy) ? m.g(ix, iy) : -1;
+  };
+  p.odometry_trans_noise = 0.01;
+  p.odometry_rot_noise = 0.005;
+  p.odometry_drift_noise = 0.002;
+  p.forget_sigma_m = 0.08;
+  // Straight: trans^2 d + drift^2 d^3 / 3 = 0.08^2 at d = 15.4 m (the shipped h_max_m's bound).
+  auto straight = [&](double step) {
+    AccumulativeGridMap m(p);
+    m.centreOn({0, 0});
+    m.follow({0, 0}, 0, 0.0);
+    m.update({cell});
+    double x = 0;
+    while (weight(m) > 0 && x < 100) {
+      x += step;
+      m.follow({x, 0}, 0, 0.0);
+      m.update({});
+    }
+    return x;
+  };
+  EXPECT_NEAR(straight(0.01), 15.39, 0.03);
+  EXPECT_NEAR(straight(0.1), 15.39, 0.15);  // a step's heading error counts from its end: a little later
+  // A U-turn on the spot costs nothing at once, the way back after it does: 0.005^2 pi L^2.
+  AccumulativeGridMap m(p);
+  m.centreOn({0, 0});
+  m.follow({0, 0}, 0, 0.0);
+  m.update({cell});
+  for (int k = 1; k <= 180; ++k) {  // turning on the spot, 1 degree at a time
+    m.follow({0, 0}, 0, geom::normalizeAngle(k * geom::kPi / 180));
+    m.update({});
+  }
+  EXPECT_EQ(weight(m), 1);
+  double x = 0;
+  while (weight(m) > 0 && x > -100) {
+    x -= 0.01;
+    m.follow({x, 0}, 0, geom::kPi);
+    m.update({});
+  }
+  // 1e-4 L + 4e-6 L^3 / 3 + 7.854e-5 L^2 = 0.0064 at L = 7.9 m.
+  EXPECT_NEAR(-x, 7.93, 0.03);
+  // Off (forget_sigma_m 0): kept.
+  p.forget_sigma_m = 0;
+  AccumulativeGridMap off(p);
+  off.centreOn({0, 0});
+  off.follow({0, 0}, 0, 0.0);
+  off.update({cell});
+  off.follow({0, 0}, 0, geom::kPi);
+  off.follow({-9.9, 0}, 0, geom::kPi);
+  off.update({});
+  EXPECT_EQ(weight(off), 1);
+}
+
 // forEachWeightedCell visits exactly the cells with G > 0 that forEachCell finds in the same
 // rectangle, each once, through hits, repeated hits of one cell in one cycle, revision and
 // re-centring, whether it walks the revision queue (small rectangles) or the rectangle.

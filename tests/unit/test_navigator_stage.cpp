@@ -320,6 +320,38 @@ TEST_F(NavFixture, MalformedComplementModelIsCountedAndReplaced) {
   EXPECT_EQ(node.counter("rejected.complement_backwards"), 1);
 }
 
+// AGM_TACTICAL carries the middle published_size cells of the tactical AGM's larger window: the
+// same cells, weights and times as the whole window has there.
+TEST(NavigatorStage, PublishesTheMiddleOfItsLargerWindow) {
+  NavigatorConfig whole_cfg;
+  whole_cfg.published_size = 0;
+  const PipelineRun part = runPipeline(NavigatorConfig{});
+  const PipelineRun whole = runPipeline(whole_cfg);
+  ASSERT_EQ(NavigatorConfig{}.agm.size, 200);
+  ASSERT_EQ(part.tactical.size(), whole.tactical.size());
+  ASSERT_GT(part.tactical.size(), 10u);
+  int occupied_cells = 0;
+  for (size_t k = 0; k < part.tactical.size(); ++k) {
+    const grid_map_t& p = part.tactical[k];
+    const grid_map_t& w = whole.tactical[k];
+    ASSERT_EQ(p.width, 100);
+    ASSERT_EQ(p.ncells, 100 * 100);
+    ASSERT_EQ(w.width, 200);
+    EXPECT_EQ(p.utime, w.utime);
+    EXPECT_NEAR(p.origin_x, w.origin_x + 50 * 0.1, 1e-9);
+    EXPECT_NEAR(p.origin_y, w.origin_y + 50 * 0.1, 1e-9);
+    for (int iy = 0; iy < 100; ++iy)
+      for (int ix = 0; ix < 100; ++ix) {
+        const size_t i = static_cast<size_t>(iy * 100 + ix), j = static_cast<size_t>((iy + 50) * 200 + ix + 50);
+        ASSERT_EQ(p.g[i], w.g[j]);
+        ASSERT_EQ(p.h[i], w.h[j]);
+        ASSERT_EQ(p.gp[i], w.gp[j]);
+        occupied_cells += p.gp[i] >= p.gp_threshold;
+      }
+  }
+  EXPECT_GT(occupied_cells, 0);
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);
@@ -333,7 +365,19 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_FALSE(c.verify_with_next_scan);
   EXPECT_DOUBLE_EQ(d.hit_weight_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_speed: 0}").section("navigator")).hit_weight_speed, 0);
+  EXPECT_EQ(d.published_size, 100);
+  EXPECT_EQ(navigatorConfig(Config::fromString("navigator: {agm: {size: 100}, published_size: 0}").section("navigator"))
+                .published_size, 0);
+  try {
+    navigatorConfig(Config::fromString("navigator: {agm: {size: 80}}").section("navigator"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("navigator.published_size"), std::string::npos) << e.what();
+  }
   for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
-                          "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {agm_bearing: cone}"})
+                          "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {agm_bearing: cone}",
+                          "navigator: {published_size: 201}", "navigator: {published_size: -1}",
+                          "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",
+                          "navigator: {agm: {odometry_rot_noise: .nan}}"})
     EXPECT_THROW(navigatorConfig(Config::fromString(bad).section("navigator")), ConfigError) << bad;
 }
