@@ -392,6 +392,8 @@ EvalOptions evalOptions(const Config& config) {
   const NavigatorConfig nav = navigatorConfig(config.section("navigator"));
   o.lines = nav.lines;
   o.forget_after_m = nav.agm.h_max_m;
+  o.forget_sigma_m = nav.agm.forget_sigma_m;
+  o.odometry = {nav.agm.odometry_trans_noise, nav.agm.odometry_rot_noise, nav.agm.odometry_drift_noise};
   return o;
 }
 

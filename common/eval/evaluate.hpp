@@ -23,6 +23,7 @@
 #include "eval/metrics.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
+#include "core/odometry_error.hpp"
 #include "tactical/line_generation.hpp"
 
 namespace lasonic::eval {
@@ -65,6 +66,8 @@ struct EvalOptions {
   // needs the run's `navigator:` keys (evalOptions(config); defaults: the code's).
   LineGenerationParams lines;
   double forget_after_m = 15.0;    // [m] navigator.agm.h_max_m (0: never)
+  double forget_sigma_m = 0.08;    // [m] navigator.agm.forget_sigma_m (0: never)
+  OdometryNoise odometry;          // navigator.agm.odometry_*_noise
 };
 // The options for a run made with `config` (the navigator's line generation and h_max_m, for the
 // breakdown). Throws ConfigError naming the key path.

@@ -416,18 +416,32 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
       default: return std::string("other");
     }
   };
-  // Distance the robot drove (true path) up to each SIM_STATE, to tell forgetting by distance.
+  // Distance the robot drove (true path) up to each SIM_STATE, to tell forgetting by distance,
+  // and the odometry error model's state there, to tell forgetting by odometry error.
   std::vector<std::pair<int64_t, double>> odo;
+  std::vector<OdometryError::Mark> odo_error;
+  OdometryError odometry_error(o.odometry);
+  double prev_theta = 0;
   for (const auto& st : log.sim_states) {
-    const double d = odo.empty() ? 0.0 : odo.back().second + std::hypot(st.robot_pose.x - prev_x, st.robot_pose.y - prev_y);
+    const double step = odo.empty() ? 0.0 : std::hypot(st.robot_pose.x - prev_x, st.robot_pose.y - prev_y);
+    const double turn = odo.empty() ? 0.0 : geom::angleDiff(st.robot_pose.theta, prev_theta);
+    const double d = odo.empty() ? 0.0 : odo.back().second + step;
     prev_x = st.robot_pose.x;
     prev_y = st.robot_pose.y;
+    prev_theta = st.robot_pose.theta;
     odo.emplace_back(st.utime, d);
+    odometry_error.advance(step, turn);
+    odo_error.push_back(odometry_error.now());
   }
-  auto drivenAt = [&](int64_t utime) {
+  auto stateIndex = [&](int64_t utime) {
     auto it = std::lower_bound(odo.begin(), odo.end(), utime,
                                [](const std::pair<int64_t, double>& a, int64_t t) { return a.first < t; });
-    return it == odo.end() ? odo.back().second : it->second;
+    return it == odo.end() ? odo.size() - 1 : static_cast<size_t>(it - odo.begin());
+  };
+  auto drivenAt = [&](int64_t utime) { return odo[stateIndex(utime)].second; };
+  // 1-sigma displacement between two times: the error model's variance between their marks.
+  auto odometrySigma = [&](int64_t from, int64_t to) {
+    return std::sqrt(odometry_error.varianceBetween(odo_error[stateIndex(from)], odo_error[stateIndex(to)]));
   };
   auto materialOf = [&](int obstacle) {
     return obstacle >= 0 && static_cast<size_t>(obstacle) < sc.obstacles.size()
@@ -490,7 +504,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     for (size_t i = 0; i < boundary.size(); ++i) {
       if (echoes[i].empty() || echoes[i].front().first >= g.utime) continue;
       if (!win.contains(boundary[i].p)) {
-        if (found_before[i]) left_window[i] = 1;  // the window's re-centring cleared its cells
+        if (found_before[i]) left_window[i] = 1;  // out of the published window (and maybe the whole one)
         continue;
       }
       if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
@@ -506,8 +520,10 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
         int64_t last = -1;
         const int ncomp = complementaryBefore(i, g.utime, last);
         if (found_before[i])
-          agm_causes.add(left_window[i]                                                ? "forgotten_left_window"
-                         : last >= 0 && drivenAt(g.utime) - drivenAt(last) > forget_m ? "forgotten_after_15m"
+          agm_causes.add(last >= 0 && drivenAt(g.utime) - drivenAt(last) > forget_m ? "forgotten_after_15m"
+                         : last >= 0 && o.forget_sigma_m > 0 && odometrySigma(last, g.utime) > o.forget_sigma_m
+                             ? "forgotten_odometry_error"
+                         : left_window[i] ? "forgotten_left_window"
                                                                                       : "forgotten_other");
         else if (ncomp == 0) agm_causes.add("no_complementary_echo_" + echoClass(i, g.utime));
         else if (near.g > 0 || near.gp > 0) agm_causes.add("below_threshold");

@@ -31,7 +31,8 @@ AgmParams agmParams(const Config& c, AgmParams p) {
   return p;
 }
 
-AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p) : p_(p), n_(p.size) {
+AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p)
+    : p_(p), n_(p.size), odometry_error_({p.odometry_trans_noise, p.odometry_rot_noise, p.odometry_drift_noise}) {
   if (n_ < 3 || !(p.cell_size > 0) || p.t < 0 || 2 * p.t + 1 > n_ || p.g_max < 1 || p.h_max < 0 ||
       p.recenter_min_cells < 0 || p.recenter_min_cells > p.recenter_max_cells)
     throw std::invalid_argument("AccumulativeGridMap: inconsistent parameters");
@@ -80,11 +81,7 @@ bool AccumulativeGridMap::follow(const geom::Vec2& robot, double speed, double h
       if (std::isfinite(last_heading_)) turn = std::abs(geom::angleDiff(heading, last_heading_));
       last_heading_ = heading;
     }
-    const double dv = p_.odometry_drift_noise * p_.odometry_drift_noise * step +
-                      p_.odometry_rot_noise * p_.odometry_rot_noise * turn;
-    heading_sums_.a += dv;
-    heading_sums_.b += dv * odometer_;
-    heading_sums_.c += dv * odometer_ * odometer_;
+    odometry_error_.advance(step, turn);
   }
   const int64_t rx = globalCell(robot.x()), ry = globalCell(robot.y());
   const int64_t off = std::max(std::abs(rx - (ox_ + n_ / 2)), std::abs(ry - (oy_ + n_ / 2)));
@@ -199,7 +196,7 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
       hy_[s] += static_cast<float>(p.y() - static_cast<double>(gy) * p_.cell_size);
       ++hn_[s];
     }
-    hits_.push_back({gx, gy, cycle_, odometer_, heading_sums_});
+    hits_.push_back({gx, gy, cycle_, odometer_, odometry_error_.now()});
   }
   // Revision: H = cycle_ - last_hit > h_max -> G = 0 (and, with h_max_m, when the robot has
   // driven more than h_max_m since). Only cells hit that long ago can qualify (the queue is in
@@ -210,7 +207,7 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
   while (!hits_.empty() &&
          (cycle_ - hits_.front().cycle > p_.h_max ||
           (p_.h_max_m > 0 && odometer_ - hits_.front().odometer > p_.h_max_m) ||
-          (p_.forget_sigma_m > 0 && displacementVariance(hits_.front().odometer, hits_.front().heading) > max_var))) {
+          (p_.forget_sigma_m > 0 && odometry_error_.varianceSince(hits_.front().odometry) > max_var))) {
     const Hit hit = hits_.front();
     hits_.pop_front();
     if (!inWindow(hit.gx, hit.gy)) continue;
@@ -221,14 +218,6 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
     }
   }
   return inside;
-}
-
-double AccumulativeGridMap::displacementVariance(double odometer, const HeadingSums& then) const {
-  // trans^2 * driven + sum over later steps of dv * (odometer now - odometer at the step)^2.
-  const double d = odometer_;
-  const double heading = d * d * (heading_sums_.a - then.a) - 2 * d * (heading_sums_.b - then.b) +
-                         (heading_sums_.c - then.c);
-  return p_.odometry_trans_noise * p_.odometry_trans_noise * (d - odometer) + std::max(0.0, heading);
 }
 
 bool AccumulativeGridMap::cellAt(const geom::Vec2& p, int& ix, int& iy) const {

@@ -29,6 +29,7 @@
 
 #include "core/config.hpp"
 #include "core/geometry.hpp"
+#include "core/odometry_error.hpp"
 
 namespace lasonic {
 
@@ -176,21 +177,12 @@ class AccumulativeGridMap {
     if (p_.hit_centroids) hx_[s] = hy_[s] = 0, hn_[s] = 0;
   }
   double fadedVotes(size_t s) const;
-  // forget_sigma_m: sums over the follow() steps of the heading variance they added (dv), times
-  // the odometer at them and its square, so that the displacement variance since any earlier
-  // moment is a difference of sums (oneSigmaSince).
-  struct HeadingSums {
-    double a = 0, b = 0, c = 0;  // sum dv, sum dv * odometer, sum dv * odometer^2
-  };
   struct Hit {
     int64_t gx, gy, cycle;
     double odometer;
-    HeadingSums heading;
+    OdometryError::Mark odometry;  // forget_sigma_m
   };
-  // Variance [m^2] of the displacement, relative to the robot now, of a point heard when the
-  // odometer read `odometer` and the sums were `then`.
-  double displacementVariance(double odometer, const HeadingSums& then) const;
-  HeadingSums heading_sums_;
+  OdometryError odometry_error_;
   double odometer_ = 0;  // [m] driven so far (follow() positions)
   bool have_robot_ = false;
   geom::Vec2 last_robot_ = geom::Vec2::Zero();
