@@ -34,6 +34,8 @@ class StatusBoard {
   const std::string& name() const { return name_; }
   int64_t errors() const { return errors_; }
   const std::string& lastError() const { return last_error_; }
+  // Every named counter (count() and reportError()), by name.
+  const std::map<std::string, int64_t>& counters() const { return counters_; }
 
  private:
   struct ChannelStats {

@@ -57,7 +57,7 @@ struct Recorder {
 };
 
 int replay(const std::string& in_path, const std::string& out_path, const Config& root,
-           const std::set<std::string>& stages) {
+           const std::set<std::string>& stages, bool print_status) {
   auto lcm = std::make_shared<LocalBus>();
   const Node::Options offline{/*heartbeat=*/false, /*install_signal_handlers=*/false};
 
@@ -123,6 +123,15 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
                placement->reused());
   for (const auto& n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
+  // --status: what each stage would have said in PROCESS_STATUS at the end, one "process key
+  // value" line per counter on stdout (a replay publishes no PROCESS_STATUS of its own).
+  if (print_status)
+    for (const auto& n : nodes) {
+      std::cout << n->name() << " errors " << n->errors() << "\n";
+      if (!n->status().lastError().empty()) std::cout << n->name() << " last_error " << n->status().lastError() << "\n";
+      for (const auto& [key, value] : n->status().counters()) std::cout << n->name() << " " << key << " " << value << "\n";
+    }
+  std::cout.flush();
   return 0;
 }
 
@@ -131,6 +140,7 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
   std::string in_path, out_path, stage_list = "complement,pilot,navigator";
+  bool print_status = false;
   std::vector<std::string> config_files;
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
@@ -141,6 +151,8 @@ int main(int argc, char** argv) {
                  "stages to run, comma-separated (complement, pilot, navigator); only their outputs are "
                  "recomputed, the others' are taken from the log")
       ->capture_default_str();
+  app.add_flag("--status", print_status,
+               "at the end, print every stage's counters and errors (its PROCESS_STATUS) as 'process key value' lines");
   CLI11_PARSE(app, argc, argv);
   std::set<std::string> stages;
   for (size_t a = 0; a <= stage_list.size();) {
@@ -156,7 +168,7 @@ int main(int argc, char** argv) {
   lasonic::setupLogging("lasonic-replay");
   try {
     const lasonic::Config root = lasonic::Config::loadFiles(config_files);
-    return replay(in_path, out_path, root, stages);
+    return replay(in_path, out_path, root, stages, print_status);
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-replay: " << e.what() << "\n";
     return 2;

@@ -7,8 +7,8 @@
 # navigator (ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP) through `lasonic-replay --stages navigator`,
 # and on the pilot's with its remembered source on (ODOMETRY, LASER_SCAN, SONAR_COMPLEMENT,
 # AGM_TACTICAL) through `--stages pilot`: outputs valid, and every message Node cannot decode (or
-# finds over a cap) counted among the stage's input errors. (Once each: the replay's determinism
-# is checked above.)
+# finds over a cap) counted among the stage's input errors, and `--status` printing that total
+# and the counters behind it. (Once each: the replay's determinism is checked above.)
 # Env: LASONIC_BIN, LASONIC_SOURCE.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -35,7 +35,8 @@ sent() { awk -v k="$1" '$1 == k {print $2}' "$tmp/tactical.sent"; }
 stage() {
   local process=$1 stage=$2 outputs=$3 inputs=$4 errors need=0 ch
   "$bin/lasonic-replay" --stages "$stage" --in "$tmp/tactical.lcmlog" --out "$tmp/${stage}1.lcmlog" \
-    --config "$tmp/remembered.yaml" 2>"$tmp/${stage}1.err" || die "lasonic-replay --stages $stage failed on the fuzz log"
+    --config "$tmp/remembered.yaml" --status >"$tmp/${stage}1.status" 2>"$tmp/${stage}1.err" ||
+    die "lasonic-replay --stages $stage failed on the fuzz log"
   "$bin/lasonic-fuzz" check-only "$outputs" "$tmp/${stage}1.lcmlog" >"$tmp/check.out" 2>"$tmp/check.err" || {
     cat "$tmp/check.out"
     die "$process's outputs under fuzzing: $(head -5 "$tmp/check.err")"
@@ -44,6 +45,13 @@ stage() {
   for ch in ${inputs//,/ }; do need=$((need + $(sent "undecodable.$ch"))); done
   echo "$process: $(tr '\n' ' ' <"$tmp/check.out")input errors ${errors:-0}, undecodable on its inputs $need"
   ((${errors:-0} >= need && need > 0)) || die "$process counted ${errors:-0} input errors, fewer than the $need undecodable messages"
+  # --status prints the same error total, and the counters that make it up.
+  local st_errors st_rejected
+  st_errors=$(awk -v p="$process" '$1 == p && $2 == "errors" {print $3}' "$tmp/${stage}1.status")
+  [[ "$st_errors" == "$errors" ]] || die "$process: --status says ${st_errors:-nothing} errors, the log line $errors"
+  st_rejected=$(awk -v p="$process" '$1 == p && $2 ~ /^(rejected|decode_errors|oversize)[.]/ {n += $3} END {print n + 0}' "$tmp/${stage}1.status")
+  ((st_rejected >= need)) || die "$process: --status counts $st_rejected rejected or undecodable messages, fewer than the $need undecodable ones"
+  grep -q "^$process last_error " "$tmp/${stage}1.status" || die "$process: --status gives no last_error"
 }
 echo "tactical fuzz: $(tr '\n' ' ' <"$tmp/tactical.sent")"
 stage lasonic-navigator navigator AGM_TACTICAL,AGM_LINES,CURRENT_SENSOR_MAP ODOMETRY,SONAR_COMPLEMENT,RADAR_MAP
