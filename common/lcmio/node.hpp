@@ -133,7 +133,6 @@ class Node {
 
   std::shared_ptr<lcm::LCM> lcm_;   // exactly one of lcm_ and bus_ is set
   std::shared_ptr<LocalBus> bus_;
-  std::vector<uint8_t> encoded_;    // publish buffer (bus only)
   Options opts_;
   StatusBoard status_;
   Heartbeat heartbeat_;
@@ -202,8 +201,9 @@ void Node::publish(const std::string& channel, T& msg) {
     int rc = -1;
     if (bus_) {  // as lcm::LCM::publish: encode, then hand over the bytes
       const int size = msg.getEncodedSize();
-      encoded_.resize(static_cast<size_t>(size));
-      if (msg.encode(encoded_.data(), 0, size) == size) rc = bus_->publish(channel, encoded_.data(), encoded_.size());
+      LocalBus::Bytes bytes = bus_->takeBuffer();  // encoded in place, handed over without a copy
+      bytes.resize(static_cast<size_t>(size));
+      if (msg.encode(bytes.data(), 0, size) == size) rc = bus_->publish(channel, std::move(bytes));
     } else {
       rc = lcm_->publish(channel, &msg);
     }
