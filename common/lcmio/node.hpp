@@ -22,6 +22,7 @@
 #include "lcmio/local_bus.hpp"
 #include "lcmio/signals.hpp"
 #include "lcmio/status.hpp"
+#include "lcmio/wire.hpp"
 
 namespace lasonic {
 
@@ -133,6 +134,7 @@ class Node {
 
   std::shared_ptr<lcm::LCM> lcm_;   // exactly one of lcm_ and bus_ is set
   std::shared_ptr<LocalBus> bus_;
+  LocalBus::Bytes lcm_encoded_;     // publish buffer of an LCM node (types with a fast encode)
   Options opts_;
   StatusBoard status_;
   Heartbeat heartbeat_;
@@ -203,7 +205,12 @@ void Node::publish(const std::string& channel, T& msg) {
       const int size = msg.getEncodedSize();
       LocalBus::Bytes bytes = bus_->takeBuffer();  // encoded in place, handed over without a copy
       bytes.resize(static_cast<size_t>(size));
-      if (msg.encode(bytes.data(), 0, size) == size) rc = bus_->publish(channel, std::move(bytes));
+      if (wireEncode(msg, bytes.data(), size) == size) rc = bus_->publish(channel, std::move(bytes));
+    } else if constexpr (HasFastEncode<T>::value) {  // the same bytes as lcm::LCM::publish(channel, &msg)
+      const int size = msg.getEncodedSize();
+      lcm_encoded_.resize(static_cast<size_t>(size));
+      if (wireEncode(msg, lcm_encoded_.data(), size) == size)
+        rc = lcm_->publish(channel, lcm_encoded_.data(), static_cast<unsigned int>(size));
     } else {
       rc = lcm_->publish(channel, &msg);
     }
