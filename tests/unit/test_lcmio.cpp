@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <memory>
 
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
@@ -10,6 +12,7 @@
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/process_status_t.hpp>
+#include <lasonic/grid_map_t.hpp>
 
 using namespace lasonic;
 
@@ -222,4 +225,64 @@ TEST(TimeReset, PerChannelJumpsOfMoreThanASecond) {
   EXPECT_TRUE(plausibleUtime(0));
   EXPECT_FALSE(plausibleUtime(-1));
   EXPECT_FALSE(plausibleUtime(kMaxUtime + 1));
+}
+
+// The fast encode of grid maps (lcmio/wire.hpp) must give exactly the generated code's bytes:
+// any cell count (the SSE2 blocks and the scalar tail), every value range, odd header values.
+TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  const auto next = [&state]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  for (const int n : {0, 1, 3, 4, 5, 7, 8, 9, 15, 16, 17, 100, 10000}) {
+    grid_map_t m{};
+    m.utime = static_cast<int64_t>(next());
+    m.robot_pose = {-1.25, 3.5e10, -0.0};
+    m.origin_x = -std::numeric_limits<double>::infinity();
+    m.origin_y = std::numeric_limits<double>::quiet_NaN();
+    m.cell_size = 0.05f;
+    m.width = n;
+    m.height = 1;
+    m.gp_threshold = -7;
+    for (int i = 0; i < n; ++i) {
+      const uint64_t r = next();
+      m.g.push_back(static_cast<int16_t>(r));
+      m.h.push_back(static_cast<int16_t>(r >> 16));
+      m.gp.push_back(static_cast<int32_t>(r >> 32));
+    }
+    if (n > 2) m.g[1] = std::numeric_limits<int16_t>::min(), m.gp[2] = std::numeric_limits<int32_t>::min();
+    setLengths(m);
+    const int size = m.getEncodedSize();
+    std::vector<uint8_t> want(static_cast<size_t>(size)), got(static_cast<size_t>(size), 0xAB);
+    ASSERT_EQ(m.encode(want.data(), 0, size), size);
+    ASSERT_EQ(wireEncode(m, got.data(), size), size) << n << " cells";
+    EXPECT_EQ(got, want) << n << " cells";
+    // A buffer too short: the generated encode's answer.
+    if (n > 0) EXPECT_EQ(wireEncode(m, got.data(), size - 1), m.encode(want.data(), 0, size - 1));
+  }
+}
+
+TEST(Wire, NodePublishesTheSameBytesAsLcm) {
+  grid_map_t m{};
+  m.width = m.height = 3;
+  m.cell_size = 0.1f;
+  m.g = {1, -2, 3, 4, 5, 6, 7, 8, 32767};
+  m.h = {0, 1, 2, 3, 4, 5, 6, 7, -32768};
+  m.gp = {9, 8, 7, 6, 5, 4, 3, 2, -1};
+  setLengths(m);
+  std::vector<uint8_t> want(static_cast<size_t>(m.getEncodedSize()));
+  ASSERT_EQ(m.encode(want.data(), 0, static_cast<int>(want.size())), static_cast<int>(want.size()));
+  auto bus = std::make_shared<LocalBus>();
+  std::vector<uint8_t> got;
+  bus->subscribe("AGM_TACTICAL", [&got](const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    const auto* p = static_cast<const uint8_t*>(rbuf->data);
+    got.assign(p, p + rbuf->data_size);
+  });
+  Node node("test", bus, Node::Options{false, false});
+  node.publish("AGM_TACTICAL", m);
+  ASSERT_EQ(bus->handleAll(), 1);
+  EXPECT_EQ(got, want);
 }
