@@ -46,7 +46,7 @@ std::optional<T> decodeAs(const std::vector<uint8_t>& data) {
   }
   T msg;
   try {
-    if (msg.decode(data.data(), 0, static_cast<int>(data.size())) < 0) return std::nullopt;
+    if (wireDecode(msg, data.data(), static_cast<int>(data.size())) < 0) return std::nullopt;
   } catch (const std::exception&) {
     return std::nullopt;
   }

@@ -161,7 +161,7 @@ void Node::TypedSubscription<T>::dispatch(const lcm::ReceiveBuffer* rbuf, const 
   T msg;
   int decoded = -1;
   try {
-    decoded = msg.decode(rbuf->data, 0, static_cast<int>(size));
+    decoded = wireDecode(msg, rbuf->data, static_cast<int>(size));
   } catch (const std::exception& e) {  // e.g. std::bad_alloc: never out of LCM's C callback
     node->decodeFailed(channel, T::getTypeName(), size, e.what());
     return;

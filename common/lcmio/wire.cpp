@@ -10,36 +10,48 @@ namespace lasonic {
 
 namespace {
 
-// Eight (four) elements at a time with SSE2 (part of x86-64's baseline): the bytes of each
-// element swapped, as the generated code writes them one by one.
-void putBe16(uint8_t* out, const int16_t* v, size_t n) {
+// n elements of 2 (4) bytes from src to dst with their bytes reversed (big-endian <-> the
+// machine's order; the same operation both ways), eight (four) at a time with SSE2 (part of
+// x86-64's baseline), as the generated code moves them one byte at a time.
+void swap16(void* dst, const void* src, size_t n) {
+  auto* out = static_cast<uint8_t*>(dst);
+  const auto* in = static_cast<const uint8_t*>(src);
   size_t i = 0;
 #if defined(__SSE2__)
   for (; i + 8 <= n; i += 8) {
-    const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + i));
+    const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 2 * i));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * i), _mm_or_si128(_mm_slli_epi16(x, 8), _mm_srli_epi16(x, 8)));
   }
 #endif
   for (; i < n; ++i) {
-    const auto u = static_cast<uint16_t>(v[i]);
-    out[2 * i] = static_cast<uint8_t>(u >> 8);
-    out[2 * i + 1] = static_cast<uint8_t>(u);
+    out[2 * i] = in[2 * i + 1];
+    out[2 * i + 1] = in[2 * i];
   }
 }
 
-void putBe32(uint8_t* out, const int32_t* v, size_t n) {
+void swap32(void* dst, const void* src, size_t n) {
+  auto* out = static_cast<uint8_t*>(dst);
+  const auto* in = static_cast<const uint8_t*>(src);
   size_t i = 0;
 #if defined(__SSE2__)
   for (; i + 4 <= n; i += 4) {
-    __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + i));
+    __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 4 * i));
     x = _mm_shufflehi_epi16(_mm_shufflelo_epi16(x, 0xB1), 0xB1);  // the two halves of each element swapped
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4 * i), _mm_or_si128(_mm_slli_epi16(x, 8), _mm_srli_epi16(x, 8)));
   }
 #endif
   for (; i < n; ++i) {
-    const uint32_t u = __builtin_bswap32(static_cast<uint32_t>(v[i]));
+    uint32_t u;
+    std::memcpy(&u, in + 4 * i, 4);
+    u = __builtin_bswap32(u);
     std::memcpy(out + 4 * i, &u, 4);
   }
+}
+
+// The encoded size of a grid map without cells: its last four bytes are ncells.
+int gridMapHeadSize() {
+  static const int size = grid_map_t{}.getEncodedSize();
+  return size;
 }
 
 }  // namespace
@@ -63,7 +75,7 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   head.height = m.height;
   head.gp_threshold = m.gp_threshold;
   head.ncells = 0;
-  const int head_size = head.getEncodedSize();
+  const int head_size = gridMapHeadSize();
   const int64_t size = int64_t{head_size} + int64_t{n} * 8;
   if (size > maxlen) return m.encode(buf, 0, maxlen);
   if (head.encode(buf, 0, maxlen) != head_size) return m.encode(buf, 0, maxlen);
@@ -71,10 +83,39 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   const uint32_t be_n = __builtin_bswap32(static_cast<uint32_t>(n));
   std::memcpy(out + head_size - 4, &be_n, 4);
   out += head_size;
-  putBe16(out, m.g.data(), static_cast<size_t>(n));
-  putBe16(out + 2 * static_cast<size_t>(n), m.h.data(), static_cast<size_t>(n));
-  putBe32(out + 4 * static_cast<size_t>(n), m.gp.data(), static_cast<size_t>(n));
+  swap16(out, m.g.data(), static_cast<size_t>(n));
+  swap16(out + 2 * static_cast<size_t>(n), m.h.data(), static_cast<size_t>(n));
+  swap32(out + 4 * static_cast<size_t>(n), m.gp.data(), static_cast<size_t>(n));
   return static_cast<int>(size);
+}
+
+int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
+  const int head_size = gridMapHeadSize();
+  if (maxlen < head_size) return m.decode(buf, 0, maxlen);
+  const auto* in = static_cast<const uint8_t*>(buf);
+  uint32_t be_n;
+  std::memcpy(&be_n, in + head_size - 4, 4);
+  const auto n = static_cast<int32_t>(__builtin_bswap32(be_n));
+  // Anything but cells that the bytes hold (no cells, a negative count, too few bytes): left to
+  // the generated decode.
+  if (n <= 0 || int64_t{head_size} + int64_t{n} * 8 > int64_t{maxlen}) return m.decode(buf, 0, maxlen);
+  // The fields before the cells by the generated code (the fingerprint checked there), from a
+  // copy whose ncells reads 0; then the cells.
+  uint8_t head[128];
+  if (static_cast<size_t>(head_size) > sizeof head) return m.decode(buf, 0, maxlen);
+  std::memcpy(head, in, static_cast<size_t>(head_size));
+  std::memset(head + head_size - 4, 0, 4);
+  if (m.decode(head, 0, head_size) != head_size) return m.decode(buf, 0, maxlen);
+  m.ncells = n;
+  const auto cells = static_cast<size_t>(n);
+  m.g.resize(cells);
+  m.h.resize(cells);
+  m.gp.resize(cells);
+  in += head_size;
+  swap16(m.g.data(), in, cells);
+  swap16(m.h.data(), in + 2 * cells, cells);
+  swap32(m.gp.data(), in + 4 * cells, cells);
+  return head_size + n * 8;
 }
 
 }  // namespace lasonic

@@ -262,6 +262,34 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
     EXPECT_EQ(got, want) << n << " cells";
     // A buffer too short: the generated encode's answer.
     if (n > 0) EXPECT_EQ(wireEncode(m, got.data(), size - 1), m.encode(want.data(), 0, size - 1));
+    // Decoding: the generated decode's message and return value, also for bytes that are not a
+    // whole grid map (cut short, a wrong fingerprint, a count the bytes do not hold, negative).
+    const auto sameDecode = [](const std::vector<uint8_t>& bytes, int len, const char* what) {
+      grid_map_t a{}, b{};
+      const int ra = a.decode(bytes.data(), 0, len);
+      const int rb = wireDecode(b, bytes.data(), len);
+      EXPECT_EQ(rb, ra) << what;
+      if (ra < 0) return;
+      std::vector<uint8_t> ea(static_cast<size_t>(ra)), eb(static_cast<size_t>(ra));
+      a.encode(ea.data(), 0, ra);
+      b.encode(eb.data(), 0, ra);
+      EXPECT_EQ(eb, ea) << what;
+      EXPECT_EQ(b.g.size(), a.g.size()) << what;
+    };
+    sameDecode(want, size, "whole");
+    sameDecode(want, size - 1, "one byte short");
+    sameDecode(want, 40, "cut in the fields");
+    std::vector<uint8_t> bad = want;
+    bad[3] ^= 1;
+    sameDecode(bad, size, "fingerprint");
+    bad = want;
+    const size_t count_at = static_cast<size_t>(size) - 8 * static_cast<size_t>(n) - 4;
+    bad[count_at + 3] += 1;  // one cell more than the bytes hold
+    sameDecode(bad, size, "count + 1");
+    bad[count_at] = 0xFF;  // negative: the generated decode throws (Node checks the count first)
+    grid_map_t a{}, b{};
+    EXPECT_ANY_THROW(a.decode(bad.data(), 0, size));
+    EXPECT_ANY_THROW(wireDecode(b, bad.data(), size));
   }
 }
 
