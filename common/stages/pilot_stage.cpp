@@ -204,6 +204,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   points.reserve(placed.size());
   int64_t newest = m.utime;
   std::vector<TimedPoint> timed;
+  if (cfg_.predict_movers) timed.reserve(placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);
     if (!placed[i].valid) continue;
