@@ -24,6 +24,33 @@ bool sameScan(const LaserScan& a, const LaserScan& b) {
   return true;
 }
 
+namespace {
+template <typename T>
+bool sameArray(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+bool sameFloatBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+// Every field, bit for bit.
+bool sameMessage(const laser_scan_t& a, const laser_scan_t& b) {
+  return a.utime == b.utime && a.seq == b.seq && sameBits(a.mount.x, b.mount.x) && sameBits(a.mount.y, b.mount.y) &&
+         sameBits(a.mount.theta, b.mount.theta) && sameBits(a.angle_min, b.angle_min) &&
+         sameBits(a.angle_increment, b.angle_increment) && sameFloatBits(a.range_min, b.range_min) &&
+         sameFloatBits(a.range_max, b.range_max) && a.nranges == b.nranges && sameArray(a.ranges, b.ranges) &&
+         sameArray(a.flags, b.flags) && sameArray(a.offset_us, b.offset_us);
+}
+}  // namespace
+
+const std::optional<LaserScan>& SharedPlacement::scanFrom(const laser_scan_t& m, std::vector<InputProblem>& problems) {
+  if (!have_msg_ || !sameMessage(m, msg_)) {
+    msg_problems_.clear();
+    scan_from_msg_ = laserScanFromMessage(m, msg_problems_);
+    msg_ = m;
+    have_msg_ = true;
+  }
+  problems.insert(problems.end(), msg_problems_.begin(), msg_problems_.end());
+  return scan_from_msg_;
+}
+
 const std::vector<ScanPoint>& SharedPlacement::place(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
   if (have_ && sameScan(scan, scan_) && poses.sameAs(poses_)) {
     ++reused_;

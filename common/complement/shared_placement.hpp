@@ -8,8 +8,12 @@
 // placeReadings would return -- and is computed afresh otherwise. The live processes each run
 // one stage and do not use it.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include <lasonic/laser_scan_t.hpp>
+
+#include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "core/pose_history.hpp"
 
@@ -17,12 +21,20 @@ namespace lasonic::complement {
 
 class SharedPlacement {
  public:
+  // laserScanFromMessage(m, problems) -- the other per-scan work the two stages repeat: the
+  // previous call's scan (and its problems, appended again) when m is the same message bit for
+  // bit, computed afresh otherwise. The reference is valid until the next call.
+  const std::optional<LaserScan>& scanFrom(const laser_scan_t& m, std::vector<InputProblem>& problems);
   // placeReadings(scan, poses, no_pose). The reference is valid until the next call.
   const std::vector<ScanPoint>& place(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
   int64_t reused() const { return reused_; }      // calls answered from the stored result
   int64_t computed() const { return computed_; }  // calls that placed the readings
 
  private:
+  bool have_msg_ = false;
+  laser_scan_t msg_;  // what scan_from_msg_ was made from
+  std::optional<LaserScan> scan_from_msg_;
+  std::vector<InputProblem> msg_problems_;
   bool have_ = false;
   LaserScan scan_;     // what the stored result was computed from
   PoseHistory poses_;

@@ -125,8 +125,13 @@ void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const ui
   be(24, size, 4);
   buf_.insert(buf_.end(), header, header + sizeof header);
   buf_.insert(buf_.end(), channel.begin(), channel.end());
-  buf_.insert(buf_.end(), data, data + size);
   ++events_;
+  if (size >= kWriteChunk) {  // a large event (a grid map): its data written from where it is, not copied
+    flush();
+    if (size > 0 && std::fwrite(data, 1, size, f_) != size) throw LogError(path_ + ": write failed");
+    return;
+  }
+  buf_.insert(buf_.end(), data, data + size);
   if (buf_.size() >= kWriteChunk) flush();
 }
 

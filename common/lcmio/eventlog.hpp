@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "lcmio/lengths.hpp"
+#include "lcmio/wire.hpp"
 
 namespace lasonic {
 
@@ -45,7 +46,7 @@ std::optional<T> decodeAs(const std::vector<uint8_t>& data) {
   }
   T msg;
   try {
-    if (msg.decode(data.data(), 0, static_cast<int>(data.size())) < 0) return std::nullopt;
+    if (wireDecode(msg, data.data(), static_cast<int>(data.size())) < 0) return std::nullopt;
   } catch (const std::exception&) {
     return std::nullopt;
   }
@@ -56,7 +57,7 @@ template <typename T>
 std::vector<uint8_t> encodeMsg(T& msg) {
   setLengths(msg);
   std::vector<uint8_t> buf(static_cast<size_t>(msg.getEncodedSize()));
-  if (msg.encode(buf.data(), 0, static_cast<int>(buf.size())) < 0)
+  if (wireEncode(msg, buf.data(), static_cast<int>(buf.size())) < 0)
     throw std::logic_error("LCM encode failed");
   return buf;
 }

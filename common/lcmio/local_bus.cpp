@@ -18,14 +18,24 @@ const std::vector<size_t>& LocalBus::subscribersOf(const std::string& channel) {
   return by_channel_.emplace(channel, std::move(idx)).first->second;
 }
 
-int LocalBus::publish(const std::string& channel, const void* data, size_t size) {
-  std::vector<uint8_t> bytes;
+LocalBus::Bytes LocalBus::takeBuffer() {
+  Bytes bytes;
   if (!spare_.empty()) {
     bytes = std::move(spare_.back());
     spare_.pop_back();
+    bytes.clear();
   }
+  return bytes;
+}
+
+int LocalBus::publish(const std::string& channel, const void* data, size_t size) {
+  Bytes bytes = takeBuffer();
   const auto* p = static_cast<const uint8_t*>(data);
   bytes.assign(p, p + size);
+  return publish(channel, std::move(bytes));
+}
+
+int LocalBus::publish(const std::string& channel, Bytes&& bytes) {
   queue_.push_back({channel, std::move(bytes)});
   return 0;
 }

@@ -22,6 +22,7 @@
 #include "lcmio/local_bus.hpp"
 #include "lcmio/signals.hpp"
 #include "lcmio/status.hpp"
+#include "lcmio/wire.hpp"
 
 namespace lasonic {
 
@@ -133,7 +134,7 @@ class Node {
 
   std::shared_ptr<lcm::LCM> lcm_;   // exactly one of lcm_ and bus_ is set
   std::shared_ptr<LocalBus> bus_;
-  std::vector<uint8_t> encoded_;    // publish buffer (bus only)
+  LocalBus::Bytes lcm_encoded_;     // publish buffer of an LCM node (types with a fast encode)
   Options opts_;
   StatusBoard status_;
   Heartbeat heartbeat_;
@@ -160,7 +161,7 @@ void Node::TypedSubscription<T>::dispatch(const lcm::ReceiveBuffer* rbuf, const 
   T msg;
   int decoded = -1;
   try {
-    decoded = msg.decode(rbuf->data, 0, static_cast<int>(size));
+    decoded = wireDecode(msg, rbuf->data, static_cast<int>(size));
   } catch (const std::exception& e) {  // e.g. std::bad_alloc: never out of LCM's C callback
     node->decodeFailed(channel, T::getTypeName(), size, e.what());
     return;
@@ -202,8 +203,14 @@ void Node::publish(const std::string& channel, T& msg) {
     int rc = -1;
     if (bus_) {  // as lcm::LCM::publish: encode, then hand over the bytes
       const int size = msg.getEncodedSize();
-      encoded_.resize(static_cast<size_t>(size));
-      if (msg.encode(encoded_.data(), 0, size) == size) rc = bus_->publish(channel, encoded_.data(), encoded_.size());
+      LocalBus::Bytes bytes = bus_->takeBuffer();  // encoded in place, handed over without a copy
+      bytes.resize(static_cast<size_t>(size));
+      if (wireEncode(msg, bytes.data(), size) == size) rc = bus_->publish(channel, std::move(bytes));
+    } else if constexpr (HasFastEncode<T>::value) {  // the same bytes as lcm::LCM::publish(channel, &msg)
+      const int size = msg.getEncodedSize();
+      lcm_encoded_.resize(static_cast<size_t>(size));
+      if (wireEncode(msg, lcm_encoded_.data(), size) == size)
+        rc = lcm_->publish(channel, lcm_encoded_.data(), static_cast<unsigned int>(size));
     } else {
       rc = lcm_->publish(channel, &msg);
     }

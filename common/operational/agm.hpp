@@ -22,10 +22,15 @@
 // every cell whose G changes. A cycle therefore costs O((hits + revisions) * (2t+1)^2),
 // independent of N and of the number of occupied cells; after every cycle G, H, Gu and Gp equal
 // what the batch definitions above give.
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <limits>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/config.hpp"
 #include "core/geometry.hpp"
@@ -131,6 +136,10 @@ class AccumulativeGridMap {
   // window), without a division per cell.
   template <typename F>
   void forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
+  // forEachCell's calls for the cells with G > 0 only, in the same (row-major) order; the empty
+  // cells, most of a map, are passed over four at a time.
+  template <typename F>
+  void forEachPositiveCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
   // Calls f(ix, iy, G, Gp) once for every window cell of [ix0, ix1] x [iy0, iy1] with G > 0 (the
   // only cells whose Gp can be above 0), in no particular order. Every such cell has its last
   // increment in the revision queue, so when the queue is shorter than the rectangle it is walked
@@ -206,6 +215,44 @@ void AccumulativeGridMap::forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f)
       f(ix, iy, g_[row + static_cast<size_t>(sx)], gp_[row + static_cast<size_t>(sx)]);
       if (++sx == n_) sx = 0;
     }
+    if (++sy == n_) sy = 0;
+  }
+}
+
+template <typename F>
+void AccumulativeGridMap::forEachPositiveCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
+  if (ix0 < 0) ix0 = 0;
+  if (iy0 < 0) iy0 = 0;
+  if (ix1 > n_ - 1) ix1 = n_ - 1;
+  if (iy1 > n_ - 1) iy1 = n_ - 1;
+  if (ix0 > ix1 || iy0 > iy1) return;
+  const int sx0 = static_cast<int>(floorMod(ox_ + ix0, n_));
+  const int w = ix1 - ix0 + 1;
+  const int before_wrap = std::min(w, n_ - sx0);  // a row is at most two runs of consecutive slots
+  const int32_t* const g = g_.data();
+  const int32_t* const gp = gp_.data();
+  // Cells ix0 + k0 + j for j in [0, len), in slots first_slot + j.
+  const auto run = [&](int iy, const size_t first_slot, int k0, int len) {
+    const int32_t* const gr = g + first_slot;
+    const int32_t* const gpr = gp + first_slot;
+    const int x0 = ix0 + k0;
+    int j = 0;
+#if defined(__SSE2__)
+    for (; j + 4 <= len; j += 4) {
+      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(gr + j));
+      if (_mm_movemask_epi8(_mm_cmpgt_epi32(x, _mm_setzero_si128())) == 0) continue;
+      for (int i = j; i < j + 4; ++i)
+        if (gr[i] > 0) f(x0 + i, iy, gr[i], gpr[i]);
+    }
+#endif
+    for (; j < len; ++j)
+      if (gr[j] > 0) f(x0 + j, iy, gr[j], gpr[j]);
+  };
+  int sy = static_cast<int>(floorMod(oy_ + iy0, n_));
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    const size_t row = static_cast<size_t>(sy) * static_cast<size_t>(n_);
+    run(iy, row + static_cast<size_t>(sx0), 0, before_wrap);
+    run(iy, row, before_wrap, w - before_wrap);
     if (++sy == n_) sy = 0;
   }
 }

@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
@@ -127,12 +131,25 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
   last_tactical_utime_ = m.utime;
   std::vector<geom::Vec2> points;
   const int threshold = std::max(1, m.gp_threshold);
-  for (int iy = 0; iy < m.height; ++iy)
-    for (int ix = 0; ix < m.width; ++ix) {
-      const int32_t gp = m.gp[static_cast<size_t>(iy) * static_cast<size_t>(m.width) + static_cast<size_t>(ix)];
-      if (gp >= threshold)
-        points.emplace_back(m.origin_x + (ix + 0.5) * m.cell_size, m.origin_y + (iy + 0.5) * m.cell_size);
+  const auto keep = [&](int ix, int iy) {
+    points.emplace_back(m.origin_x + (ix + 0.5) * m.cell_size, m.origin_y + (iy + 0.5) * m.cell_size);
+  };
+  for (int iy = 0; iy < m.height; ++iy) {
+    const int32_t* const row = m.gp.data() + static_cast<size_t>(iy) * static_cast<size_t>(m.width);
+    int ix = 0;
+#if defined(__SSE2__)
+    // Most cells are below the threshold: four at a time passed over (SSE2, x86-64's baseline).
+    const __m128i below = _mm_set1_epi32(threshold - 1);
+    for (; ix + 4 <= m.width; ix += 4) {
+      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + ix));
+      if (_mm_movemask_epi8(_mm_cmpgt_epi32(x, below)) == 0) continue;
+      for (int j = ix; j < ix + 4; ++j)
+        if (row[j] >= threshold) keep(j, iy);
     }
+#endif
+    for (; ix < m.width; ++ix)
+      if (row[ix] >= threshold) keep(ix, iy);
+  }
   sector_map_.setRemembered(m.utime, std::move(points));
   node_.count("remembered.maps");
 }
@@ -174,7 +191,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
-  const auto scan = complement::laserScanFromMessage(m, problems);
+  std::optional<complement::LaserScan> own_scan;
+  const std::optional<complement::LaserScan>& scan =
+      placement_ ? placement_->scanFrom(m, problems) : (own_scan = complement::laserScanFromMessage(m, problems));
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
@@ -187,6 +206,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   points.reserve(placed.size());
   int64_t newest = m.utime;
   std::vector<TimedPoint> timed;
+  if (cfg_.predict_movers) timed.reserve(placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);
     if (!placed[i].valid) continue;

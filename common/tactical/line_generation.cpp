@@ -35,8 +35,8 @@ std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp
 std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold, int ix0, int iy0, int w,
                                           const std::function<int64_t(int64_t)>& support_of) {
   std::vector<CandidateCell> out;
-  agm.forEachCell(ix0, iy0, ix0 + w - 1, iy0 + w - 1, [&](int ix, int iy, int g, int gp) {
-    if (g <= 0 || gp < gp_threshold) return;
+  agm.forEachPositiveCell(ix0, iy0, ix0 + w - 1, iy0 + w - 1, [&](int ix, int iy, int /*g*/, int gp) {
+    if (gp < gp_threshold) return;
     const int64_t cycle = agm.lastHitCycle(ix, iy);
     out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle});
   });

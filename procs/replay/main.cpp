@@ -82,8 +82,9 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
     nodes.push_back(std::make_unique<Node>("lasonic-navigator", lcm, offline));
     navigator_stage.emplace(*nodes.back(), navigator_cfg);
   }
-  // Both stages place each laser scan's readings with their own (equal) odometry history: once
-  // is enough (complement/shared_placement.hpp: used only when scan and history are equal).
+  // Both stages read each LASER_SCAN and place its readings with their own (equal) odometry
+  // history: once is enough (complement/shared_placement.hpp: used only when the message, the
+  // scan and the history are equal).
   const auto placement = std::make_shared<complement::SharedPlacement>();
   if (complement_stage && pilot_stage) {
     complement_stage->sharePlacement(placement);

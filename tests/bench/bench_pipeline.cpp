@@ -121,7 +121,8 @@ class Replayer {
         pcfg_(pilotConfig(run.root.section("pilot"))),
         agm_(pcfg_.agm),
         sector_map_(pcfg_.sector_map),
-        placer_(pcfg_.placement) {}
+        placer_(pcfg_.placement),
+        movers_(pcfg_.mover_prediction) {}
 
   bool done() const { return next_ >= run_.inputs.size(); }
   bool nextIsGroup() const { return !done() && std::holds_alternative<sonar_ring_t>(run_.inputs[next_]); }
@@ -160,11 +161,26 @@ class Replayer {
       std::vector<geom::Vec2> points;
       points.reserve(placed.size());
       int64_t newest = ls->utime;
+      std::vector<TimedPoint> timed;
       for (size_t i = 0; i < placed.size(); ++i) {
         newest = std::max(newest, scan->readings[i].utime);
-        if (placed[i].valid) points.push_back(placed[i].p);
+        if (!placed[i].valid) continue;
+        if (pcfg_.predict_movers) timed.push_back({placed[i].p, scan->readings[i].utime});
+        else points.push_back(placed[i].p);
+      }
+      // pilot.predict_movers: returns of small clusters moving scan to scan (PilotStage::onLaserScan).
+      std::vector<SectorMap::MovingPoint> moving;
+      if (pcfg_.predict_movers) {
+        const int64_t mid = ls->utime + (newest - ls->utime) / 2;
+        const std::vector<geom::Vec2> v =
+            movers_.update(timed, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+        for (size_t i = 0; i < timed.size(); ++i) {
+          if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
+          else points.push_back(timed[i].p);
+        }
       }
       sector_map_.setLaserPoints(newest, std::move(points));
+      sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);
       now_ = std::max(now_, newest);
       benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
       return true;
@@ -225,6 +241,7 @@ class Replayer {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
+  MoverPrediction movers_;
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;
   std::vector<cp::InputProblem> problems_;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <random>
 
@@ -513,7 +514,7 @@ TEST(Agm, OdometryErrorRevisionCountsTurnsByTheDistanceDrivenAfterThem) {
 }
 
 // forEachWeightedCell visits exactly the cells with G > 0 that forEachCell finds in the same
-// rectangle, each once, through hits, repeated hits of one cell in one cycle, revision and
+// rectangle (forEachPositiveCell: in forEachCell's order), each once, through hits, repeated hits of one cell in one cycle, revision and
 // re-centring, whether it walks the revision queue (small rectangles) or the rectangle.
 TEST(Agm, WeightedCellsAreExactlyTheCellsWithWeight) {
   AgmParams p;
@@ -539,9 +540,14 @@ TEST(Agm, WeightedCellsAreExactlyTheCellsWithWeight) {
       const int ix0 = corner(rng), iy0 = corner(rng);
       const int ix1 = ix0 + (r == 0 ? 39 : side(rng) % 12), iy1 = iy0 + (r == 0 ? 39 : side(rng) % 12);
       std::map<std::pair<int, int>, std::pair<int, int>> brute, fast;
+      std::vector<std::array<int, 4>> in_order, positive;
       m.forEachCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int g, int gp) {
         if (g > 0) brute[{ix, iy}] = {g, gp};
+        if (g > 0) in_order.push_back({ix, iy, g, gp});
       });
+      // forEachPositiveCell: the same calls in the same order.
+      m.forEachPositiveCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int g, int gp) { positive.push_back({ix, iy, g, gp}); });
+      ASSERT_EQ(positive, in_order) << "cycle " << cycle << " rectangle " << ix0 << "," << iy0 << " - " << ix1 << "," << iy1;
       int visits = 0;
       m.forEachWeightedCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int g, int gp) {
         ++visits;

@@ -1,6 +1,7 @@
 // RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -345,4 +346,53 @@ TEST(SharedPlacement, TakenOnlyForTheSameScanAndAnEqualHistory) {
   // Back to what is stored: taken again.
   EXPECT_TRUE(samePlacement(shared.place(scan, b), expected));
   EXPECT_EQ(shared.reused(), 2);
+}
+
+// The shared scan (lasonic-replay: both stages read each LASER_SCAN): laserScanFromMessage's
+// scan and problems for the same message, bit for bit; any other message computed afresh.
+TEST(SharedPlacement, ScanFromTheSameMessageOnly) {
+  laser_scan_t m{};
+  m.utime = 1'000'000;
+  m.angle_min = -1.0;
+  m.angle_increment = 0.01;
+  m.range_min = 0.1f;
+  m.range_max = 10.0f;
+  for (int i = 0; i < 50; ++i) {
+    m.ranges.push_back(1.0f + 0.01f * static_cast<float>(i));
+    m.flags.push_back(int8_t{laser_scan_t::FLAG_OK});
+    m.offset_us.push_back(i * 100);
+  }
+  m.ranges[3] = 20.0f;  // beyond range_max: a problem
+  m.flags[7] = 5;       // unknown flag: a problem
+  m.nranges = 50;
+  const auto sameScanAndProblems = [](SharedPlacement& shared, const laser_scan_t& msg) {
+    std::vector<InputProblem> want_p, got_p = {{"earlier", "kept"}};
+    const std::optional<LaserScan> want = laserScanFromMessage(msg, want_p);
+    const std::optional<LaserScan>& got = shared.scanFrom(msg, got_p);
+    ASSERT_EQ(got.has_value(), want.has_value());
+    if (want) EXPECT_TRUE(sameScan(*got, *want));
+    ASSERT_EQ(got_p.size(), want_p.size() + 1);  // appended after what was there
+    for (size_t i = 0; i < want_p.size(); ++i) {
+      EXPECT_EQ(got_p[i + 1].counter, want_p[i].counter);
+      EXPECT_EQ(got_p[i + 1].message, want_p[i].message);
+    }
+  };
+  SharedPlacement shared;
+  sameScanAndProblems(shared, m);
+  sameScanAndProblems(shared, m);  // reused
+  laser_scan_t n = m;
+  n.ranges[10] = std::nextafter(n.ranges[10], 2.0f);  // one bit
+  sameScanAndProblems(shared, n);
+  std::vector<InputProblem> p;
+  EXPECT_FALSE(sameScan(*shared.scanFrom(n, p), *laserScanFromMessage(m, p)));
+  n = m;
+  n.offset_us[20] += 1;
+  sameScanAndProblems(shared, n);
+  n = m;
+  n.range_max = 0.5f;  // every reading but none beyond: other problems
+  sameScanAndProblems(shared, n);
+  n = m;
+  n.nranges = 49;  // inconsistent: no scan
+  sameScanAndProblems(shared, n);
+  sameScanAndProblems(shared, m);
 }
