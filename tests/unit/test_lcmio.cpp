@@ -261,7 +261,9 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
     ASSERT_EQ(wireEncode(m, got.data(), size), size) << n << " cells";
     EXPECT_EQ(got, want) << n << " cells";
     // A buffer too short: the generated encode's answer.
-    if (n > 0) EXPECT_EQ(wireEncode(m, got.data(), size - 1), m.encode(want.data(), 0, size - 1));
+    if (n > 0) {
+      EXPECT_EQ(wireEncode(m, got.data(), size - 1), m.encode(want.data(), 0, size - 1));
+    }
     // Decoding: the generated decode's message and return value, also for bytes that are not a
     // whole grid map (cut short, a wrong fingerprint, a count the bytes do not hold, negative).
     const auto sameDecode = [](const std::vector<uint8_t>& bytes, int len, const char* what) {

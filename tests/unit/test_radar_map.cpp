@@ -370,7 +370,9 @@ TEST(SharedPlacement, ScanFromTheSameMessageOnly) {
     const std::optional<LaserScan> want = laserScanFromMessage(msg, want_p);
     const std::optional<LaserScan>& got = shared.scanFrom(msg, got_p);
     ASSERT_EQ(got.has_value(), want.has_value());
-    if (want) EXPECT_TRUE(sameScan(*got, *want));
+    if (want) {
+      EXPECT_TRUE(sameScan(*got, *want));
+    }
     ASSERT_EQ(got_p.size(), want_p.size() + 1);  // appended after what was there
     for (size_t i = 0; i < want_p.size(); ++i) {
       EXPECT_EQ(got_p[i + 1].counter, want_p[i].counter);
