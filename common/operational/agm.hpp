@@ -164,6 +164,14 @@ class AccumulativeGridMap {
     return gx >= ox_ && gx < ox_ + n_ && gy >= oy_ && gy < oy_ + n_;
   }
   int64_t globalCell(double v) const;
+  // Clips the rectangle [ix0, ix1] x [iy0, iy1] to the window; false if nothing is left.
+  bool clipToWindow(int& ix0, int& iy0, int& ix1, int& iy1) const {
+    ix0 = std::max(ix0, 0);
+    iy0 = std::max(iy0, 0);
+    ix1 = std::min(ix1, n_ - 1);
+    iy1 = std::min(iy1, n_ - 1);
+    return ix0 <= ix1 && iy0 <= iy1;
+  }
   // G(gx, gy) += delta; Gu and Gp of its neighbourhood (inside the window) follow.
   void addWeight(int64_t gx, int64_t gy, int delta);
   void moveTo(int64_t nox, int64_t noy);
@@ -201,11 +209,7 @@ class AccumulativeGridMap {
 
 template <typename F>
 void AccumulativeGridMap::forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
-  if (ix0 < 0) ix0 = 0;
-  if (iy0 < 0) iy0 = 0;
-  if (ix1 > n_ - 1) ix1 = n_ - 1;
-  if (iy1 > n_ - 1) iy1 = n_ - 1;
-  if (ix0 > ix1 || iy0 > iy1) return;
+  if (!clipToWindow(ix0, iy0, ix1, iy1)) return;
   const int sx0 = static_cast<int>(floorMod(ox_ + ix0, n_));
   int sy = static_cast<int>(floorMod(oy_ + iy0, n_));
   for (int iy = iy0; iy <= iy1; ++iy) {
@@ -221,11 +225,7 @@ void AccumulativeGridMap::forEachCell(int ix0, int iy0, int ix1, int iy1, F&& f)
 
 template <typename F>
 void AccumulativeGridMap::forEachPositiveCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
-  if (ix0 < 0) ix0 = 0;
-  if (iy0 < 0) iy0 = 0;
-  if (ix1 > n_ - 1) ix1 = n_ - 1;
-  if (iy1 > n_ - 1) iy1 = n_ - 1;
-  if (ix0 > ix1 || iy0 > iy1) return;
+  if (!clipToWindow(ix0, iy0, ix1, iy1)) return;
   const int sx0 = static_cast<int>(floorMod(ox_ + ix0, n_));
   const int w = ix1 - ix0 + 1;
   const int before_wrap = std::min(w, n_ - sx0);  // a row is at most two runs of consecutive slots
@@ -259,11 +259,7 @@ void AccumulativeGridMap::forEachPositiveCell(int ix0, int iy0, int ix1, int iy1
 
 template <typename F>
 void AccumulativeGridMap::forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
-  if (ix0 < 0) ix0 = 0;
-  if (iy0 < 0) iy0 = 0;
-  if (ix1 > n_ - 1) ix1 = n_ - 1;
-  if (iy1 > n_ - 1) iy1 = n_ - 1;
-  if (ix0 > ix1 || iy0 > iy1) return;
+  if (!clipToWindow(ix0, iy0, ix1, iy1)) return;
   if (hits_.size() >= static_cast<size_t>(ix1 - ix0 + 1) * static_cast<size_t>(iy1 - iy0 + 1)) {
     forEachCell(ix0, iy0, ix1, iy1, [&f](int ix, int iy, int g, int gp) {
       if (g > 0) f(ix, iy, g, gp);
