@@ -6,10 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace lasonic {
 
 AgmParams agmParams(const Config& c, AgmParams p) {
@@ -312,23 +308,12 @@ void AccumulativeGridMap::exportGrids(int ix0, int iy0, int w, std::vector<int16
   int16_t* const ho = h.data();
   int32_t* const gpo = gp.data();
   const int64_t cycle = cycle_;
-  const auto copyCell = [=](size_t s, size_t out) {
-    if (gs[s] <= 0) return;
-    go[out] = static_cast<int16_t>(gs[s]);
-    ho[out] = static_cast<int16_t>(std::min<int64_t>(cycle - hit[s], std::numeric_limits<int16_t>::max()));
-    gpo[out] = gps[s];
-  };
   const auto copyRun = [=](size_t s, size_t out, size_t len) {
-    size_t k = 0;
-#if defined(__SSE2__)
-    // Most cells are empty: four at a time skipped when none has G > 0 (SSE2, x86-64's baseline).
-    for (; k + 4 <= len; k += 4) {
-      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(gs + s + k));
-      if (_mm_movemask_epi8(_mm_cmpgt_epi32(x, _mm_setzero_si128())) == 0) continue;
-      for (size_t j = k; j < k + 4; ++j) copyCell(s + j, out + j);
-    }
-#endif
-    for (; k < len; ++k) copyCell(s + k, out + k);
+    forEachAtLeast(gs + s, len, 1, [=](size_t j) {
+      go[out + j] = static_cast<int16_t>(gs[s + j]);
+      ho[out + j] = static_cast<int16_t>(std::min<int64_t>(cycle - hit[s + j], std::numeric_limits<int16_t>::max()));
+      gpo[out + j] = gps[s + j];
+    });
   };
   for (size_t iy = 0; iy < width; ++iy) {
     const auto row = static_cast<size_t>(sy * n_);

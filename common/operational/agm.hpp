@@ -28,12 +28,9 @@
 #include <limits>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "core/config.hpp"
 #include "core/geometry.hpp"
+#include "core/int_scan.hpp"
 #include "core/odometry_error.hpp"
 
 namespace lasonic {
@@ -236,17 +233,8 @@ void AccumulativeGridMap::forEachPositiveCell(int ix0, int iy0, int ix1, int iy1
     const int32_t* const gr = g + first_slot;
     const int32_t* const gpr = gp + first_slot;
     const int x0 = ix0 + k0;
-    int j = 0;
-#if defined(__SSE2__)
-    for (; j + 4 <= len; j += 4) {
-      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(gr + j));
-      if (_mm_movemask_epi8(_mm_cmpgt_epi32(x, _mm_setzero_si128())) == 0) continue;
-      for (int i = j; i < j + 4; ++i)
-        if (gr[i] > 0) f(x0 + i, iy, gr[i], gpr[i]);
-    }
-#endif
-    for (; j < len; ++j)
-      if (gr[j] > 0) f(x0 + j, iy, gr[j], gpr[j]);
+    forEachAtLeast(gr, static_cast<size_t>(len), 1,
+                   [&](size_t j) { f(x0 + static_cast<int>(j), iy, gr[j], gpr[j]); });
   };
   int sy = static_cast<int>(floorMod(oy_ + iy0, n_));
   for (int iy = iy0; iy <= iy1; ++iy) {

@@ -6,15 +6,12 @@
 #include <string>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
+#include "core/int_scan.hpp"
 #include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
 
@@ -136,19 +133,7 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
   };
   for (int iy = 0; iy < m.height; ++iy) {
     const int32_t* const row = m.gp.data() + static_cast<size_t>(iy) * static_cast<size_t>(m.width);
-    int ix = 0;
-#if defined(__SSE2__)
-    // Most cells are below the threshold: four at a time passed over (SSE2, x86-64's baseline).
-    const __m128i below = _mm_set1_epi32(threshold - 1);
-    for (; ix + 4 <= m.width; ix += 4) {
-      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + ix));
-      if (_mm_movemask_epi8(_mm_cmpgt_epi32(x, below)) == 0) continue;
-      for (int j = ix; j < ix + 4; ++j)
-        if (row[j] >= threshold) keep(j, iy);
-    }
-#endif
-    for (; ix < m.width; ++ix)
-      if (row[ix] >= threshold) keep(ix, iy);
+    forEachAtLeast(row, static_cast<size_t>(m.width), threshold, [&](size_t ix) { keep(static_cast<int>(ix), iy); });
   }
   sector_map_.setRemembered(m.utime, std::move(points));
   node_.count("remembered.maps");
