@@ -49,7 +49,9 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
   out.radar_map_utime = rm ? rm->utime : 0;
   out.radar_map_stale = radarMapStale(rm, g.utime, p.max_rm_age_us);
   static const std::vector<RmSegment> kEmpty;
+  static const std::vector<geom::Vec2> kNoPoles;
   const std::vector<RmSegment>& segments = rm ? rm->segments : kEmpty;
+  const std::vector<geom::Vec2>& poles = rm ? rm->poles : kNoPoles;
   for (const SonarReading& r : g.readings) {
     ClassifiedReading c;
     c.sensor_id = r.sensor_id;
@@ -63,7 +65,7 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     if (robot_pose) {
       const geom::Pose2 sensor = robot_pose->compose(r.mount);
       c.sensor_pose = sensor;
-      c.hypothetical_range = hypotheticalRange(sensor, segments, model);
+      c.hypothetical_range = hypotheticalRange(sensor, segments, poles, model);
       if (r.valid && !r.no_echo) c.end = segmentMapPoint(sensor, r.range);
     }
     if (!r.valid || !robot_pose)

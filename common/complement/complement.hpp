@@ -1,5 +1,5 @@
 #pragma once
-// Complement extraction (Jörg 1995, sec. 3.1; DESIGN.md step 3): each real sonar reading, placed
+// Complement extraction (Jörg 1995, sec. 3.1; README "Method", step 3): each real sonar reading, placed
 // in global coordinates (the Segment Map), is superposed on the hypothetical scan of the Radar
 // Map; only readings shorter than the hypothesis carry information the laser lacks.
 //
@@ -22,7 +22,7 @@ namespace lasonic::complement {
 enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4, OutsideView = 5 };
 const char* className(SonarClass c);  // "complementary", ... (counter names)
 
-// DESIGN.md step 3, with real range r, hypothesis h and tolerance tol:
+// README "Method", step 3, with real range r, hypothesis h and tolerance tol:
 //   no echo, or r > limit  -> Unverifiable
 //   r < h - tol            -> Complementary
 //   |r - h| <= tol         -> Redundant

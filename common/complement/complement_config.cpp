@@ -5,7 +5,7 @@
 namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
-  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view"});
+  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
   p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
@@ -26,6 +26,15 @@ ComplementConfig complementConfig(const Config& c) {
   r.split_threshold = rm.get("split_threshold", r.split_threshold, Range::positive());
   r.min_points = rm.get("min_points", r.min_points, Range{2, 1e6, false});
   r.min_length = rm.get("min_length", r.min_length, Range::nonNegative());
+
+  const Config pc = c.section("poles");
+  pc.allowOnly({"min_points", "match", "baseline", "memory_s"});
+  PoleConfig& po = cfg.poles;
+  po.min_points = pc.get("min_points", po.min_points, Range::between(0, 1e6));
+  po.match = pc.get("match", po.match, Range::nonNegative());
+  po.baseline = pc.get("baseline", po.baseline, Range::nonNegative());
+  po.memory_s = pc.get("memory_s", po.memory_s, Range::nonNegative());
+  r.pole_min_points = po.min_points;
   return cfg;
 }
 

@@ -7,10 +7,12 @@
 //     range_limit: 2.20      # [m] hypothetical range limit (paper: 2.20)
 //     rm_max_age_s: 0.5      # [s] an older Radar Map is stale: readings unverifiable
 //     radar_map: {jump_abs: 0.10, jump_rel: 0.05, split_threshold: 0.05, min_points: 6, min_length: 0.15}
+//     poles: {min_points: 1, match: 0.03, baseline: 0.10, memory_s: 2.0}  # 0 points: none (the paper)
 //
 // Every key is optional (the defaults above); unknown keys and out-of-range values are
 // ConfigErrors that name the key path.
 #include "complement/complement.hpp"
+#include "complement/pole_tracker.hpp"
 #include "complement/radar_map.hpp"
 #include "core/config.hpp"
 
@@ -18,6 +20,7 @@ namespace lasonic::complement {
 
 struct ComplementConfig {
   RadarMapConfig radar_map;
+  PoleConfig poles;
   ComplementParams params;
 };
 

@@ -18,6 +18,18 @@ double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>
   return best;
 }
 
+double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
+                         const std::vector<geom::Vec2>& poles, const IdealSonarModel& model) {
+  double best = hypotheticalRange(sensor, rm, model);
+  if (poles.empty()) return best;
+  const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
+  for (const geom::Vec2& p : poles) {
+    const double d = (p - beam.apex).norm();
+    if (d < best && beam.contains(p)) best = d;
+  }
+  return best;
+}
+
 std::vector<double> hypotheticalScan(const std::vector<geom::Pose2>& sensors,
                                      const std::vector<RmSegment>& rm, const IdealSonarModel& model) {
   std::vector<double> out;

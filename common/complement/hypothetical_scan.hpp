@@ -1,5 +1,5 @@
 #pragma once
-// Hypothetical sonar scan (Jörg 1995, sec. 3.1; DESIGN.md step 2): what an ideal sonar would read
+// Hypothetical sonar scan (Jörg 1995, sec. 3.1; README "Method", step 2): what an ideal sonar would read
 // on the Radar Map. The ideal beam is a circular sector (opening 30 deg, radius 2.20 m): all of it
 // is empty except for the nearest obstacle, so the hypothetical range is the exact distance from
 // the sensor to the nearest point of any RM segment inside the sector; no segment -> the limit.
@@ -18,6 +18,10 @@ struct IdealSonarModel {
 // One sensor: its global pose at firing time (acoustic axis along theta).
 double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
                          const IdealSonarModel& model);
+// The same with the Radar Map's poles (RadarMap::poles): a pole point inside the beam answers at
+// its distance from the sensor.
+double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
+                         const std::vector<geom::Vec2>& poles, const IdealSonarModel& model);
 
 // A firing group (or the whole ring): one range per sensor pose.
 std::vector<double> hypotheticalScan(const std::vector<geom::Pose2>& sensors,

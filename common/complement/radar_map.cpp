@@ -308,8 +308,12 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
     rm.view.angle_min = scan.readings.front().angle;
     rm.view.angle_max = scan.readings.back().angle;
   }
-  for (const Cluster& cl : splitClusters(points, scan.full_circle, cfg))
-    for (const RmSegment& s : clusterSegments(cl, cfg)) rm.segments.push_back(s);
+  for (const Cluster& cl : splitClusters(points, scan.full_circle, cfg)) {
+    const std::vector<RmSegment> segs = clusterSegments(cl, cfg);
+    rm.segments.insert(rm.segments.end(), segs.begin(), segs.end());
+    if (segs.empty() && cfg.pole_min_points > 0 && cl.points.size() >= static_cast<size_t>(cfg.pole_min_points))
+      rm.pole_candidates.push_back(cl.points);
+  }
   return rm;
 }
 int64_t lastReadingTime(const LaserScan& scan) {

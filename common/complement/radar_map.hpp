@@ -1,6 +1,6 @@
 #pragma once
 // Radar Map (RM): the laser scan's geometric abstraction into line segments (Jörg 1995, sec. 3;
-// DESIGN.md step 1). Every step is a small pure function so each can be tested on its own:
+// README "Method", step 1). Every step is a small pure function so each can be tested on its own:
 //
 //   placeReadings        reading i -> global point, with the robot pose at reading i's own time
 //                        (corrects the motion during the scan); no return -> a gap
@@ -53,6 +53,10 @@ struct RadarMapConfig {
   double split_threshold = 0.05;
   int min_points = 6;             // fewer points: dropped (noise, thin objects)
   double min_length = 0.15;       // [m] shorter: dropped
+  // Pole candidates (complement/pole_tracker.hpp; 0: none): a cluster that gives no segment (a
+  // pipe, a post, a table leg, or a glint of glass: too few points or too short for a line)
+  // with at least this many points is kept in RadarMap::pole_candidates.
+  int pole_min_points = 1;
 };
 
 // A global point of the scan, or a gap (no return / no pose / rejected).
@@ -84,6 +88,10 @@ struct RadarMap {
   int64_t source_utime = 0;   // [us] time of the scan's first reading
   geom::Pose2 robot_pose;     // at utime
   std::vector<RmSegment> segments;
+  // The clusters that gave no segment (RadarMapConfig::pole_min_points), and the points of those
+  // of them that PoleTracker found to be poles: the hypothesis uses them (not in RADAR_MAP).
+  std::vector<std::vector<geom::Vec2>> pole_candidates;
+  std::vector<geom::Vec2> poles;
   LaserView view;
 };
 

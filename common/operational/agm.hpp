@@ -1,5 +1,5 @@
 #pragma once
-// Accumulative Grid Map (AGM; Jörg 1995, sections 3.2-3.3; DESIGN.md step 4).
+// Accumulative Grid Map (AGM; Jörg 1995, sections 3.2-3.3; README "Method", step 4).
 //
 // A window of N x N square cells on an imaginary global grid anchored at the global (odometry)
 // origin: global cell (gx, gy) covers [gx*c, (gx+1)*c) x [gy*c, (gy+1)*c). The window holds the

@@ -1,6 +1,6 @@
 #pragma once
 // Evidence placement: which ONE cell a complementary echo increments (operational AGM's sensor
-// model, DESIGN.md step 4; beyond the paper, off with pilot.agm_placement: estimate).
+// model, README "Method", step 4; beyond the paper, off with pilot.agm_placement: estimate).
 //
 // The trivial sensor model increments one cell at the estimated bearing, although the echo's
 // true bearing may lie anywhere within +-halfwidth of it (BearingEstimate). A point obstacle

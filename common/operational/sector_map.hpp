@@ -1,5 +1,5 @@
 #pragma once
-// Sector Map (SCM; Jörg 1995, section 3.4; DESIGN.md step 5): the pilot's polar world model.
+// Sector Map (SCM; Jörg 1995, section 3.4; README "Method", step 5): the pilot's polar world model.
 //
 // n sectors (paper: 48 of 7.5 deg) in the robot frame; sector k covers bearings
 // [-pi + k*2pi/n, -pi + (k+1)*2pi/n) (0 = straight ahead, counter-clockwise). Each holds the

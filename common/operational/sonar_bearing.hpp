@@ -1,5 +1,5 @@
 #pragma once
-// Neighbour-aware bearing of a sonar echo (operational AGM's one-cell sensor model; DESIGN.md
+// Neighbour-aware bearing of a sonar echo (operational AGM's one-cell sensor model; README "Method",
 // step 4, beyond the paper).
 //
 // The paper's trivial sensor model puts every echo on the sensor's acoustic axis. But a sonar's

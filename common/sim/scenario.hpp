@@ -1,5 +1,5 @@
 #pragma once
-// Scenario files (DESIGN.md "Scenario file format"): the static world, moving obstacles, the
+// Scenario files (README "Scenario format"): the static world, moving obstacles, the
 // robot's path and per-scenario sensor overrides. Loading errors name the key path, e.g.
 // "obstacles[3].radius: must be > 0".
 #include <cstdint>

@@ -10,7 +10,7 @@ namespace lasonic {
 
 namespace cp = complement;
 
-ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg) {
+ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg), poles_(cfg.poles) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
@@ -21,6 +21,7 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
   if (c == ClockCheck::Restarted) {
     poses_.clear();
     radar_map_.reset();
+    poles_.reset();
     last_scan_utime_.reset();
   }
   return c != ClockCheck::Bad;
@@ -55,6 +56,7 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
     // Without any placed reading the scan says nothing; keep the previous Radar Map.
     if (no_pose == returns) return;
   }
+  rm.poles = poles_.update(rm.utime, rm.robot_pose.position(), rm.pole_candidates);
   line_map_t out = cp::radarMapToMessage(rm);
   node_.publish(channels::RADAR_MAP, out);
   radar_map_ = std::move(rm);

@@ -1,5 +1,5 @@
 #pragma once
-// ComplementStage: complement extraction (DESIGN.md steps 1-3) on a lasonic::Node.
+// ComplementStage: complement extraction (README "Method", steps 1-3) on a lasonic::Node.
 //
 // In:  ODOMETRY (pose history), LASER_SCAN, SONAR_RING (one firing group).
 // Out: RADAR_MAP per laser scan; SONAR_HYPOTHESIS and SONAR_COMPLEMENT per firing group.
@@ -60,6 +60,7 @@ class ComplementStage {
   ComplementConfig cfg_;
   PoseHistory poses_;
   std::optional<complement::RadarMap> radar_map_;
+  complement::PoleTracker poles_;
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here

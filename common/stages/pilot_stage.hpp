@@ -1,5 +1,5 @@
 #pragma once
-// PilotStage: the operational level (DESIGN.md steps 4-5) on a lasonic::Node.
+// PilotStage: the operational level (README "Method", steps 4-5) on a lasonic::Node.
 //
 // In:  ODOMETRY (pose history, speed), LASER_SCAN, SONAR_COMPLEMENT (one firing group), and with
 //      `remembered` the navigator's AGM_TACTICAL.

@@ -154,6 +154,7 @@ class Replayer {
       // Complement stage: the Radar Map.
       rm_ = one_process_ ? cp::radarMapFromPlaced(*scan, shared_.place(*scan, poses_), poses_, ccfg_.radar_map)
                          : cp::extractRadarMap(*scan, poses_, ccfg_.radar_map);
+      rm_->poles = poles_.update(rm_->utime, rm_->robot_pose.position(), rm_->pole_candidates);
       // Pilot stage: the scan's points, then the first sector map after it.
       std::vector<cp::ScanPoint> own;
       const std::vector<cp::ScanPoint>& placed =
@@ -238,6 +239,7 @@ class Replayer {
   PoseHistory poses_;
   double speed_ = 0;
   std::optional<cp::RadarMap> rm_;
+  cp::PoleTracker poles_{ccfg_.poles};
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;

@@ -1,4 +1,4 @@
-# Operational level (issue 4): AGM, Sector Map, echo bearing, PilotStage.
+# Operational level: AGM, Sector Map, echo bearing, PilotStage.
 lasonic_add_gtest(test_agm SOURCES test_agm.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_sector_map SOURCES test_sector_map.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_sonar_bearing SOURCES test_sonar_bearing.cpp LIBS lasonic_operational)

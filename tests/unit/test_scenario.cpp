@@ -1,4 +1,4 @@
-// Scenario files: the format of DESIGN.md, and errors that name the offending key path.
+// Scenario files: the format of README "Scenario format", and errors that name the offending key path.
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -1,0 +1,45 @@
+#include "complement/pole_tracker.hpp"
+
+#include <cmath>
+
+namespace lasonic::complement {
+
+std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& robot,
+                                            const std::vector<std::vector<geom::Vec2>>& candidates) {
+  std::vector<geom::Vec2> poles;
+  if (cfg_.min_points <= 0) return poles;
+  if (!history_.empty() && utime < history_.back().utime) history_.clear();
+  const auto memory_us = static_cast<int64_t>(std::llround(cfg_.memory_s * 1e6));
+  while (!history_.empty() && utime - history_.front().utime > memory_us) history_.pop_front();
+  const double match2 = cfg_.match * cfg_.match, baseline2 = cfg_.baseline * cfg_.baseline;
+  Seen now{utime, robot, {}};
+  for (const auto& pts : candidates) {
+    if (pts.empty() || pts.size() < static_cast<size_t>(cfg_.min_points)) continue;
+    geom::Vec2 c = geom::Vec2::Zero();
+    for (const geom::Vec2& p : pts) c += p;
+    c /= static_cast<double>(pts.size());
+    if (!std::isfinite(c.x()) || !std::isfinite(c.y())) continue;
+    now.centroids.push_back(c);
+    // Motion along the line of sight moves neither a pole nor a glint (the foot of the
+    // perpendicular on a pane the robot drives at): only motion across it tells them apart.
+    const geom::Vec2 sight = c - robot;
+    const double sight2 = sight.squaredNorm();
+    bool pole = false;
+    for (const Seen& s : history_) {
+      const geom::Vec2 m = robot - s.robot;
+      const double across = m.x() * sight.y() - m.y() * sight.x();  // |m x sight| = |m_perp| |sight|
+      if (!(across * across >= baseline2 * sight2)) continue;
+      for (const geom::Vec2& e : s.centroids)
+        if ((e - c).squaredNorm() <= match2) {
+          pole = true;
+          break;
+        }
+      if (pole) break;
+    }
+    if (pole) poles.insert(poles.end(), pts.begin(), pts.end());
+  }
+  history_.push_back(std::move(now));
+  return poles;
+}
+
+}  // namespace lasonic::complement
