@@ -65,7 +65,7 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     if (robot_pose) {
       const geom::Pose2 sensor = robot_pose->compose(r.mount);
       c.sensor_pose = sensor;
-      c.hypothetical_range = hypotheticalRange(sensor, segments, poles, model);
+      c.hypothetical_range = hypotheticalRange(sensor, segments, model);
       if (r.valid && !r.no_echo) c.end = segmentMapPoint(sensor, r.range);
     }
     if (!r.valid || !robot_pose)
@@ -74,6 +74,12 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
       c.cls = SonarClass::Unverifiable;
     else
       c.cls = classify(r.range, r.no_echo, c.hypothetical_range, p.tolerance, p.model.range_limit);
+    // Nearer than the lines predict, but at a pole's distance: the laser sees what answered.
+    if (c.cls == SonarClass::Complementary && c.sensor_pose)
+      if (const auto d = poleEcho(*c.sensor_pose, poles, r.range, p.tolerance, model)) {
+        c.cls = SonarClass::Redundant;
+        c.hypothetical_range = *d;
+      }
     if (p.outside_view_complementary && rm && c.end && c.sensor_pose &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
         !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))

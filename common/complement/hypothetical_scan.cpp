@@ -1,6 +1,7 @@
 #include "complement/hypothetical_scan.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace lasonic::complement {
 
@@ -18,14 +19,15 @@ double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>
   return best;
 }
 
-double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
-                         const std::vector<geom::Vec2>& poles, const IdealSonarModel& model) {
-  double best = hypotheticalRange(sensor, rm, model);
-  if (poles.empty()) return best;
+std::optional<double> poleEcho(const geom::Pose2& sensor, const std::vector<geom::Vec2>& poles, double range,
+                               double tol, const IdealSonarModel& model) {
+  if (poles.empty() || !(range >= 0)) return std::nullopt;
   const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
+  std::optional<double> best;
   for (const geom::Vec2& p : poles) {
     const double d = (p - beam.apex).norm();
-    if (d < best && beam.contains(p)) best = d;
+    if (!(std::abs(d - range) <= tol) || (best && std::abs(d - range) >= std::abs(*best - range))) continue;
+    if (beam.contains(p)) best = d;
   }
   return best;
 }

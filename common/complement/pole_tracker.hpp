@@ -1,6 +1,7 @@
 #pragma once
-// Poles for the hypothetical scan (beyond the paper; Jörg 1995 sec. 3.1 predicts the ideal sonar
-// from the Radar Map's lines only). A pipe, a post or a table leg gives the laser a few points
+// Poles for the complement extraction (beyond the paper; Jörg 1995 sec. 3.1 predicts the ideal
+// sonar from the Radar Map's lines only; a reading at a pole's distance is that pole's echo:
+// complement/hypothetical_scan.hpp, poleEcho). A pipe, a post or a table leg gives the laser a few points
 // but no line, so the paper's hypothesis predicts nothing there, and every sonar echo from it
 // is "complementary": it goes into both AGMs as if the laser had missed it, at the sonar's
 // bearing (up to half a beam off), next to the laser's own points of it.

@@ -89,7 +89,8 @@ struct RadarMap {
   geom::Pose2 robot_pose;     // at utime
   std::vector<RmSegment> segments;
   // The clusters that gave no segment (RadarMapConfig::pole_min_points), and the points of those
-  // of them that PoleTracker found to be poles: the hypothesis uses them (not in RADAR_MAP).
+  // of them that PoleTracker found to be poles: the classification uses them (poleEcho; not in
+  // RADAR_MAP).
   std::vector<std::vector<geom::Vec2>> pole_candidates;
   std::vector<geom::Vec2> poles;
   LaserView view;

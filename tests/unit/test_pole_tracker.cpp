@@ -83,15 +83,21 @@ TEST(PoleTracker, MinPointsAndNonFiniteCentroids) {
   EXPECT_TRUE(u.update(400000, {0.5, 0}, one({nan, 1})).empty());
 }
 
-TEST(PoleHypothesis, APoleInsideTheBeamAnswersAtItsDistance) {
+TEST(PoleEcho, AReadingAtAPolesDistanceInsideTheBeamIsThatPole) {
   const IdealSonarModel model;  // 30 deg, 2.20 m
-  const std::vector<RmSegment> wall{{{{2, -1}, {2, 1}}, 10, 0.0}};
-  EXPECT_NEAR(hypotheticalRange({0, 0, 0}, wall, {{1.0, 0.1}}, model), std::hypot(1.0, 0.1), 1e-12);
-  // Outside the beam (30 deg off the axis), beyond the wall, or beyond the limit: the wall.
-  EXPECT_DOUBLE_EQ(hypotheticalRange({0, 0, 0}, wall, {{1.0, 0.6}}, model), 2.0);
-  EXPECT_DOUBLE_EQ(hypotheticalRange({0, 0, 0}, wall, {{2.1, 0.0}}, model), 2.0);
-  EXPECT_DOUBLE_EQ(hypotheticalRange({0, 0, 0}, {}, {{2.5, 0.0}}, model), 2.20);
-  EXPECT_DOUBLE_EQ(hypotheticalRange({0, 0, 0}, wall, {}, model), hypotheticalRange({0, 0, 0}, wall, model));
+  const double d = std::hypot(1.0, 0.1);
+  const std::vector<Vec2> poles{{1.0, 0.1}, {1.5, -0.05}};
+  ASSERT_TRUE(poleEcho({0, 0, 0}, poles, d + 0.05, 0.10, model).has_value());
+  EXPECT_DOUBLE_EQ(*poleEcho({0, 0, 0}, poles, d + 0.05, 0.10, model), d);
+  EXPECT_DOUBLE_EQ(*poleEcho({0, 0, 0}, poles, 1.45, 0.10, model), std::hypot(1.5, 0.05));  // the nearer in range
+  // A reading matching no pole (shorter: something nearer answered; longer: the pole was not
+  // heard), a pole outside the beam or beyond the limit, no poles: nothing.
+  EXPECT_FALSE(poleEcho({0, 0, 0}, poles, 0.8, 0.10, model).has_value());
+  EXPECT_FALSE(poleEcho({0, 0, 0}, poles, 2.0, 0.10, model).has_value());
+  EXPECT_FALSE(poleEcho({0, 0, 0}, {{1.0, 0.6}}, std::hypot(1.0, 0.6), 0.10, model).has_value());
+  EXPECT_FALSE(poleEcho({0, 0, 0}, {{2.5, 0.0}}, 2.5, 0.10, model).has_value());
+  EXPECT_FALSE(poleEcho({0, 0, 0}, {}, 1.0, 0.10, model).has_value());
+  EXPECT_FALSE(poleEcho({0, 0, 0}, poles, std::nan(""), 0.10, model).has_value());
 }
 
 TEST(PoleCandidates, ClustersWithoutASegmentOnly) {
