@@ -438,9 +438,11 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   const VectorPath path = std::isfinite(reach2) ? vectorPath() : VectorPath::Scalar;
 #if LASONIC_AVX2_LOOP
   // The SSE2 loop below in 256-bit registers, one per quantity instead of two: the same lanes,
-  // operations, operand order and fallback, hence the same values. Compiled for AVX2 but not
-  // FMA: a fused a * b + c is rounded once and would change them.
-  const auto four_avx2 = [&]() LASONIC_AVX2 {
+  // operations and operand order, hence the same values; the next sector tried before the
+  // fallback. Compiled for AVX2 but not FMA: a fused a * b + c is rounded once and would change
+  // the values. (Index and count as locals: through references, as far as the compiler knows,
+  // one() could change them, and they would be stored and reloaded each time round.)
+  const auto four_avx2 = [&, np](size_t at) LASONIC_AVX2 {
     const __m256d vc = _mm256_set1_pd(c), vs = _mm256_set1_pd(s), vms = _mm256_set1_pd(-s);
     const __m256d vpx = _mm256_set1_pd(pose.x), vpy = _mm256_set1_pd(pose.y), vreach2 = _mm256_set1_pd(reach2);
     const __m256d vinf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
@@ -460,8 +462,8 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
       if (m <= reach2) take(k, m);
       acc = vinf;
     };
-    for (; i + 4 <= np; i += 4) {
-      const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(xs + i), vpx), dy = _mm256_sub_pd(_mm256_loadu_pd(ys + i), vpy);
+    for (; at + 4 <= np; at += 4) {
+      const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(xs + at), vpx), dy = _mm256_sub_pd(_mm256_loadu_pd(ys + at), vpy);
       const __m256d r2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
       const int todo = _mm256_movemask_pd(_mm256_cmp_pd(r2, vreach2, _CMP_NGT_US));  // (_mm_cmpngt_pd's)
       if (todo == 0) continue;
@@ -483,8 +485,18 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
       };
       accumulate(todo & ~rest);
       flush();
+      // A lane outside k: nearly always in the next sector (the scan's points come in bearing
+      // order), tried first in the registers, not through one() as below. A lane clearly inside
+      // a sector lies in it whichever sector k was, so the order of the tries changes no value.
+      k = k + 1 == n ? 0 : k + 1;
+      edges();
+      const int next = rest & inside();
+      accumulate(next);
+      rest &= ~next;
+      if (rest == 0) continue;
+      flush();
       const int last = 31 - __builtin_clz(static_cast<unsigned>(rest));
-      one(xs[i + static_cast<size_t>(last)] - pose.x, ys[i + static_cast<size_t>(last)] - pose.y);
+      one(xs[at + static_cast<size_t>(last)] - pose.x, ys[at + static_cast<size_t>(last)] - pose.y);
       rest &= ~(1 << last);
       edges();
       if (rest == 0) continue;
@@ -494,12 +506,13 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
       if (rest == 0) continue;
       flush();
       for (size_t j = 0; j < 4; ++j)
-        if (rest & (1 << j)) one(xs[i + j] - pose.x, ys[i + j] - pose.y);
+        if (rest & (1 << j)) one(xs[at + j] - pose.x, ys[at + j] - pose.y);
       edges();
     }
     flush();
+    return at;
   };
-  if (path == VectorPath::Avx2) four_avx2();
+  if (path == VectorPath::Avx2) i = four_avx2(i);
 #endif
 #if defined(__SSE2__)
   // Four points at a time (two SSE2 registers of two; SSE2 is part of x86-64's baseline):
