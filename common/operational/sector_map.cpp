@@ -1,11 +1,21 @@
 #include "operational/sector_map.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
+// laserValues' AVX2 loop: compiled on x86-64 whatever the build's baseline (a function
+// attribute), run only where the CPU has AVX2 (asked at run time).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LASONIC_AVX2_LOOP 1
+#define LASONIC_AVX2 __attribute__((target("avx2")))  // not "fma": see laserValues
+#else
+#define LASONIC_AVX2_LOOP 0
 #endif
 
 namespace lasonic {
@@ -49,6 +59,32 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
     bound_s_.push_back(std::sin(a));
   }
 }
+
+namespace {
+SectorMap::VectorPath widestPath() {
+#if LASONIC_AVX2_LOOP
+  __builtin_cpu_init();  // (in case this runs before the constructors)
+  // (AVX2 only where the OS also saves the 256-bit registers.)
+  if (__builtin_cpu_supports("avx2")) return SectorMap::VectorPath::Avx2;
+#endif
+#if defined(__SSE2__)
+  return SectorMap::VectorPath::Sse2;
+#else
+  return SectorMap::VectorPath::Scalar;
+#endif
+}
+
+std::atomic<SectorMap::VectorPath>& pathInUse() {
+  static std::atomic<SectorMap::VectorPath> path{widestPath()};  // the CPU asked once
+  return path;
+}
+}  // namespace
+
+void SectorMap::setVectorPath(VectorPath widest) {
+  pathInUse().store(std::min(widest, widestPath()), std::memory_order_relaxed);
+}
+
+SectorMap::VectorPath SectorMap::vectorPath() { return pathInUse().load(std::memory_order_relaxed); }
 
 namespace {
 // atan2 to within about 1e-5 rad (a candidate only: sectorOfDirection checks it).
@@ -398,14 +434,94 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
   const double* ys = laser_y_.data();
   const size_t np = laser_x_.size();
   size_t i = 0;
+  // (An infinite reach: one() only.)
+  const VectorPath path = std::isfinite(reach2) ? vectorPath() : VectorPath::Scalar;
+#if LASONIC_AVX2_LOOP
+  // The SSE2 loop below in 256-bit registers, one per quantity instead of two: the same lanes,
+  // operations and operand order, hence the same values; the next sector tried before the
+  // fallback. Compiled for AVX2 but not FMA: a fused a * b + c is rounded once and would change
+  // the values. (Index and count as locals: through references, as far as the compiler knows,
+  // one() could change them, and they would be stored and reloaded each time round.)
+  const auto four_avx2 = [&, np](size_t at) LASONIC_AVX2 {
+    const __m256d vc = _mm256_set1_pd(c), vs = _mm256_set1_pd(s), vms = _mm256_set1_pd(-s);
+    const __m256d vpx = _mm256_set1_pd(pose.x), vpy = _mm256_set1_pd(pose.y), vreach2 = _mm256_set1_pd(reach2);
+    const __m256d vinf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+    const __m256d margin = _mm256_set1_pd(2e-9 * reach);  // (see the SSE2 loop)
+    const __m256i lane_bit = _mm256_set_epi64x(8, 4, 2, 1);
+    __m256d bc, bs, bc1, bs1;  // sector k's edges
+    const auto edges = [&]() LASONIC_AVX2 {
+      const auto kk = static_cast<size_t>(k);
+      bc = _mm256_set1_pd(bound_c_[kk]), bs = _mm256_set1_pd(bound_s_[kk]);
+      bc1 = _mm256_set1_pd(bound_c_[kk + 1]), bs1 = _mm256_set1_pd(bound_s_[kk + 1]);
+    };
+    edges();
+    __m256d acc = vinf;  // the smallest r^2 so far of the lanes clearly inside sector k
+    const auto flush = [&]() LASONIC_AVX2 {
+      const __m128d m2 = _mm_min_pd(_mm256_castpd256_pd128(acc), _mm256_extractf128_pd(acc, 1));
+      const double m = _mm_cvtsd_f64(_mm_min_sd(m2, _mm_unpackhi_pd(m2, m2)));
+      if (m <= reach2) take(k, m);
+      acc = vinf;
+    };
+    for (; at + 4 <= np; at += 4) {
+      const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(xs + at), vpx), dy = _mm256_sub_pd(_mm256_loadu_pd(ys + at), vpy);
+      const __m256d r2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+      const int todo = _mm256_movemask_pd(_mm256_cmp_pd(r2, vreach2, _CMP_NGT_US));  // (_mm_cmpngt_pd's)
+      if (todo == 0) continue;
+      const __m256d lx = _mm256_add_pd(_mm256_mul_pd(vc, dx), _mm256_mul_pd(vs, dy));
+      const __m256d ly = _mm256_add_pd(_mm256_mul_pd(vms, dx), _mm256_mul_pd(vc, dy));
+      const auto inside = [&]() LASONIC_AVX2 {
+        return _mm256_movemask_pd(_mm256_cmp_pd(_mm256_min_pd(_mm256_sub_pd(_mm256_mul_pd(bc, ly), _mm256_mul_pd(bs, lx)),
+                                                              _mm256_sub_pd(_mm256_mul_pd(lx, bs1), _mm256_mul_pd(ly, bc1))),
+                                                margin, _CMP_GT_OS));  // (_mm_cmpgt_pd's)
+      };
+      int rest = todo & ~inside();
+      if (rest == 0) {
+        acc = _mm256_min_pd(acc, r2);
+        continue;
+      }
+      const auto accumulate = [&](int bits) LASONIC_AVX2 {
+        const __m256i sel = _mm256_and_si256(_mm256_set1_epi64x(bits), lane_bit);
+        acc = _mm256_min_pd(acc, _mm256_blendv_pd(vinf, r2, _mm256_castsi256_pd(_mm256_cmpeq_epi64(sel, lane_bit))));
+      };
+      accumulate(todo & ~rest);
+      flush();
+      // A lane outside k: nearly always in the next sector (the scan's points come in bearing
+      // order), tried first in the registers, not through one() as below. A lane clearly inside
+      // a sector lies in it whichever sector k was, so the order of the tries changes no value.
+      k = k + 1 == n ? 0 : k + 1;
+      edges();
+      const int next = rest & inside();
+      accumulate(next);
+      rest &= ~next;
+      if (rest == 0) continue;
+      flush();
+      const int last = 31 - __builtin_clz(static_cast<unsigned>(rest));
+      one(xs[at + static_cast<size_t>(last)] - pose.x, ys[at + static_cast<size_t>(last)] - pose.y);
+      rest &= ~(1 << last);
+      edges();
+      if (rest == 0) continue;
+      const int again = rest & inside();
+      accumulate(again);
+      rest &= ~again;
+      if (rest == 0) continue;
+      flush();
+      for (size_t j = 0; j < 4; ++j)
+        if (rest & (1 << j)) one(xs[at + j] - pose.x, ys[at + j] - pose.y);
+      edges();
+    }
+    flush();
+    return at;
+  };
+  if (path == VectorPath::Avx2) i = four_avx2(i);
+#endif
 #if defined(__SSE2__)
   // Four points at a time (two SSE2 registers of two; SSE2 is part of x86-64's baseline):
   // distance, rotation and clearlyInside(k) for all four at once, each lane by the same
   // operations as one() (no FMA on this target), hence with the same values. When every lane is
   // beyond the reach or clearly inside the current sector k (nearly always), the lanes inside go
   // into a running minimum for k (r^2 < reach2 < infinity: infinity means none); otherwise the
-  // lanes not beyond the reach go through one() in turn. (An infinite reach: one() only.)
-  if (std::isfinite(reach2)) {
+  // lanes not beyond the reach go through one() in turn.
+  if (path == VectorPath::Sse2) {
     const __m128d vc = _mm_set1_pd(c), vs = _mm_set1_pd(s), vms = _mm_set1_pd(-s);
     const __m128d vpx = _mm_set1_pd(pose.x), vpy = _mm_set1_pd(pose.y), vreach2 = _mm_set1_pd(reach2);
     const __m128d vinf = _mm_set1_pd(std::numeric_limits<double>::infinity());

@@ -155,6 +155,13 @@ class SectorMap {
   const SectorMapState& update(int64_t utime, const geom::Pose2& pose, const OccupancyWindow& grid);
   const SectorMapState& state() const { return s_; }
 
+  // The widest vector loop the laser part may use; all give the same values. By default the
+  // widest the CPU has (AVX2 where there, else SSE2); tests set a narrower one to compare them.
+  // Process-wide; set it before maps are updated. A path the CPU lacks is narrowed to one it has.
+  enum class VectorPath { Scalar, Sse2, Avx2 };
+  static void setVectorPath(VectorPath widest);
+  static VectorPath vectorPath();
+
  private:
   struct Value {
     float d = -1;  // -1: none

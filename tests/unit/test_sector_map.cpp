@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <iostream>
 #include <random>
 #include <vector>
 
@@ -566,6 +568,79 @@ TEST(SectorMap, LaserValuesFourAtATimeEqualThePointByPointDefinition) {
     ASSERT_EQ(st.laser, def) << "trial " << trial << ", " << points.size() << " points, " << p.sectors << " sectors";
   }
   EXPECT_GT(edge_points, 1000);
+}
+
+// The laser part's vector loops (AVX2 where the CPU has it, SSE2, none) against each other:
+// bit-identical states for short random scans (0..40 points: none, fewer than a register's four,
+// a few registers and a tail), with points on sector edges and one ulp beside them, at the reach
+// and one ulp beyond it, beyond the reach, NaN and infinite, at the robot's centre; many sectors,
+// so that a register's lanes straddle several; an infinite reach; moving returns.
+TEST(SectorMap, LaserVectorPathsGiveBitIdenticalStates) {
+  const SectorMap::VectorPath widest = SectorMap::vectorPath();
+  struct Restore {  // (also when an assertion returns early)
+    SectorMap::VectorPath path;
+    ~Restore() { SectorMap::setVectorPath(path); }
+  } restore{widest};
+  if (widest != SectorMap::VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: SSE2 against scalar only)\n";
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), a(-kPi, kPi), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const int sector_counts[] = {3, 7, 48, 360, 3600};
+  const AccumulativeGridMap agm(agmParams01());
+  for (int trial = 0; trial < 6000; ++trial) {
+    SectorMapParams p;
+    p.sectors = sector_counts[trial % 5];
+    if (trial % 97 == 0) p.max_range = inf;
+    const Pose2 pose{u(rng), u(rng), trial % 11 == 0 ? 0.0 : trial % 13 == 0 ? kPi / 2 : a(rng)};
+    const double reach = p.robot_radius + p.max_range;
+    const int count = trial % 41;
+    const double turn = 2 * kPi * coin(rng);  // a scan-like run covers this much of the circle
+    std::vector<Vec2> points;
+    for (int i = 0; i < count; ++i) {
+      const double pick = coin(rng);
+      if (pick < 0.45) {  // scan-like: in bearing order, within and beyond the reach
+        const double bearing = -kPi + turn * i / std::max(count, 1);
+        points.push_back(pose.transform(geom::unitVector(bearing) * (0.1 + 4.5 * coin(rng))));
+      } else if (pick < 0.7) {  // on a sector edge (robot frame), or one ulp beside it
+        const int k = static_cast<int>(coin(rng) * p.sectors);
+        Vec2 q = pose.transform(geom::unitVector(-kPi + k * (2.0 * kPi / p.sectors)) * (0.2 + 3.0 * coin(rng)));
+        const int side = static_cast<int>(coin(rng) * 3);
+        if (side > 0) q.y() = std::nextafter(q.y(), side == 1 ? inf : -inf);
+        points.push_back(q);
+      } else if (pick < 0.8) {  // at the reach, or one ulp beyond
+        Vec2 q = pose.position() + geom::unitVector(a(rng)) * (std::isfinite(reach) ? reach : 1.0);
+        if (coin(rng) < 0.5) q.x() = std::nextafter(q.x(), q.x() > pose.x ? inf : -inf);
+        points.push_back(q);
+      } else if (pick < 0.88) {  // not from a valid scan
+        const double bad[] = {nan, inf, -inf};
+        points.emplace_back(coin(rng) < 0.5 ? bad[i % 3] : u(rng), coin(rng) < 0.5 ? bad[(i + 1) % 3] : u(rng));
+      } else if (pick < 0.9) {
+        points.emplace_back(pose.x, pose.y);  // at the robot's centre
+      } else {
+        points.emplace_back(u(rng), u(rng));
+      }
+    }
+    std::vector<SectorMap::MovingPoint> movers;
+    if (trial % 3 == 0) movers.push_back({{u(rng), u(rng)}, {u(rng), u(rng)}, 0});
+    SectorMapState first;
+    for (const auto path : {SectorMap::VectorPath::Scalar, SectorMap::VectorPath::Sse2, SectorMap::VectorPath::Avx2}) {
+      SectorMap::setVectorPath(path);
+      SectorMap s(p);
+      s.setLaserPoints(0, points);
+      s.setLaserMovers(movers, 0.5);
+      const SectorMapState st = s.update(200'000, pose, agm);
+      if (path == SectorMap::VectorPath::Scalar) {
+        first = st;
+        continue;
+      }
+      // Bitwise, not by value: a float's sign of zero counts too.
+      const auto same = [](const std::vector<float>& x, const std::vector<float>& y) {
+        return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
+      };
+      ASSERT_TRUE(same(st.laser, first.laser) && same(st.distance, first.distance) && st.source == first.source) << "trial " << trial << ", path " << static_cast<int>(SectorMap::vectorPath()) << ", "
+                         << points.size() << " points, " << p.sectors << " sectors";
+    }
+  }
 }
 
 // cellIndices (two at a time) against clamp(floor(v / cell), -1e15, 1e15) one by one: values on
