@@ -1,5 +1,6 @@
 #include "complement/pole_tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lasonic::complement {
@@ -13,6 +14,9 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
   while (!history_.empty() && utime - history_.front().utime > memory_us) history_.pop_front();
   const double match2 = cfg_.match * cfg_.match, baseline2 = cfg_.baseline * cfg_.baseline;
   Seen now{utime, robot, {}};
+  // (Each scan's centroids are kept sorted by x, so a match is looked up in the 2 * match wide
+  // band around a candidate's x: a scan of a thousand one-point clusters -- rain, garbage --
+  // stays cheap.)
   for (const auto& pts : candidates) {
     if (pts.empty() || pts.size() < static_cast<size_t>(cfg_.min_points)) continue;
     geom::Vec2 c = geom::Vec2::Zero();
@@ -29,8 +33,10 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
       const geom::Vec2 m = robot - s.robot;
       const double across = m.x() * sight.y() - m.y() * sight.x();  // |m x sight| = |m_perp| |sight|
       if (!(across * across >= baseline2 * sight2)) continue;
-      for (const geom::Vec2& e : s.centroids)
-        if ((e - c).squaredNorm() <= match2) {
+      const auto from = std::lower_bound(s.centroids.begin(), s.centroids.end(), c.x() - cfg_.match,
+                                         [](const geom::Vec2& e, double x) { return e.x() < x; });
+      for (auto e = from; e != s.centroids.end() && e->x() <= c.x() + cfg_.match; ++e)
+        if ((*e - c).squaredNorm() <= match2) {
           pole = true;
           break;
         }
@@ -38,6 +44,8 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
     }
     if (pole) poles.insert(poles.end(), pts.begin(), pts.end());
   }
+  std::sort(now.centroids.begin(), now.centroids.end(),
+            [](const geom::Vec2& a, const geom::Vec2& b) { return a.x() < b.x(); });
   history_.push_back(std::move(now));
   return poles;
 }

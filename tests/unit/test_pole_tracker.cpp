@@ -83,6 +83,23 @@ TEST(PoleTracker, MinPointsAndNonFiniteCentroids) {
   EXPECT_TRUE(u.update(400000, {0.5, 0}, one({nan, 1})).empty());
 }
 
+TEST(PoleTracker, ManyCandidatesMatchTheOneThatStaysPut) {
+  // A scan of many one-point clusters (garbage, rain) and one pole among them: only the pole,
+  // whatever its place in the list.
+  PoleTracker t{on()};
+  std::vector<std::vector<Vec2>> first, second;
+  for (int i = 0; i < 500; ++i) {
+    first.push_back({{0.01 * i - 2.5, 2.0 + 0.001 * i}});
+    second.push_back({{0.01 * i - 2.5 + 0.005, 3.0}});  // within match in x, not in y
+  }
+  first.insert(first.begin() + 123, {{0.3, 1.5}});
+  second.push_back({{0.305, 1.5}});
+  t.update(0, {0, 0}, first);
+  const auto p = t.update(400000, {0.2, 0}, second);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_DOUBLE_EQ(p[0].x(), 0.305);
+}
+
 TEST(PoleEcho, AReadingAtAPolesDistanceInsideTheBeamIsThatPole) {
   const IdealSonarModel model;  // 30 deg, 2.20 m
   const double d = std::hypot(1.0, 0.1);
