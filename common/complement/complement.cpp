@@ -79,6 +79,7 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
       if (const auto d = poleEcho(*c.sensor_pose, poles, r.range, p.tolerance, model)) {
         c.cls = SonarClass::Redundant;
         c.hypothetical_range = *d;
+        c.by_pole = true;
       }
     if (p.outside_view_complementary && rm && c.end && c.sensor_pose &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&

@@ -73,6 +73,7 @@ struct ClassifiedReading {
   double beam_width = 0;          // [rad] the ideal beam its hypothesis used
   std::optional<geom::Pose2> sensor_pose;  // global, at firing time
   std::optional<geom::Vec2> end;           // Segment Map point (echo readings only)
+  bool by_pole = false;  // Redundant because it matched a pole of the Radar Map (poleEcho)
 };
 
 struct GroupComplement {

@@ -79,6 +79,7 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   for (const auto& r : result.readings) {
     node_.count(std::string("class.") + cp::className(r.cls));
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
+    if (r.by_pole) node_.count("redundant.pole");
   }
   hypothetical_scan_t hyp = cp::hypothesisToMessage(result, cfg_.params);
   node_.publish(channels::SONAR_HYPOTHESIS, hyp);

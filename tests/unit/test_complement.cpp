@@ -75,6 +75,27 @@ TEST(ExtractComplement, FreshRadarMapClassifies) {
   EXPECT_NEAR(r.end->x(), 0.5, 1e-12);
 }
 
+TEST(ExtractComplement, AReadingAtAPolesDistanceIsThatPolesAndALongerOneIsNotFalse) {
+  RadarMap rm = wallAhead(1'000'000);
+  rm.poles = {{0.6, 0.05}};  // a pipe in front of the wall, inside the beam
+  const double pipe = std::hypot(0.6, 0.05);
+  const auto at = extractComplement(oneForward(1'100'000, pipe + 0.02), Pose2{}, &rm, {});
+  ASSERT_EQ(at.readings.size(), 1u);
+  EXPECT_EQ(at.readings[0].cls, SonarClass::Redundant);
+  EXPECT_TRUE(at.readings[0].by_pole);
+  EXPECT_NEAR(at.readings[0].hypothetical_range, pipe, 1e-12);
+  // Nearer than the pipe: something else answered; between the pipe and the wall: the pipe was
+  // not heard (a weak reflector), the lines decide; at the wall: redundant by the wall.
+  const auto nearer = extractComplement(oneForward(1'100'000, 0.3), Pose2{}, &rm, {});
+  EXPECT_EQ(nearer.readings[0].cls, SonarClass::Complementary);
+  EXPECT_FALSE(nearer.readings[0].by_pole);
+  const auto beyond = extractComplement(oneForward(1'100'000, 0.8), Pose2{}, &rm, {});
+  EXPECT_EQ(beyond.readings[0].cls, SonarClass::Complementary);
+  const auto wall = extractComplement(oneForward(1'100'000, 1.0), Pose2{}, &rm, {});
+  EXPECT_EQ(wall.readings[0].cls, SonarClass::Redundant);
+  EXPECT_FALSE(wall.readings[0].by_pole);
+}
+
 TEST(ExtractComplement, NoRadarMapYetIsStaleAndUnverifiable) {
   const auto out = extractComplement(oneForward(1'000'000, 0.5), Pose2{}, nullptr, {});
   EXPECT_TRUE(out.radar_map_stale);
