@@ -327,4 +327,6 @@ INSTANTIATE_TEST_SUITE_P(Suite, ShippedScenario,
 INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                          ::testing::Values("holdout/glass_lobby", "holdout/warehouse_aisle", "holdout/corridor_fast",
                                            "holdout/glass_showroom", "holdout/pioneer_corridor",
-                                           "holdout/pioneer_workshop"));
+                                           "holdout/pioneer_workshop", "holdout/cafe_tables",
+                                           "holdout/glass_balustrade", "holdout/waiting_robot",
+                                           "holdout/turning_in_place", "holdout/slow_corridor"));
