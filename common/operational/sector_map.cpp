@@ -367,35 +367,49 @@ bool SectorMap::explained(const geom::Vec2& p) const {
   return explainedCell(explainedGlobal(p.x()), explainedGlobal(p.y()));
 }
 
-void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
+void SectorMap::rememberedValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out,
+                                 bool check_laser) const {
   std::fill(out.begin(), out.end(), Value{});
   // r <= robot_radius + max_range exactly when r^2 <= reach2 (sqrt is correctly rounded).
   const double reach2 = reach_root_bound_;
   // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
-  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
+  // Each sector keeps the smallest distance of the points it holds that the laser does not
+  // explain (the float of the smallest double, whatever the order), so a point that would not
+  // lower its sector's value is passed over before asking whether the laser explains it: that
+  // question (a cell look-up) is the expensive part, and most points within the reach lie
+  // behind a nearer one of the same obstacle. Neighbouring cells mostly share a sector: the
+  // previous point's is tried first (clearly inside it is inside it, whatever proposed it).
+  int hint = 0;
   for (const geom::Vec2& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
     const double r2 = d.squaredNorm();
     if (!(r2 <= reach2)) continue;  // the root only for the few points within reach
     const double r = std::sqrt(r2);
-    // The laser reports it, at its own bearing.
-    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
-      continue;
     const double dist = std::max(0.0, r - p_.robot_radius);
     if (dist > p_.max_range) continue;
     const auto exact = [&] { return sectorOf(std::atan2(d.y(), d.x()) - pose.theta); };
-    const int k = plain_theta ? sectorOfDirection(ct * d.x() + st * d.y(), ct * d.y() - st * d.x(), exact) : exact();
+    int k;
+    if (plain_theta) {
+      const double x = ct * d.x() + st * d.y(), y = ct * d.y() - st * d.x();
+      k = clearlyInside(hint, x, y) ? hint : sectorOfDirection(x, y, exact);
+    } else {
+      k = exact();
+    }
+    hint = k;
     Value& v = out[static_cast<size_t>(k)];
-    if (!known(v.d) || dist < v.d) v = {static_cast<float>(dist), SectorSource::Remembered};
+    if (known(v.d) && !(dist < v.d)) continue;
+    // The laser reports it, at its own bearing.
+    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
+      continue;
+    v = {static_cast<float>(dist), SectorSource::Remembered};
   }
 }
 
-void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) const {
+void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, std::vector<Value>& out) const {
   std::fill(out.begin(), out.end(), Value{});
   // "Moved into the current pose": global -> robot frame (Pose2::inverseTransform, with the
-  // rotation computed once per map instead of once per point).
-  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  // rotation c = cos(theta), s = sin(theta) computed once per map instead of once per point).
   const double reach = p_.robot_radius + p_.max_range;
   const double reach2 = reach * reach;
   // Per sector the smallest squared distance; the root only once per sector at the end: the
@@ -617,7 +631,7 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
 }
 
 template <typename Grid>
-void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained,
+void SectorMap::sonarValues(const geom::Pose2& pose, double ct, double st, const Grid& agm, bool use_explained,
                             std::vector<Value>& out, std::vector<Value>& spread) const {
   std::fill(out.begin(), out.end(), Value{});
   std::fill(spread.begin(), spread.end(), Value{});
@@ -633,7 +647,6 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   // The cell's bearing in the robot frame by rotation (sectorOfDirection); for a heading far
   // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
-  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
   // Only cells with weight can reach gp_threshold (>= 1). Their order does not matter: each
   // sector keeps the minimum, and all values of one kind carry the same source.
   agm.forEachWeightedCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
@@ -701,10 +714,12 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   s_.remembered_age_s = have_remembered_ ? static_cast<double>(utime - remembered_utime_) * 1e-6 : -1.0;
   s_.remembered_stale = !have_remembered_ || s_.remembered_age_s > p_.remembered_stale_s;
 
-  laserValues(pose, laser_now_);
+  // The rotation into the robot frame, once for the three parts.
+  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
+  laserValues(pose, ct, st, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
   // A stale scan no longer says what is where: it explains nothing away.
-  sonarValues(pose, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
+  sonarValues(pose, ct, st, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
   // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own
   // (with CopyRule::UnlessLaserConfirmed, not from a sector whose laser value confirms it).
   const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
@@ -716,7 +731,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
       if (known(r.d) && (!known(sonar_now_[k].d) || r.d < sonar_now_[k].d)) sonar_now_[k] = r;
       continue;
     }
-    for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {
+    for (const size_t j : {k == 0 ? n - 1 : k - 1, k + 1 == n ? 0 : k + 1}) {  // (no division per sector)
       const float d = sonar_own_[j].d;
       if (skip_confirmed && known(d) && known(laser_now_[j].d) &&
           std::abs(laser_now_[j].d - d) <= p_.copy_confirm_tolerance)
@@ -732,7 +747,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   else {
     if (p_.remembered_explains_radius > 0 && laser_bucket_size_ != p_.remembered_explains_radius)
       rebuildLaserBuckets(p_.remembered_explains_radius);
-    rememberedValues(pose, remembered_now_, !s_.laser_stale);
+    rememberedValues(pose, ct, st, remembered_now_, !s_.laser_stale);
   }
 
   for (size_t k = 0; k < n; ++k) {
