@@ -172,21 +172,55 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
   return false;
 }
 
-// cellIndices, two at a time where SSE2 is there: the quotient by the same division;
-// floor(clamp(t)) = clamp(floor(t)) as +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by
-// rounding to an integer at 1.5 * 2^52 and stepping down where that rounded up.
-void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
-  const auto one = [cell](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)); };
+// cellIndices, four at a time where the CPU has AVX2 (SectorMap::vectorPath), else two at a time
+// where SSE2 is there: the quotient by the same division; floor(clamp(t)) = clamp(floor(t)) as
+// +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by rounding to an integer at 1.5 * 2^52
+// and stepping down where that rounded up. (The same operations lane by lane in both widths.)
+namespace {
+int64_t cellIndexOf(double x, double cell) {
+  return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15));
+}
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 size_t cellIndicesAvx2(const double* v, size_t n, double cell, int64_t* out) {
+  const __m256d c = _mm256_set1_pd(cell), lo = _mm256_set1_pd(-1e15), hi = _mm256_set1_pd(1e15);
+  const __m256d big = _mm256_set1_pd(6755399441055744.0), unit = _mm256_set1_pd(1.0);
   size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d q = _mm256_div_pd(_mm256_loadu_pd(v + i), c);
+    // A NaN quotient goes the scalar way (the vector min and max would not keep it).
+    if (_mm256_movemask_pd(_mm256_cmp_pd(q, q, _CMP_UNORD_Q)) != 0) {
+      for (size_t j = i; j < i + 4; ++j) out[j] = cellIndexOf(v[j], cell);
+      continue;
+    }
+    const __m256d t = _mm256_min_pd(_mm256_max_pd(q, lo), hi);
+    const __m256d r = _mm256_sub_pd(_mm256_add_pd(t, big), big);
+    const __m256d f = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(r, t, _CMP_GT_OS), unit));  // (_mm_cmpgt_pd's)
+    const __m128d f0 = _mm256_castpd256_pd128(f), f1 = _mm256_extractf128_pd(f, 1);
+    out[i] = _mm_cvttsd_si64(f0);
+    out[i + 1] = _mm_cvttsd_si64(_mm_unpackhi_pd(f0, f0));
+    out[i + 2] = _mm_cvttsd_si64(f1);
+    out[i + 3] = _mm_cvttsd_si64(_mm_unpackhi_pd(f1, f1));
+  }
+  return i;
+}
+#endif
+}  // namespace
+
+void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
+  size_t i = 0;
+  const SectorMap::VectorPath path = SectorMap::vectorPath();
+#if LASONIC_AVX2_LOOP
+  if (path == SectorMap::VectorPath::Avx2) i = cellIndicesAvx2(v, n, cell, out);
+#endif
 #if defined(__SSE2__)
   const __m128d c = _mm_set1_pd(cell), lo = _mm_set1_pd(-1e15), hi = _mm_set1_pd(1e15);
   const __m128d big = _mm_set1_pd(6755399441055744.0), unit = _mm_set1_pd(1.0);
-  for (; i + 2 <= n; i += 2) {
+  for (; path != SectorMap::VectorPath::Scalar && i + 2 <= n; i += 2) {
     const __m128d q = _mm_div_pd(_mm_loadu_pd(v + i), c);
     // A NaN quotient goes the scalar way (the vector min and max would not keep it).
     if (_mm_movemask_pd(_mm_cmpunord_pd(q, q)) != 0) {
-      out[i] = one(v[i]);
-      out[i + 1] = one(v[i + 1]);
+      out[i] = cellIndexOf(v[i], cell);
+      out[i + 1] = cellIndexOf(v[i + 1], cell);
       continue;
     }
     const __m128d t = _mm_min_pd(_mm_max_pd(q, lo), hi);
@@ -196,7 +230,7 @@ void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
     out[i + 1] = _mm_cvttsd_si64(_mm_unpackhi_pd(f, f));
   }
 #endif
-  for (; i < n; ++i) out[i] = one(v[i]);
+  for (; i < n; ++i) out[i] = cellIndexOf(v[i], cell);
 }
 
 // The explained cells: cell (x, y) is explained when a point p of the newest scan has

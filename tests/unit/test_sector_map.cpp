@@ -694,7 +694,11 @@ TEST(SectorMap, LaserVectorPathsGiveBitIdenticalStates) {
 TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
   std::mt19937 rng(22);
   std::uniform_real_distribution<double> u(-50.0, 50.0), coin(0.0, 1.0);
-  const double inf = std::numeric_limits<double>::infinity();
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  struct Restore {  // (the widest path again, also when an assertion returns early)
+    SectorMap::VectorPath path;
+    ~Restore() { SectorMap::setVectorPath(path); }
+  } restore{SectorMap::vectorPath()};
   for (const double cell : {0.1, 0.05, 0.25, 0.07, 1e-9}) {
     std::vector<double> v;
     for (int i = 0; i < 2001; ++i) {
@@ -705,14 +709,23 @@ TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
         const double edge = std::round(u(rng) / cell) * cell;
         v.push_back(i % 3 == 0 ? edge : std::nextafter(edge, i % 3 == 1 ? inf : -inf));
       } else {
-        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15};
-        v.push_back(special[i % 10]);
+        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15, nan};
+        v.push_back(special[i % 11]);
       }
     }
-    std::vector<int64_t> got(v.size());
-    cellIndices(v.data(), v.size(), cell, got.data());
-    for (size_t i = 0; i < v.size(); ++i)
-      ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(std::floor(v[i] / cell), -1e15, 1e15)))
-          << "v " << v[i] << " cell " << cell;
+    // Every vector path (AVX2 four, SSE2 two at a time, scalar), each count from 0 (the tails).
+    for (const auto path : {SectorMap::VectorPath::Avx2, SectorMap::VectorPath::Sse2, SectorMap::VectorPath::Scalar}) {
+      SectorMap::setVectorPath(path);
+      for (const size_t count : {v.size(), size_t{0}, size_t{1}, size_t{3}, size_t{5}, size_t{7}}) {
+        std::vector<int64_t> got(count);
+        cellIndices(v.data(), count, cell, got.data());
+        for (size_t i = 0; i < count; ++i) {
+          const double q = std::floor(v[i] / cell);
+          if (std::isnan(q)) continue;  // (the conversion of NaN is the scalar code's, whatever it is)
+          ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(q, -1e15, 1e15)))
+              << "v " << v[i] << " cell " << cell << " path " << static_cast<int>(path);
+        }
+      }
+    }
   }
 }
