@@ -52,6 +52,9 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
   static const std::vector<geom::Vec2> kNoPoles;
   const std::vector<RmSegment>& segments = rm ? rm->segments : kEmpty;
   const std::vector<geom::Vec2>& poles = rm ? rm->poles : kNoPoles;
+  // sin and cos of the robot's heading once for the group's sensors (Pose2::compose's values).
+  const double rc = robot_pose ? std::cos(robot_pose->theta) : 1.0, rs = robot_pose ? std::sin(robot_pose->theta) : 0.0;
+  out.readings.reserve(g.readings.size());
   for (const SonarReading& r : g.readings) {
     ClassifiedReading c;
     c.sensor_id = r.sensor_id;
@@ -63,10 +66,20 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     if (r.beam_width > 0 && r.beam_width < geom::kPi) model.beam_width = r.beam_width;
     c.beam_width = model.beam_width;
     if (robot_pose) {
-      const geom::Pose2 sensor = robot_pose->compose(r.mount);
+      // robot_pose->compose(r.mount), and segmentMapPoint(sensor, r.range) = sensor.transform({range,
+      // 0}) with the axis direction the beam's edges hold: the same operations on the same values,
+      // without two of the five sin/cos pairs per reading.
+      const geom::Pose2& rp = *robot_pose;
+      const geom::Pose2 sensor{rp.x + rc * r.mount.x - rs * r.mount.y, rp.y + rs * r.mount.x + rc * r.mount.y,
+                               geom::normalizeAngle(rp.theta + r.mount.theta)};
       c.sensor_pose = sensor;
-      c.hypothetical_range = hypotheticalRange(sensor, segments, model);
-      if (r.valid && !r.no_echo) c.end = segmentMapPoint(sensor, r.range);
+      const geom::SectorEdges edges(geom::Sector{sensor.position(), sensor.theta, model.beam_width, model.range_limit});
+      c.hypothetical_range = hypotheticalRange(sensor, edges, segments, model);
+      if (r.valid && !r.no_echo) {
+        const double ca = edges.axis.x(), sa = edges.axis.y();  // cos, sin of sensor.theta
+        const geom::Vec2 l(r.range, 0.0);
+        c.end = geom::Vec2(sensor.x + ca * l.x() - sa * l.y(), sensor.y + sa * l.x() + ca * l.y());
+      }
     }
     if (!r.valid || !robot_pose)
       c.cls = SonarClass::Invalid;

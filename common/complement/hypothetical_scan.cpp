@@ -8,7 +8,12 @@ namespace lasonic::complement {
 double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
                          const IdealSonarModel& model) {
   const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
-  const geom::SectorEdges edges(beam);  // once per sensor, not per segment
+  return hypotheticalRange(sensor, geom::SectorEdges(beam), rm, model);  // once per sensor, not per segment
+}
+
+double hypotheticalRange(const geom::Pose2& sensor, const geom::SectorEdges& edges, const std::vector<RmSegment>& rm,
+                         const IdealSonarModel& model) {
+  const geom::Sector beam{sensor.position(), sensor.theta, model.beam_width, model.range_limit};
   double best = model.range_limit;
   for (const RmSegment& s : rm) {
     // Cheap reject before the exact wedge clip: a segment wholly beyond the best range so far

@@ -19,6 +19,10 @@ struct IdealSonarModel {
 // One sensor: its global pose at firing time (acoustic axis along theta).
 double hypotheticalRange(const geom::Pose2& sensor, const std::vector<RmSegment>& rm,
                          const IdealSonarModel& model);
+// The same with the beam's edge directions given (geom::SectorEdges of the beam: apex at the
+// sensor, heading sensor.theta, opening model.beam_width), for a caller that needs them too.
+double hypotheticalRange(const geom::Pose2& sensor, const geom::SectorEdges& edges, const std::vector<RmSegment>& rm,
+                         const IdealSonarModel& model);
 // The Radar Map's poles (RadarMap::poles) for a reading at `range`: the distance of the pole point
 // inside the beam nearest to that range, if one lies within tol of it (the echo is that pole's).
 // A pole is a weak reflector, heard in the transducer's main lobe only, so one that the reading

@@ -202,6 +202,7 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
   const double range_max = std::isfinite(m.range_max) && m.range_max > 0
                                ? std::min<double>(m.range_max, kMaxSonarRange)
                                : kMaxSonarRange;
+  g.readings.reserve(n);  // (one allocation per group, not one per doubling)
   for (size_t i = 0; i < n; ++i) {
     SonarReading r;
     r.sensor_id = m.sensor_id[i];

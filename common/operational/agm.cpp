@@ -118,16 +118,34 @@ std::pair<int64_t, int64_t> outside(int64_t a, int64_t b, int64_t n) {
   if (b >= a) return {a, std::min(b, a + n)};
   return {std::max(b + n, a), a + n};
 }
-// Calls f(gx, gy) for every cell of window A (origin ax, ay) that is not in window B.
+int64_t floorModN(int64_t a, int64_t n) { return ((a % n) + n) % n; }
+// Slots of the columns (or rows) of a window: the column a + d (0 <= d < n) of the window whose
+// first column is a lives in slot floorMod(a, n) + d, less n past the end. Computed by an add
+// and a compare instead of two divisions per cell (re-centring visits whole rows of cells).
+struct SlotOf {
+  int64_t a, sa, n;
+  SlotOf(int64_t first, int64_t size) : a(first), sa(floorModN(first, size)), n(size) {}
+  int64_t operator()(int64_t v) const {  // v in [a, a + n)
+    const int64_t s = sa + (v - a);
+    return s >= n ? s - n : s;
+  }
+};
+// Calls f(gx, gy, slot) for every cell of window A (origin ax, ay) that is not in window B. (The
+// order of the calls differs from a plain row-by-row walk; moveTo's passes do not depend on it.)
 template <typename F>
 void forEachOutside(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t n, F&& f) {
+  const SlotOf sx(ax, n), sy(ay, n);
   const auto [xl, xh] = outside(ax, bx, n);
   const auto [yl, yh] = outside(ay, by, n);
-  for (int64_t x = xl; x < xh; ++x)
-    for (int64_t y = ay; y < ay + n; ++y) f(x, y);
-  for (int64_t y = yl; y < yh; ++y)
+  for (int64_t x = xl; x < xh; ++x) {
+    const int64_t cx = sx(x);
+    for (int64_t y = ay; y < ay + n; ++y) f(x, y, static_cast<size_t>(cx + sy(y) * n));
+  }
+  for (int64_t y = yl; y < yh; ++y) {
+    const int64_t row = sy(y) * n;
     for (int64_t x = ax; x < ax + n; ++x)
-      if (x < xl || x >= xh) f(x, y);
+      if (x < xl || x >= xh) f(x, y, static_cast<size_t>(row + sx(x)));
+  }
 }
 }  // namespace
 
@@ -140,28 +158,35 @@ void AccumulativeGridMap::moveTo(int64_t nox, int64_t noy) {
     return;
   }
   // Leaving cells: withdraw their weight from the surviving neighbours' Gu, then forget them.
-  forEachOutside(ox_, oy_, nox, noy, n_, [&](int64_t x, int64_t y) {
-    const int gv = g_[slotGlobal(x, y)];
+  // (Each cell's Gp is recomputed from its final G and Gu at its last change, so the order of
+  // the withdrawals does not matter.)
+  forEachOutside(ox_, oy_, nox, noy, n_, [&](int64_t x, int64_t y, size_t s) {
+    const int gv = g_[s];
     if (gv > 0) addWeight(x, y, -gv);
-  });
-  forEachOutside(ox_, oy_, nox, noy, n_, [&](int64_t x, int64_t y) {
-    const size_t s = slotGlobal(x, y);
-    gu_[s] = gp_[s] = 0;
-    last_hit_[s] = 0;
-    forgetHits(s);
-    if (!av_.empty()) av_[s] = 0.f;
   });
   const int64_t old_x = ox_, old_y = oy_;
   ox_ = nox;
   oy_ = noy;
-  // Entering cells reuse the freed slots with G = 0 (so Gp = 0); their Gu must still count the
-  // surviving neighbours, for when they are hit later.
-  forEachOutside(nox, noy, old_x, old_y, n_, [&](int64_t x, int64_t y) {
+  // Entering cells reuse the freed slots (the slots the leaving cells free are exactly the ones
+  // the entering cells take), forgotten here, with G = 0 (so Gp = 0); their Gu must still count
+  // the surviving neighbours, for when they are hit later. Only an entering cell within t of the
+  // old window has one: the others' neighbourhoods hold entering cells (G = 0) only.
+  const SlotOf sx(ox_, n_), sy(oy_, n_);
+  const int64_t t = p_.t;
+  const auto far = [t](int64_t v, int64_t first, int64_t last) { return v < first - t || v > last + t; };
+  forEachOutside(nox, noy, old_x, old_y, n_, [&](int64_t x, int64_t y, size_t s) {
+    gu_[s] = gp_[s] = 0;
+    last_hit_[s] = 0;
+    forgetHits(s);
+    if (!av_.empty()) av_[s] = 0.f;
+    if (far(x, old_x, old_x + n_ - 1) || far(y, old_y, old_y + n_ - 1)) return;
     int sum = 0;
-    for (int64_t qy = std::max(y - p_.t, oy_); qy <= std::min(y + p_.t, oy_ + n_ - 1); ++qy)
-      for (int64_t qx = std::max(x - p_.t, ox_); qx <= std::min(x + p_.t, ox_ + n_ - 1); ++qx)
-        sum += g_[slotGlobal(qx, qy)];
-    gu_[slotGlobal(x, y)] = sum;
+    const int64_t qx0 = std::max(x - t, ox_), qx1 = std::min(x + t, ox_ + n_ - 1);
+    for (int64_t qy = std::max(y - t, oy_); qy <= std::min(y + t, oy_ + n_ - 1); ++qy) {
+      const int64_t row = sy(qy) * n_;
+      for (int64_t qx = qx0; qx <= qx1; ++qx) sum += g_[static_cast<size_t>(row + sx(qx))];
+    }
+    gu_[s] = sum;
   });
 }
 

@@ -113,6 +113,7 @@ void EchoPlacer::spread(const geom::Vec2& sensor, double range, double beam_widt
 
 std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm) {
   std::vector<geom::Vec2> hits;
+  hits.reserve(group.size());  // (one hit per reading, but for waiting echoes and surface fill)
   if (cfg_.surface_fill) {
     const int64_t keep = std::max(1, cfg_.arc_wait_cycles);
     std::vector<Placed> recent;

@@ -23,13 +23,18 @@ std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector
     if (n >= static_cast<size_t>(p_.min_points)) {
       geom::Vec2 lo = scan[first].p, hi = scan[first].p, sum = geom::Vec2::Zero();
       double t = 0;
-      for (size_t j = first; j < i; ++j) {
+      bool too_wide = false;
+      for (size_t j = first; j < i && !too_wide; ++j) {
         lo = lo.cwiseMin(scan[j].p);
         hi = hi.cwiseMax(scan[j].p);
         sum += scan[j].p;
         t += static_cast<double>(scan[j].utime - scan[first].utime);
+        // The box only grows point by point (and its squared diagonal with it, rounded
+        // monotonically), so a cluster already wider than max_extent stays so: a wall's hundreds
+        // of points are not all summed to be dropped.
+        too_wide = (hi - lo).squaredNorm() > extent2;
       }
-      if ((hi - lo).squaredNorm() <= extent2 && std::isfinite(sum.x()) && std::isfinite(sum.y()))
+      if (!too_wide && (hi - lo).squaredNorm() <= extent2 && std::isfinite(sum.x()) && std::isfinite(sum.y()))
         out.push_back({sum / static_cast<double>(n),
                        static_cast<double>(scan[first].utime) * 1e-6 + t * 1e-6 / static_cast<double>(n),
                        (hi - lo).norm(), first, i - 1});

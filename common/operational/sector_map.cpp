@@ -172,21 +172,55 @@ bool SectorMap::laserNear(const geom::Vec2& p, double rho) const {
   return false;
 }
 
-// cellIndices, two at a time where SSE2 is there: the quotient by the same division;
-// floor(clamp(t)) = clamp(floor(t)) as +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by
-// rounding to an integer at 1.5 * 2^52 and stepping down where that rounded up.
-void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
-  const auto one = [cell](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)); };
+// cellIndices, four at a time where the CPU has AVX2 (SectorMap::vectorPath), else two at a time
+// where SSE2 is there: the quotient by the same division; floor(clamp(t)) = clamp(floor(t)) as
+// +-1e15 are integers; floor of |t| <= 1e15 < 2^51 exact by rounding to an integer at 1.5 * 2^52
+// and stepping down where that rounded up. (The same operations lane by lane in both widths.)
+namespace {
+int64_t cellIndexOf(double x, double cell) {
+  return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15));
+}
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 size_t cellIndicesAvx2(const double* v, size_t n, double cell, int64_t* out) {
+  const __m256d c = _mm256_set1_pd(cell), lo = _mm256_set1_pd(-1e15), hi = _mm256_set1_pd(1e15);
+  const __m256d big = _mm256_set1_pd(6755399441055744.0), unit = _mm256_set1_pd(1.0);
   size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d q = _mm256_div_pd(_mm256_loadu_pd(v + i), c);
+    // A NaN quotient goes the scalar way (the vector min and max would not keep it).
+    if (_mm256_movemask_pd(_mm256_cmp_pd(q, q, _CMP_UNORD_Q)) != 0) {
+      for (size_t j = i; j < i + 4; ++j) out[j] = cellIndexOf(v[j], cell);
+      continue;
+    }
+    const __m256d t = _mm256_min_pd(_mm256_max_pd(q, lo), hi);
+    const __m256d r = _mm256_sub_pd(_mm256_add_pd(t, big), big);
+    const __m256d f = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(r, t, _CMP_GT_OS), unit));  // (_mm_cmpgt_pd's)
+    const __m128d f0 = _mm256_castpd256_pd128(f), f1 = _mm256_extractf128_pd(f, 1);
+    out[i] = _mm_cvttsd_si64(f0);
+    out[i + 1] = _mm_cvttsd_si64(_mm_unpackhi_pd(f0, f0));
+    out[i + 2] = _mm_cvttsd_si64(f1);
+    out[i + 3] = _mm_cvttsd_si64(_mm_unpackhi_pd(f1, f1));
+  }
+  return i;
+}
+#endif
+}  // namespace
+
+void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
+  size_t i = 0;
+  const SectorMap::VectorPath path = SectorMap::vectorPath();
+#if LASONIC_AVX2_LOOP
+  if (path == SectorMap::VectorPath::Avx2) i = cellIndicesAvx2(v, n, cell, out);
+#endif
 #if defined(__SSE2__)
   const __m128d c = _mm_set1_pd(cell), lo = _mm_set1_pd(-1e15), hi = _mm_set1_pd(1e15);
   const __m128d big = _mm_set1_pd(6755399441055744.0), unit = _mm_set1_pd(1.0);
-  for (; i + 2 <= n; i += 2) {
+  for (; path != SectorMap::VectorPath::Scalar && i + 2 <= n; i += 2) {
     const __m128d q = _mm_div_pd(_mm_loadu_pd(v + i), c);
     // A NaN quotient goes the scalar way (the vector min and max would not keep it).
     if (_mm_movemask_pd(_mm_cmpunord_pd(q, q)) != 0) {
-      out[i] = one(v[i]);
-      out[i + 1] = one(v[i + 1]);
+      out[i] = cellIndexOf(v[i], cell);
+      out[i + 1] = cellIndexOf(v[i + 1], cell);
       continue;
     }
     const __m128d t = _mm_min_pd(_mm_max_pd(q, lo), hi);
@@ -196,7 +230,7 @@ void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
     out[i + 1] = _mm_cvttsd_si64(_mm_unpackhi_pd(f, f));
   }
 #endif
-  for (; i < n; ++i) out[i] = one(v[i]);
+  for (; i < n; ++i) out[i] = cellIndexOf(v[i], cell);
 }
 
 // The explained cells: cell (x, y) is explained when a point p of the newest scan has
@@ -367,35 +401,49 @@ bool SectorMap::explained(const geom::Vec2& p) const {
   return explainedCell(explainedGlobal(p.x()), explainedGlobal(p.y()));
 }
 
-void SectorMap::rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const {
+void SectorMap::rememberedValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out,
+                                 bool check_laser) const {
   std::fill(out.begin(), out.end(), Value{});
   // r <= robot_radius + max_range exactly when r^2 <= reach2 (sqrt is correctly rounded).
   const double reach2 = reach_root_bound_;
   // The bearing's sector by rotation, as for the AGM's cells (sonarValues).
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
-  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
+  // Each sector keeps the smallest distance of the points it holds that the laser does not
+  // explain (the float of the smallest double, whatever the order), so a point that would not
+  // lower its sector's value is passed over before asking whether the laser explains it: that
+  // question (a cell look-up) is the expensive part, and most points within the reach lie
+  // behind a nearer one of the same obstacle. Neighbouring cells mostly share a sector: the
+  // previous point's is tried first (clearly inside it is inside it, whatever proposed it).
+  int hint = 0;
   for (const geom::Vec2& p : remembered_points_) {
     const geom::Vec2 d = p - pose.position();
     const double r2 = d.squaredNorm();
     if (!(r2 <= reach2)) continue;  // the root only for the few points within reach
     const double r = std::sqrt(r2);
-    // The laser reports it, at its own bearing.
-    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
-      continue;
     const double dist = std::max(0.0, r - p_.robot_radius);
     if (dist > p_.max_range) continue;
     const auto exact = [&] { return sectorOf(std::atan2(d.y(), d.x()) - pose.theta); };
-    const int k = plain_theta ? sectorOfDirection(ct * d.x() + st * d.y(), ct * d.y() - st * d.x(), exact) : exact();
+    int k;
+    if (plain_theta) {
+      const double x = ct * d.x() + st * d.y(), y = ct * d.y() - st * d.x();
+      k = clearlyInside(hint, x, y) ? hint : sectorOfDirection(x, y, exact);
+    } else {
+      k = exact();
+    }
+    hint = k;
     Value& v = out[static_cast<size_t>(k)];
-    if (!known(v.d) || dist < v.d) v = {static_cast<float>(dist), SectorSource::Remembered};
+    if (known(v.d) && !(dist < v.d)) continue;
+    // The laser reports it, at its own bearing.
+    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
+      continue;
+    v = {static_cast<float>(dist), SectorSource::Remembered};
   }
 }
 
-void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) const {
+void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, std::vector<Value>& out) const {
   std::fill(out.begin(), out.end(), Value{});
   // "Moved into the current pose": global -> robot frame (Pose2::inverseTransform, with the
-  // rotation computed once per map instead of once per point).
-  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  // rotation c = cos(theta), s = sin(theta) computed once per map instead of once per point).
   const double reach = p_.robot_radius + p_.max_range;
   const double reach2 = reach * reach;
   // Per sector the smallest squared distance; the root only once per sector at the end: the
@@ -617,7 +665,7 @@ void SectorMap::laserValues(const geom::Pose2& pose, std::vector<Value>& out) co
 }
 
 template <typename Grid>
-void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained,
+void SectorMap::sonarValues(const geom::Pose2& pose, double ct, double st, const Grid& agm, bool use_explained,
                             std::vector<Value>& out, std::vector<Value>& spread) const {
   std::fill(out.begin(), out.end(), Value{});
   std::fill(spread.begin(), spread.end(), Value{});
@@ -633,7 +681,6 @@ void SectorMap::sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_e
   // The cell's bearing in the robot frame by rotation (sectorOfDirection); for a heading far
   // outside [-4pi, 4pi], atan2 - theta has lost the precision that argument needs: exact path.
   const bool plain_theta = std::abs(pose.theta) <= 4 * geom::kPi;
-  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
   // Only cells with weight can reach gp_threshold (>= 1). Their order does not matter: each
   // sector keeps the minimum, and all values of one kind carry the same source.
   agm.forEachWeightedCell(cell(robot.x() - reach, o.x()), cell(robot.y() - reach, o.y()), cell(robot.x() + reach, o.x()),
@@ -701,10 +748,12 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   s_.remembered_age_s = have_remembered_ ? static_cast<double>(utime - remembered_utime_) * 1e-6 : -1.0;
   s_.remembered_stale = !have_remembered_ || s_.remembered_age_s > p_.remembered_stale_s;
 
-  laserValues(pose, laser_now_);
+  // The rotation into the robot frame, once for the three parts.
+  const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
+  laserValues(pose, ct, st, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
   // A stale scan no longer says what is where: it explains nothing away.
-  sonarValues(pose, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
+  sonarValues(pose, ct, st, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
   // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own
   // (with CopyRule::UnlessLaserConfirmed, not from a sector whose laser value confirms it).
   const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
@@ -716,7 +765,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
       if (known(r.d) && (!known(sonar_now_[k].d) || r.d < sonar_now_[k].d)) sonar_now_[k] = r;
       continue;
     }
-    for (const size_t j : {(k + n - 1) % n, (k + 1) % n}) {
+    for (const size_t j : {k == 0 ? n - 1 : k - 1, k + 1 == n ? 0 : k + 1}) {  // (no division per sector)
       const float d = sonar_own_[j].d;
       if (skip_confirmed && known(d) && known(laser_now_[j].d) &&
           std::abs(laser_now_[j].d - d) <= p_.copy_confirm_tolerance)
@@ -732,7 +781,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   else {
     if (p_.remembered_explains_radius > 0 && laser_bucket_size_ != p_.remembered_explains_radius)
       rebuildLaserBuckets(p_.remembered_explains_radius);
-    rememberedValues(pose, remembered_now_, !s_.laser_stale);
+    rememberedValues(pose, ct, st, remembered_now_, !s_.laser_stale);
   }
 
   for (size_t k = 0; k < n; ++k) {

@@ -174,8 +174,9 @@ class SectorMap {
   int sectorOfDirection(double x, double y, Exact&& exact) const;
   // Direction (x, y) lies inside sector k by a relative margin of 1e-9 (then k is its sector).
   bool clearlyInside(int k, double x, double y) const;
-  void laserValues(const geom::Pose2& pose, std::vector<Value>& out) const;
-  void rememberedValues(const geom::Pose2& pose, std::vector<Value>& out, bool check_laser) const;
+  // (ct, st: cos and sin of pose.theta.)
+  void laserValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out) const;
+  void rememberedValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
   // A point of the newest scan within rho of p (buckets of size rho, rebuilt once per scan).
   bool laserNear(const geom::Vec2& p, double rho) const;
@@ -185,8 +186,8 @@ class SectorMap {
   bool explainedBy(int64_t x, int64_t y, const geom::Vec2& p) const;  // p explains cell (x, y)
   bool withinRho(int64_t x, int64_t y, const geom::Vec2& p) const;    // centre of (x, y) within rho of p
   template <typename Grid>
-  void sonarValues(const geom::Pose2& pose, const Grid& agm, bool use_explained, std::vector<Value>& out,
-                   std::vector<Value>& spread) const;
+  void sonarValues(const geom::Pose2& pose, double ct, double st, const Grid& agm, bool use_explained,
+                   std::vector<Value>& out, std::vector<Value>& spread) const;
   template <typename Grid>
   const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);

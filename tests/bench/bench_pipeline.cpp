@@ -163,6 +163,7 @@ class Replayer {
       points.reserve(placed.size());
       int64_t newest = ls->utime;
       std::vector<TimedPoint> timed;
+      if (pcfg_.predict_movers) timed.reserve(placed.size());  // (as PilotStage::onLaserScan)
       for (size_t i = 0; i < placed.size(); ++i) {
         newest = std::max(newest, scan->readings[i].utime);
         if (!placed[i].valid) continue;

@@ -248,13 +248,19 @@ class ReferenceAgm {
     auto it = cells_.find({x, y});
     return it == cells_.end() ? 0 : static_cast<int>(cycle_ - it->second.last);
   }
-  int gp(int64_t x, int64_t y) const {
-    if (g(x, y) == 0) return 0;
-    int gu = 0;
+  // The neighbourhood's weight inside the window, for every cell (an empty one too: it is what
+  // the cell's Gp becomes when it is hit).
+  int gu(int64_t x, int64_t y) const {
+    int sum = 0;
     for (int64_t q = y - p_.t; q <= y + p_.t; ++q)
       for (int64_t pp = x - p_.t; pp <= x + p_.t; ++pp)
-        if (inWindow(pp, q)) gu += g(pp, q);
-    return gu >= p_.g_threshold ? gu : 0;
+        if (inWindow(pp, q)) sum += g(pp, q);
+    return sum;
+  }
+  int gp(int64_t x, int64_t y) const {
+    if (g(x, y) == 0) return 0;
+    const int sum = gu(x, y);
+    return sum >= p_.g_threshold ? sum : 0;
   }
   bool inWindow(int64_t x, int64_t y) const {
     return x >= ox_ && x < ox_ + p_.size && y >= oy_ && y < oy_ + p_.size;
@@ -308,6 +314,7 @@ void compareOverRandomMotion(const AgmParams& p, uint32_t seed, int steps) {
         ASSERT_EQ(m.g(ix, iy), ref.g(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
         ASSERT_EQ(m.h(ix, iy), ref.h(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
         ASSERT_EQ(m.gp(ix, iy), ref.gp(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
+        ASSERT_EQ(m.gu(ix, iy), ref.gu(gx, gy)) << "step " << step << " cell " << ix << "," << iy;
       }
   }
   EXPECT_GT(shifts, steps / 10);  // the test really exercised re-centring and wrap-around

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
 #include <limits>
 #include <utility>
 
@@ -94,6 +97,46 @@ TEST(ExtractComplement, AReadingAtAPolesDistanceIsThatPolesAndALongerOneIsNotFal
   const auto wall = extractComplement(oneForward(1'100'000, 1.0), Pose2{}, &rm, {});
   EXPECT_EQ(wall.readings[0].cls, SonarClass::Redundant);
   EXPECT_FALSE(wall.readings[0].by_pole);
+}
+
+// extractComplement takes the robot's sin and cos once per group and the axis direction from the
+// beam's edges: every reading's sensor pose, segment-map point and hypothesis must be bit for bit
+// what Pose2::compose, segmentMapPoint and hypotheticalRange give, for any pose and mount.
+TEST(ExtractComplement, SensorPosesAndEndsAreComposeAndSegmentMapPointBitForBit) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-5.0, 5.0), a(-10.0, 10.0), r(0.0, 3.0);
+  RadarMap rm = wallAhead(1'000'000);
+  rm.segments.push_back({{{-1.0, 2.0}, {2.0, 0.5}}, 20, 0.0});
+  for (int trial = 0; trial < 500; ++trial) {
+    const Pose2 robot{u(rng), u(rng), trial % 7 == 0 ? 1e5 * a(rng) : a(rng)};
+    SonarGroup g;
+    g.utime = 1'100'000;
+    for (int k = 0; k < 4; ++k)
+      g.readings.push_back({k, r(rng), k == 3, {0.3 * u(rng), 0.3 * u(rng), a(rng)}, true, k == 2 ? 0.4 : 0.0});
+    const auto out = extractComplement(g, robot, &rm, {});
+    ASSERT_EQ(out.readings.size(), g.readings.size());
+    for (size_t k = 0; k < g.readings.size(); ++k) {
+      const SonarReading& in = g.readings[k];
+      const auto& c = out.readings[k];
+      const Pose2 sensor = robot.compose(in.mount);
+      ASSERT_TRUE(c.sensor_pose.has_value());
+      const auto bits = [](double v) { uint64_t b; std::memcpy(&b, &v, sizeof b); return b; };
+      ASSERT_EQ(bits(c.sensor_pose->x), bits(sensor.x)) << trial;
+      ASSERT_EQ(bits(c.sensor_pose->y), bits(sensor.y)) << trial;
+      ASSERT_EQ(bits(c.sensor_pose->theta), bits(sensor.theta)) << trial;
+      IdealSonarModel model;
+      if (in.beam_width > 0) model.beam_width = in.beam_width;
+      ASSERT_EQ(bits(c.hypothetical_range), bits(hypotheticalRange(sensor, rm.segments, model))) << trial;
+      if (in.no_echo) {
+        ASSERT_FALSE(c.end.has_value());
+        continue;
+      }
+      ASSERT_TRUE(c.end.has_value());
+      const geom::Vec2 end = segmentMapPoint(sensor, in.range);
+      ASSERT_EQ(bits(c.end->x()), bits(end.x())) << trial;
+      ASSERT_EQ(bits(c.end->y()), bits(end.y())) << trial;
+    }
+  }
 }
 
 TEST(ExtractComplement, NoRadarMapYetIsStaleAndUnverifiable) {

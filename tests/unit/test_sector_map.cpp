@@ -456,6 +456,52 @@ TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
   }
 }
 
+// The same with a scan whose points explain some of the cells (laser_explains_radius): a sector
+// takes the nearest remembered cell the scan does not explain, however the cells are ordered
+// (rememberedValues asks about a cell only when it would lower its sector's value).
+TEST(SectorMap, RememberedValuesWithExplainedCellsEqualTheNaiveDefinition) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), a(-kPi, kPi), coin(0.0, 1.0), jitter(-0.15, 0.15);
+  for (int trial = 0; trial < 50; ++trial) {
+    SectorMapParams p;
+    p.laser_explains_radius = 0.10;
+    SectorMap s(p);
+    std::vector<Vec2> cells, scan;
+    for (int iy = 0; iy < 80; ++iy)
+      for (int ix = 0; ix < 80; ++ix)
+        if (coin(rng) < 0.1) {
+          cells.emplace_back(-4.0 + (ix + 0.5) * 0.1, -4.0 + (iy + 0.5) * 0.1);
+          if (coin(rng) < 0.5) scan.push_back(cells.back() + Vec2(jitter(rng), jitter(rng)));
+        }
+    std::shuffle(cells.begin(), cells.end(), rng);  // any order
+    const Pose2 pose{u(rng), u(rng), a(rng)};
+    s.setLaserPoints(0, scan);
+    s.setRemembered(0, cells);
+    const AccumulativeGridMap agm(agmParams01());
+    const double c = agm.cellSize();
+    const auto& st = s.update(0, pose, agm);
+    std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
+    int explained = 0;
+    for (const Vec2& q : cells) {
+      const Vec2 d = q - pose.position();
+      if (!(d.norm() <= p.robot_radius + p.max_range)) continue;
+      const double dist = std::max(0.0, d.norm() - p.robot_radius);
+      if (dist > p.max_range) continue;
+      // The cell holding q is explained when a scan point lies within the radius of its centre.
+      const Vec2 centre((std::floor(q.x() / c) + 0.5) * c, (std::floor(q.y() / c) + 0.5) * c);
+      if (std::any_of(scan.begin(), scan.end(),
+                      [&](const Vec2& l) { return (centre - l).norm() <= p.laser_explains_radius; })) {
+        ++explained;
+        continue;
+      }
+      float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
+      if (v < 0 || dist < v) v = static_cast<float>(dist);
+    }
+    ASSERT_GT(explained, 0) << "trial " << trial;
+    ASSERT_EQ(st.remembered, naive) << "trial " << trial << ", " << explained << " cells explained";
+  }
+}
+
 // The explained cells (decided per cell from the scan's points in buckets) against the brute
 // force: a cell is explained exactly when some point of the scan lies within the radius of its
 // centre. One obstacle cell per trial among a scan's worth of points around it, several maps
@@ -648,7 +694,11 @@ TEST(SectorMap, LaserVectorPathsGiveBitIdenticalStates) {
 TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
   std::mt19937 rng(22);
   std::uniform_real_distribution<double> u(-50.0, 50.0), coin(0.0, 1.0);
-  const double inf = std::numeric_limits<double>::infinity();
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  struct Restore {  // (the widest path again, also when an assertion returns early)
+    SectorMap::VectorPath path;
+    ~Restore() { SectorMap::setVectorPath(path); }
+  } restore{SectorMap::vectorPath()};
   for (const double cell : {0.1, 0.05, 0.25, 0.07, 1e-9}) {
     std::vector<double> v;
     for (int i = 0; i < 2001; ++i) {
@@ -659,14 +709,23 @@ TEST(SectorMap, CellIndicesEqualTheFloorOfTheQuotient) {
         const double edge = std::round(u(rng) / cell) * cell;
         v.push_back(i % 3 == 0 ? edge : std::nextafter(edge, i % 3 == 1 ? inf : -inf));
       } else {
-        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15};
-        v.push_back(special[i % 10]);
+        const double special[] = {0.0, -0.0, 1e20, -1e20, inf, -inf, 1e15 * cell, -1e15 * cell, 4.5e15, -4.5e15, nan};
+        v.push_back(special[i % 11]);
       }
     }
-    std::vector<int64_t> got(v.size());
-    cellIndices(v.data(), v.size(), cell, got.data());
-    for (size_t i = 0; i < v.size(); ++i)
-      ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(std::floor(v[i] / cell), -1e15, 1e15)))
-          << "v " << v[i] << " cell " << cell;
+    // Every vector path (AVX2 four, SSE2 two at a time, scalar), each count from 0 (the tails).
+    for (const auto path : {SectorMap::VectorPath::Avx2, SectorMap::VectorPath::Sse2, SectorMap::VectorPath::Scalar}) {
+      SectorMap::setVectorPath(path);
+      for (const size_t count : {v.size(), size_t{0}, size_t{1}, size_t{3}, size_t{5}, size_t{7}}) {
+        std::vector<int64_t> got(count);
+        cellIndices(v.data(), count, cell, got.data());
+        for (size_t i = 0; i < count; ++i) {
+          const double q = std::floor(v[i] / cell);
+          if (std::isnan(q)) continue;  // (the conversion of NaN is the scalar code's, whatever it is)
+          ASSERT_EQ(got[i], static_cast<int64_t>(std::clamp(q, -1e15, 1e15)))
+              << "v " << v[i] << " cell " << cell << " path " << static_cast<int>(path);
+        }
+      }
+    }
   }
 }
