@@ -426,6 +426,17 @@ TEST(SectorMap, LaserValuesEqualTheNaiveDefinition) {
   }
 }
 
+// A remembered cell's distance from the robot's boundary by the definition, or -1 when it lies
+// beyond the reach (the naive side of the two tests below).
+namespace {
+double naiveRememberedDistance(const SectorMapParams& p, const Pose2& pose, const Vec2& q) {
+  const Vec2 d = q - pose.position();
+  if (!(d.norm() <= p.robot_radius + p.max_range)) return -1;
+  const double dist = std::max(0.0, d.norm() - p.robot_radius);
+  return dist > p.max_range ? -1 : dist;
+}
+}  // namespace
+
 // The remembered values against the definition computed naively (distance from r^2 without the
 // root beyond the reach, sector by rotation), for a grid's occupied cells around a robot anywhere.
 TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
@@ -444,10 +455,9 @@ TEST(SectorMap, RememberedValuesEqualTheNaiveDefinition) {
     std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
     int near = 0;
     for (const Vec2& q : cells) {
+      const double dist = naiveRememberedDistance(p, pose, q);
+      if (dist < 0) continue;
       const Vec2 d = q - pose.position();
-      if (!(d.norm() <= p.robot_radius + p.max_range)) continue;
-      const double dist = std::max(0.0, d.norm() - p.robot_radius);
-      if (dist > p.max_range) continue;
       ++near;
       float& v = naive[static_cast<size_t>(s.sectorOf(std::atan2(d.y(), d.x()) - pose.theta))];
       if (v < 0 || dist < v) v = static_cast<float>(dist);
@@ -483,10 +493,9 @@ TEST(SectorMap, RememberedValuesWithExplainedCellsEqualTheNaiveDefinition) {
     std::vector<float> naive(static_cast<size_t>(p.sectors), -1.0f);
     int explained = 0;
     for (const Vec2& q : cells) {
+      const double dist = naiveRememberedDistance(p, pose, q);
+      if (dist < 0) continue;
       const Vec2 d = q - pose.position();
-      if (!(d.norm() <= p.robot_radius + p.max_range)) continue;
-      const double dist = std::max(0.0, d.norm() - p.robot_radius);
-      if (dist > p.max_range) continue;
       // The cell holding q is explained when a scan point lies within the radius of its centre.
       const Vec2 centre((std::floor(q.x() / c) + 0.5) * c, (std::floor(q.y() / c) + 0.5) * c);
       if (std::any_of(scan.begin(), scan.end(),
