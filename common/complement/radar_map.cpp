@@ -2,12 +2,11 @@
 
 #include "core/pose_history.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
-
-#include <algorithm>
-#include <cmath>
+#include <utility>
 
 namespace lasonic::complement {
 
@@ -308,11 +307,11 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
     rm.view.angle_min = scan.readings.front().angle;
     rm.view.angle_max = scan.readings.back().angle;
   }
-  for (const Cluster& cl : splitClusters(points, scan.full_circle, cfg)) {
+  for (Cluster& cl : splitClusters(points, scan.full_circle, cfg)) {
     const std::vector<RmSegment> segs = clusterSegments(cl, cfg);
     rm.segments.insert(rm.segments.end(), segs.begin(), segs.end());
     if (segs.empty() && cfg.pole_min_points > 0 && cl.points.size() >= static_cast<size_t>(cfg.pole_min_points))
-      rm.pole_candidates.push_back(cl.points);
+      rm.pole_candidates.push_back(std::move(cl.points));  // the cluster is not needed after this
   }
   return rm;
 }
