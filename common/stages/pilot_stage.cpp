@@ -40,12 +40,20 @@ SectorMapParams PilotConfig::sectorMapDefaults() {
   return s;
 }
 
+namespace {
+LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
+  // Beyond the sector map's reach a point is never reported; it comes back only by driving
+  // back, and then the scanner sees it again.
+  return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range};
+}
+}  // namespace
+
 PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "copy_over_own",
-                                   "predict_movers", "mover_prediction"};
+                                   "predict_movers", "mover_prediction", "laser_memory_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -74,6 +82,7 @@ PilotConfig pilotConfig(const Config& c) {
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
+  p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
   {
     const Config m = c.section("mover_prediction");
     m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "agree_speed"});
@@ -104,7 +113,8 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       agm_(cfg.agm),
       sector_map_(cfg.sector_map),
       placer_(cfg.placement),
-      movers_(cfg.mover_prediction) {
+      movers_(cfg.mover_prediction),
+      laser_memory_(laserMemoryParams(cfg)) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -148,6 +158,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
   movers_ = MoverPrediction(cfg_.mover_prediction);
+  laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
   last_scan_utime_.reset();
   last_complement_utime_.reset();
@@ -216,6 +227,23 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
                                                         " readings");
     // A scan none of whose returns could be placed says nothing: keep the previous one (it ages).
     if (points.empty() && moving.empty()) return;
+  }
+  if (laser_memory_.enabled()) {
+    // The view as the Radar Map takes it: the scanner's pose at the scan's last reading.
+    const geom::Pose2 robot = poses_.at(newest).value_or(geom::Pose2{});
+    complement::LaserView view;
+    view.full_circle = scan->full_circle || scan->readings.empty();
+    view.sensor = robot.compose(scan->mount);
+    if (!scan->readings.empty()) {
+      view.angle_min = scan->readings.front().angle;
+      view.angle_max = scan->readings.back().angle;
+    }
+    laser_memory_.update(newest, robot.position(), points, [&view](const geom::Vec2& p) { return view.covers(p); });
+    const std::vector<geom::Vec2>& remembered = laser_memory_.points();
+    if (!remembered.empty()) {
+      points.insert(points.end(), remembered.begin(), remembered.end());
+      node_.count("laser.remembered_returns", static_cast<int64_t>(remembered.size()));
+    }
   }
   sector_map_.setLaserPoints(newest, std::move(points));
   sector_map_.setLaserMovers(std::move(moving), cfg_.mover_prediction.horizon_s);

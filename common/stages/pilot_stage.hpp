@@ -8,7 +8,8 @@
 //      AGM_OPERATIONAL after an update cycle when at least 1/agm_publish_hz of message time has
 //      passed since the last one (the first cycle always publishes).
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
-// laser.moving_returns (returns moved by MoverPrediction),
+// laser.moving_returns (returns moved by MoverPrediction), laser.remembered_returns (earlier
+// scans' returns outside the newest scan's view, LaserMemory),
 // sector_map.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -50,6 +51,7 @@
 #include "operational/echo_placer.hpp"
 #include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
+#include "operational/laser_memory.hpp"
 #include "operational/mover_prediction.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
@@ -76,6 +78,10 @@ struct PilotConfig {
   // (operational/mover_prediction.hpp); false: every return where the scan saw it (the paper).
   bool predict_movers = true;
   MoverPredictionParams mover_prediction;
+  // Beyond the paper: a scanner of less than a full turn leaves a wedge it does not see; there
+  // the sector map takes the returns earlier scans saw, for this long (operational/laser_memory.hpp).
+  // 0: the newest scan only (the paper). A full-circle scanner is unaffected.
+  double laser_memory_s = 3.0;
 
   static AgmParams operationalAgmDefaults();
   static SectorMapParams sectorMapDefaults();
@@ -107,6 +113,7 @@ class PilotStage {
   SectorMap sector_map_;
   EchoPlacer placer_;
   MoverPrediction movers_;
+  LaserMemory laser_memory_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,
       last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time

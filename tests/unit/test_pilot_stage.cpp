@@ -382,3 +382,66 @@ TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
   EXPECT_EQ(node.counter("rejected.time"), 2);
   EXPECT_EQ(node.counter("time_resets"), 1);
 }
+
+// A 270 deg scanner sees a wall 1 m to the robot's left; the robot then turns to face -y, so
+// the wall lies straight behind, in the scanner's blind wedge, and the next scan has no return.
+// With the laser memory the sector straight behind keeps the wall as a laser value; without
+// it (the paper: the newest scan only) nothing is known there.
+TEST(PilotLaserMemory, AWallLeftBehindA270DegreeScannerStaysInTheSectorMap) {
+  for (const double memory_s : {0.0, 3.0}) {
+    Node node{"t", "memq://", Node::Options{false, false}};
+    PilotConfig cfg;
+    cfg.laser_memory_s = memory_s;
+    PilotStage stage{node, cfg};
+    std::vector<sector_map_t> maps;
+    node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+    const auto drain = [&node] {
+      while (node.spinOnce(0) > 0) {
+      }
+    };
+    // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s.
+    for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+      odometry_t o{};
+      o.utime = t;
+      o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * (t - 500'000) / 100'000.0)};
+      node.publish(channels::ODOMETRY, o);
+    }
+    drain();
+    const auto scan = [&](int64_t utime, bool wall_left) {
+      laser_scan_t s{};
+      s.utime = utime;
+      s.angle_min = -0.75 * kPi;
+      s.angle_increment = geom::deg2rad(0.5);
+      s.range_min = 0.05f;
+      s.range_max = 15.0f;
+      for (int i = 0; i < 541; ++i) {
+        s.ranges.push_back(0.0f);
+        s.flags.push_back(kNoReturn);
+        s.offset_us.push_back(i * 100'000 / 541);
+      }
+      if (wall_left)
+        for (int i = 440; i <= 460; ++i) {  // +85 .. +95 deg: a wall 1 m to the left
+          s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 450))));
+          s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+        }
+      node.publish(channels::LASER_SCAN, s);
+      drain();
+    };
+    scan(100'000, true);
+    scan(1'000'000, false);
+    ASSERT_EQ(maps.size(), 2u);
+    const int behind = 0;  // [-180, -172.5) deg
+    const sector_map_t& m = maps.back();
+    if (memory_s > 0) {
+      EXPECT_NEAR(m.laser_distance[behind], 1.0 - 0.35, 0.01) << "the wall behind, 1 m from the centre";
+      EXPECT_EQ(m.source[behind], kLaser);
+      EXPECT_GT(node.counter("laser.remembered_returns"), 0);
+    } else {
+      EXPECT_EQ(m.source[behind], kNone);
+      EXPECT_FLOAT_EQ(m.laser_distance[behind], -1.0f);
+      EXPECT_EQ(node.counter("laser.remembered_returns"), 0);
+    }
+    // Ahead (now -y) the newest scan saw nothing either way.
+    EXPECT_EQ(m.source[24], kNone);
+  }
+}

@@ -1,0 +1,80 @@
+#pragma once
+// LaserMemory (beyond the paper, for the Sector Map's laser part, Jörg 1995 sec. 3.4; README
+// "Method", step 5): what a scanner of less than a full turn saw where it no longer looks.
+//
+// The paper's pilot takes the laser's obstacles from the newest scan only, right for MOBOT-IV's
+// 360 deg scanner. A 270 deg scanner (the Pioneer's; most robots' are 180-270 deg) is blind in a
+// wedge behind the robot, and there the sector map would have only the rear sonars, which miss
+// much of what is there (a 25 deg beam gives one echo, from the nearest point; an oblique wall
+// often none). But everything in that wedge was in the scanner's view a moment earlier, as the
+// robot drove or turned past it. So the memory keeps each scan's static returns (the moving ones,
+// operational/mover_prediction.hpp, are where a person was, not where they are) and, after each
+// new scan, drops those the new scan's view covers (there the newest scan decides, as in the
+// paper), those older than memory_s, and those beyond reach of the robot. What is left lies
+// where the scanner does not look now: the sector map takes it as laser values.
+//
+// A full-circle scanner covers everything, so the memory stays empty and the map is the paper's.
+// The points are in the odometry frame: their error grows with the distance driven since they
+// were seen (the odometry's drift), which over memory_s at walking speed stays far below the
+// tolerance (see deploy/config/lasonic.yaml).
+#include <cstdint>
+#include <vector>
+
+#include "core/geometry.hpp"
+
+namespace lasonic {
+
+struct LaserMemoryParams {
+  double memory_s = 0;  // [s] 0: off (the paper: the newest scan only)
+  double reach = 0;     // [m] from the robot centre; farther points are dropped (0: no limit)
+};
+
+class LaserMemory {
+ public:
+  explicit LaserMemory(const LaserMemoryParams& p = {}) : p_(p) {}
+  const LaserMemoryParams& params() const { return p_; }
+  bool enabled() const { return p_.memory_s > 0; }
+
+  // The newest scan: the time of its newest reading, the robot's position then, its static
+  // returns (global frame) and its view: covers(p) is true where the new scan could have seen p.
+  // Earlier scans' returns that the new view covers, that are older than memory_s (by utime) or
+  // farther than reach from `robot` are dropped; this scan's returns are kept for the next.
+  template <typename Covers>
+  void update(int64_t utime, const geom::Vec2& robot, const std::vector<geom::Vec2>& points, Covers&& covers) {
+    if (!enabled()) return;
+    const auto max_age_us = static_cast<int64_t>(p_.memory_s * 1e6);
+    const double reach2 = p_.reach * p_.reach;
+    const auto keep = [&](const Remembered& r) {
+      return utime - r.utime <= max_age_us && (p_.reach <= 0 || (r.p - robot).squaredNorm() <= reach2) &&
+             !covers(r.p);
+    };
+    std::vector<Remembered> kept;
+    kept.reserve(remembered_.size());
+    for (const Remembered& r : remembered_)
+      if (keep(r)) kept.push_back(r);
+    for (const geom::Vec2& p : last_)
+      if (const Remembered r{p, last_utime_}; keep(r)) kept.push_back(r);
+    remembered_ = std::move(kept);
+    points_.clear();
+    points_.reserve(remembered_.size());
+    for (const Remembered& r : remembered_) points_.push_back(r.p);
+    last_ = points;
+    last_utime_ = utime;
+  }
+
+  // Earlier scans' returns outside the newest scan's view (global frame), oldest scans first.
+  const std::vector<geom::Vec2>& points() const { return points_; }
+
+ private:
+  struct Remembered {
+    geom::Vec2 p;
+    int64_t utime = 0;  // the scan's newest reading
+  };
+  LaserMemoryParams p_;
+  std::vector<Remembered> remembered_;
+  std::vector<geom::Vec2> points_;
+  std::vector<geom::Vec2> last_;  // the newest scan's returns (in its own view: not remembered yet)
+  int64_t last_utime_ = 0;
+};
+
+}  // namespace lasonic

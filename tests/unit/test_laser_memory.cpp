@@ -1,0 +1,94 @@
+// LaserMemory: earlier scans' returns are kept only where the newest scan does not look, for
+// memory_s and within reach; a full-circle scanner (or memory_s 0) leaves nothing to remember.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "operational/laser_memory.hpp"
+
+using namespace lasonic;
+using geom::Vec2;
+
+namespace {
+
+constexpr int64_t kScanUs = 100'000;  // 10 Hz
+
+// A 270 deg scanner at `at` facing `heading`: blind within 45 deg of straight behind.
+struct View270 {
+  Vec2 at = Vec2::Zero();
+  double heading = 0;
+  bool operator()(const Vec2& p) const {
+    double a = std::atan2(p.y() - at.y(), p.x() - at.x()) - heading;
+    a = std::remainder(a, 2 * geom::kPi);
+    return std::abs(a) <= geom::deg2rad(135.0);
+  }
+};
+const auto kFullCircle = [](const Vec2&) { return true; };
+
+LaserMemory memory(double memory_s, double reach = 0) { return LaserMemory({memory_s, reach}); }
+
+}  // namespace
+
+TEST(LaserMemory, KeepsWhatTheNewestScanNoLongerSees) {
+  LaserMemory m = memory(3.0);
+  // Scan 1 (facing +x) sees a wall point to the left and one ahead.
+  const std::vector<Vec2> first = {{0.0, 1.0}, {2.0, 0.0}};
+  m.update(0, Vec2::Zero(), first, View270{});
+  EXPECT_TRUE(m.points().empty());  // the newest scan's own returns are the sector map's anyway
+  // Scan 2: the robot has turned to face -y: the left point is now straight behind (blind), the
+  // point ahead is at its left (seen again, so the newest scan decides there).
+  m.update(kScanUs, Vec2::Zero(), {}, View270{Vec2::Zero(), -geom::kPi / 2});
+  ASSERT_EQ(m.points().size(), 1u);
+  EXPECT_EQ(m.points()[0], Vec2(0.0, 1.0));
+  // Scan 3 faces +y: the remembered point is in view again and is dropped, whatever the scan saw.
+  m.update(2 * kScanUs, Vec2::Zero(), {}, View270{Vec2::Zero(), geom::kPi / 2});
+  EXPECT_TRUE(m.points().empty());
+}
+
+TEST(LaserMemory, ForgetsAfterMemorySAndBeyondReach) {
+  LaserMemory m = memory(1.0, 2.0);
+  const View270 facing_minus_y{Vec2::Zero(), -geom::kPi / 2};
+  m.update(0, Vec2::Zero(), {{0.0, 1.0}, {0.0, 1.9}}, View270{});
+  m.update(kScanUs, Vec2::Zero(), {}, facing_minus_y);
+  EXPECT_EQ(m.points().size(), 2u);
+  // The robot backs away along -y: the point 1.9 m ahead of where it was is now 2.2 m off.
+  m.update(2 * kScanUs, {0.0, -0.3}, {}, View270{{0.0, -0.3}, -geom::kPi / 2});
+  ASSERT_EQ(m.points().size(), 1u);
+  EXPECT_EQ(m.points()[0], Vec2(0.0, 1.0));
+  // Exactly memory_s after the scan that saw it: still kept; one microsecond later: gone.
+  m.update(1'000'000, {0.0, -0.3}, {}, View270{{0.0, -0.3}, -geom::kPi / 2});
+  EXPECT_EQ(m.points().size(), 1u);
+  m.update(1'000'001, {0.0, -0.3}, {}, View270{{0.0, -0.3}, -geom::kPi / 2});
+  EXPECT_TRUE(m.points().empty());
+}
+
+TEST(LaserMemory, AFullCircleScannerOrMemoryOffRemembersNothing) {
+  for (const double memory_s : {0.0, 3.0}) {
+    LaserMemory m = memory(memory_s);
+    for (int i = 0; i < 5; ++i) {
+      const double heading = i * 1.3;
+      const std::vector<Vec2> scan = {{std::cos(heading), std::sin(heading)}, {-1.0, 0.5}};
+      if (memory_s > 0)
+        m.update(i * kScanUs, Vec2::Zero(), scan, kFullCircle);
+      else
+        m.update(i * kScanUs, Vec2::Zero(), scan, View270{Vec2::Zero(), heading});
+      EXPECT_TRUE(m.points().empty()) << "memory_s " << memory_s << ", scan " << i;
+    }
+  }
+}
+
+TEST(LaserMemory, PointsAccumulateOverScansOldestFirst) {
+  // Driving along +x past a wall at y = 1 while facing +x: each scan's point abeam falls into
+  // the blind wedge behind as the robot moves on.
+  LaserMemory m = memory(3.0);
+  for (int i = 0; i < 6; ++i) {
+    const Vec2 robot(0.5 * i, 0.0);
+    m.update(i * kScanUs, robot, {{robot.x() - 0.9, 1.0}}, View270{robot, 0.0});
+  }
+  // Scan i's point (0.5 i - 0.9, 1) is 0.4 m ahead of abeam when seen; from the next scan on it
+  // lies 144.5 deg or more off the heading, in the blind wedge. Scan 5's own point is not
+  // remembered yet.
+  ASSERT_EQ(m.points().size(), 5u);
+  for (size_t i = 0; i < 5; ++i) EXPECT_NEAR(m.points()[i].x(), 0.5 * static_cast<double>(i) - 0.9, 1e-12) << i;
+}
