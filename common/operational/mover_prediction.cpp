@@ -48,6 +48,9 @@ std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& s
   std::vector<geom::Vec2> v(scan.size(), geom::Vec2::Zero());
   std::vector<Blob> now = candidates(scan);
   movers_ = 0;
+  still_.assign(scan.size(), 1);
+  for (const Blob& b : now)
+    for (size_t j = b.first; j <= b.last; ++j) still_[j] = 0;
   const auto nearest = [](const geom::Vec2& c, const std::vector<Blob>& in) {
     size_t best = in.size();
     double d2 = std::numeric_limits<double>::infinity();
@@ -74,7 +77,11 @@ std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& s
     if (!(speed <= p_.max_speed)) continue;
     now[a].paired = true;
     now[a].vel = vel;
-    if (!(speed >= p_.min_speed + apparent) || !prev_[b].paired) continue;
+    if (!(speed >= p_.min_speed + apparent)) {
+      for (size_t j = now[a].first; j <= now[a].last; ++j) still_[j] = 1;
+      continue;
+    }
+    if (!prev_[b].paired) continue;
     if (!((vel - prev_[b].vel).norm() <= std::max(p_.agree_speed, 0.5 * speed))) continue;
     ++movers_;
     for (size_t j = now[a].first; j <= now[a].last; ++j) v[j] = vel;

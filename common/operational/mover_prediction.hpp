@@ -61,6 +61,12 @@ class MoverPrediction {
   std::vector<geom::Vec2> update(const std::vector<TimedPoint>& scan, const geom::Vec2& robot);
   // Candidates paired and found moving in the last update.
   int movers() const { return movers_; }
+  // Per return of the last update's scan: known to stand still -- it belongs to no candidate (a
+  // wall, a large object, a cluster too small for a centroid), or to a candidate paired with the
+  // scan before that moved slower than min_speed (plus the visible-side allowance). A candidate
+  // seen for the first time, or one that moved faster without yet being a mover, is not: a
+  // person who has just come into view or is starting to walk (LaserMemory keeps only these).
+  const std::vector<uint8_t>& still() const { return still_; }
 
  private:
   struct Blob {
@@ -77,6 +83,7 @@ class MoverPrediction {
   std::vector<Blob> prev_;
   geom::Vec2 prev_robot_ = geom::Vec2::Zero();
   int movers_ = 0;
+  std::vector<uint8_t> still_;
 };
 
 }  // namespace lasonic

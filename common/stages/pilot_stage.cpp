@@ -210,6 +210,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     else points.push_back(placed[i].p);
   }
   std::vector<SectorMap::MovingPoint> moving;
+  // What the laser memory may keep: returns known to stand still (all of them without the
+  // mover prediction).
+  std::vector<geom::Vec2> still;
   if (cfg_.predict_movers) {
     // The robot at the middle of the scan (its readings span one revolution).
     const int64_t mid = m.utime + (newest - m.utime) / 2;
@@ -218,6 +221,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     for (size_t i = 0; i < timed.size(); ++i) {
       if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
       else points.push_back(timed[i].p);
+      if (laser_memory_.enabled() && movers_.still()[i]) still.push_back(timed[i].p);
     }
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   }
@@ -238,7 +242,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
       view.angle_min = scan->readings.front().angle;
       view.angle_max = scan->readings.back().angle;
     }
-    laser_memory_.update(newest, robot.position(), points, [&view](const geom::Vec2& p) { return view.covers(p); });
+    laser_memory_.update(newest, robot.position(), cfg_.predict_movers ? still : points,
+                         [&view](const geom::Vec2& p) { return view.covers(p); });
     const std::vector<geom::Vec2>& remembered = laser_memory_.points();
     if (!remembered.empty()) {
       points.insert(points.end(), remembered.begin(), remembered.end());

@@ -62,6 +62,27 @@ TEST(MoverPrediction, AWalkingPersonGetsTheirVelocityAndTheWallNone) {
   EXPECT_EQ(mp.movers(), 1);
 }
 
+// still(): what the laser memory may keep. The wall always; a person-sized cluster only once it
+// has been paired with the scan before and found slow -- never when first seen, nor while it
+// walks (before it is a mover as after).
+TEST(MoverPrediction, StillReturnsAreTheWallAndPairedSlowClustersOnly) {
+  MoverPrediction mp;
+  const auto on = [](const TimedPoint& r, const Vec2& c) { return (r.p - c).norm() < 0.26; };
+  for (int i = 0; i < 4; ++i) {
+    std::vector<TimedPoint> s;
+    wall(s, {3, -2}, {3, 2}, i * kScanUs);
+    person(s, {1.5, -0.7 + 0.2 * i}, i * kScanUs);  // walking at 1 m/s
+    person(s, {1.0, 1.5}, i * kScanUs);               // standing
+    mp.update(s, Vec2::Zero());
+    ASSERT_EQ(mp.still().size(), s.size());
+    for (size_t j = 0; j < s.size(); ++j) {
+      const bool walking = on(s[j], {1.5, -0.7 + 0.2 * i}), standing = on(s[j], {1.0, 1.5});
+      const bool expected = walking ? false : (standing ? i > 0 : true);
+      EXPECT_EQ(mp.still()[j] != 0, expected) << "scan " << i << ", return " << j;
+    }
+  }
+}
+
 TEST(MoverPrediction, AJitteringStaticClusterIsNoMover) {
   // A small cluster whose centroid jumps 0.1 m back and forth (an edge's mixed pixels, odometry
   // between two scans): 0.5 m/s each time, but never the same way twice.

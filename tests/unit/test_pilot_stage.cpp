@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
@@ -383,65 +384,83 @@ TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
   EXPECT_EQ(node.counter("time_resets"), 1);
 }
 
-// A 270 deg scanner sees a wall 1 m to the robot's left; the robot then turns to face -y, so
-// the wall lies straight behind, in the scanner's blind wedge, and the next scan has no return.
-// With the laser memory the sector straight behind keeps the wall as a laser value; without
-// it (the paper: the newest scan only) nothing is known there.
-TEST(PilotLaserMemory, AWallLeftBehindA270DegreeScannerStaysInTheSectorMap) {
-  for (const double memory_s : {0.0, 3.0}) {
-    Node node{"t", "memq://", Node::Options{false, false}};
-    PilotConfig cfg;
-    cfg.laser_memory_s = memory_s;
-    PilotStage stage{node, cfg};
-    std::vector<sector_map_t> maps;
-    node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
-    const auto drain = [&node] {
-      while (node.spinOnce(0) > 0) {
-      }
-    };
-    // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s.
-    for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
-      odometry_t o{};
-      o.utime = t;
-      o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * (t - 500'000) / 100'000.0)};
-      node.publish(channels::ODOMETRY, o);
+// A 270 deg scanner sees something 1 m to the robot's left (returns at +90 deg +- half_width
+// readings of 0.5 deg); the robot then turns to face -y, so it lies straight behind, in the
+// scanner's blind wedge, and the next scan has no return. Returns the last SECTOR_MAP and the
+// remembered returns counted.
+namespace {
+std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig cfg;
+  cfg.laser_memory_s = memory_s;
+  PilotStage stage{node, cfg};
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  const auto drain = [&node] {
+    while (node.spinOnce(0) > 0) {
     }
-    drain();
-    const auto scan = [&](int64_t utime, bool wall_left) {
-      laser_scan_t s{};
-      s.utime = utime;
-      s.angle_min = -0.75 * kPi;
-      s.angle_increment = geom::deg2rad(0.5);
-      s.range_min = 0.05f;
-      s.range_max = 15.0f;
-      for (int i = 0; i < 541; ++i) {
-        s.ranges.push_back(0.0f);
-        s.flags.push_back(kNoReturn);
-        s.offset_us.push_back(i * 100'000 / 541);
-      }
-      if (wall_left)
-        for (int i = 440; i <= 460; ++i) {  // +85 .. +95 deg: a wall 1 m to the left
-          s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 450))));
-          s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
-        }
-      node.publish(channels::LASER_SCAN, s);
-      drain();
-    };
-    scan(100'000, true);
-    scan(1'000'000, false);
-    ASSERT_EQ(maps.size(), 2u);
-    const int behind = 0;  // [-180, -172.5) deg
-    const sector_map_t& m = maps.back();
-    if (memory_s > 0) {
-      EXPECT_NEAR(m.laser_distance[behind], 1.0 - 0.35, 0.01) << "the wall behind, 1 m from the centre";
-      EXPECT_EQ(m.source[behind], kLaser);
-      EXPECT_GT(node.counter("laser.remembered_returns"), 0);
-    } else {
-      EXPECT_EQ(m.source[behind], kNone);
-      EXPECT_FLOAT_EQ(m.laser_distance[behind], -1.0f);
-      EXPECT_EQ(node.counter("laser.remembered_returns"), 0);
-    }
-    // Ahead (now -y) the newest scan saw nothing either way.
-    EXPECT_EQ(m.source[24], kNone);
+  };
+  // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s.
+  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+    node.publish(channels::ODOMETRY, o);
   }
+  drain();
+  const auto scan = [&](int64_t utime, bool something_left) {
+    laser_scan_t s{};
+    s.utime = utime;
+    s.angle_min = -0.75 * kPi;
+    s.angle_increment = geom::deg2rad(0.5);
+    s.range_min = 0.05f;
+    s.range_max = 15.0f;
+    for (int i = 0; i < 541; ++i) {
+      s.ranges.push_back(0.0f);
+      s.flags.push_back(kNoReturn);
+      s.offset_us.push_back(i * 100'000 / 541);
+    }
+    if (something_left)
+      for (int i = 450 - half_width; i <= 450 + half_width; ++i) {  // a straight face 1 m to the left
+        s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 450))));
+        s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+      }
+    node.publish(channels::LASER_SCAN, s);
+    drain();
+  };
+  scan(100'000, true);
+  scan(1'000'000, false);
+  EXPECT_EQ(maps.size(), 2u);
+  return {maps.empty() ? sector_map_t{} : maps.back(), node.counter("laser.remembered_returns")};
+}
+}  // namespace
+
+// A wall (1.7 m of it) left behind a 270 deg scanner stays in the sector map as a laser value;
+// without the memory (the paper: the newest scan only) nothing is known there.
+TEST(PilotLaserMemory, AWallLeftBehindA270DegreeScannerStaysInTheSectorMap) {
+  const int behind = 0, ahead = 24;  // [-180, -172.5) deg; [0, 7.5) deg
+  {
+    const auto [m, remembered] = mapAfterTurningAway(3.0, 80);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_NEAR(m.laser_distance[behind], 1.0 - 0.35, 0.01) << "the wall behind, 1 m from the centre";
+    EXPECT_EQ(m.source[behind], kLaser);
+    EXPECT_GT(remembered, 0);
+    EXPECT_EQ(m.source[ahead], kNone);  // ahead (now -y) the newest scan saw nothing
+  }
+  {
+    const auto [m, remembered] = mapAfterTurningAway(0.0, 80);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_EQ(m.source[behind], kNone);
+    EXPECT_FLOAT_EQ(m.laser_distance[behind], -1.0f);
+    EXPECT_EQ(remembered, 0);
+  }
+}
+
+// Something person-sized (0.17 m of returns) seen in one scan only may be a person walking: it
+// is not remembered (MoverPrediction::still).
+TEST(PilotLaserMemory, APersonSizedClusterSeenOnceIsNotRemembered) {
+  const auto [m, remembered] = mapAfterTurningAway(3.0, 10);
+  ASSERT_EQ(m.nsectors, 48);
+  EXPECT_EQ(m.source[0], kNone);
+  EXPECT_EQ(remembered, 0);
 }
