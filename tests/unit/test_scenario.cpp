@@ -329,4 +329,5 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                                            "holdout/glass_showroom", "holdout/pioneer_corridor",
                                            "holdout/pioneer_workshop", "holdout/cafe_tables",
                                            "holdout/glass_balustrade", "holdout/waiting_robot",
-                                           "holdout/turning_in_place", "holdout/slow_corridor"));
+                                           "holdout/turning_in_place", "holdout/slow_corridor",
+                                           "holdout/pioneer_sick180"));
