@@ -21,6 +21,22 @@ constexpr int8_t kNone = sector_map_t::SOURCE_NONE, kLaser = sector_map_t::SOURC
                  kSonar = sector_map_t::SOURCE_SONAR, kCopied = sector_map_t::SOURCE_SONAR_COPIED;
 constexpr int8_t kNoReturn = laser_scan_t::FLAG_NO_RETURN;
 
+// A scan of n readings over period_us, none of which returned.
+laser_scan_t noReturnScan(int64_t utime, double angle_min, double angle_increment, int n, int period_us) {
+  laser_scan_t s{};
+  s.utime = utime;
+  s.angle_min = angle_min;
+  s.angle_increment = angle_increment;
+  s.range_min = 0.05f;
+  s.range_max = 15.0f;
+  for (int i = 0; i < n; ++i) {
+    s.ranges.push_back(0.0f);
+    s.flags.push_back(kNoReturn);
+    s.offset_us.push_back(i * period_us / n);
+  }
+  return s;
+}
+
 // The fixture's pilot puts a cell's obstacle at its point nearest the robot (the paper's cell
 // geometry), so the expected distances below are exact cell boundaries.
 PilotConfig nearestPointPilot() {
@@ -55,17 +71,7 @@ struct PilotFixture : ::testing::Test {
   }
   // 360 deg scan of 720 readings over 0.2 s with one return: 1.0 m to the robot's left.
   void laserScan(int64_t utime) {
-    laser_scan_t s{};
-    s.utime = utime;
-    s.angle_min = -kPi;
-    s.angle_increment = 2 * kPi / 720;
-    s.range_min = 0.05f;
-    s.range_max = 15.0f;
-    for (int i = 0; i < 720; ++i) {
-      s.ranges.push_back(0.0f);
-      s.flags.push_back(kNoReturn);
-      s.offset_us.push_back(i * 200'000 / 720);
-    }
+    laser_scan_t s = noReturnScan(utime, -kPi, 2 * kPi / 720, 720, 200'000);
     s.ranges[540] = 1.0f;  // angle -pi + 540 * 0.5 deg = +90 deg
     s.flags[540] = laser_scan_t::FLAG_OK;
     node.publish(channels::LASER_SCAN, s);
@@ -409,17 +415,7 @@ std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_w
   }
   drain();
   const auto scan = [&](int64_t utime, bool something_left) {
-    laser_scan_t s{};
-    s.utime = utime;
-    s.angle_min = -0.75 * kPi;
-    s.angle_increment = geom::deg2rad(0.5);
-    s.range_min = 0.05f;
-    s.range_max = 15.0f;
-    for (int i = 0; i < 541; ++i) {
-      s.ranges.push_back(0.0f);
-      s.flags.push_back(kNoReturn);
-      s.offset_us.push_back(i * 100'000 / 541);
-    }
+    laser_scan_t s = noReturnScan(utime, -0.75 * kPi, geom::deg2rad(0.5), 541, 100'000);  // 270 deg
     if (something_left)
       for (int i = 450 - half_width; i <= 450 + half_width; ++i) {  // a straight face 1 m to the left
         s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 450))));
