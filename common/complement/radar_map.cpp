@@ -294,6 +294,17 @@ bool LaserView::covers(const geom::Vec2& p) const {
   return a <= angle_max - angle_min;
 }
 
+LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot) {
+  LaserView v;
+  v.full_circle = scan.full_circle || scan.readings.empty();
+  v.sensor = robot.compose(scan.mount);
+  if (!scan.readings.empty()) {
+    v.angle_min = scan.readings.front().angle;
+    v.angle_max = scan.readings.back().angle;
+  }
+  return v;
+}
+
 namespace {
 RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points, std::optional<geom::Pose2> pose,
                     const RadarMapConfig& cfg) {
@@ -301,12 +312,7 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
   rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
   rm.robot_pose = pose.value_or(geom::Pose2{});
-  rm.view.full_circle = scan.full_circle || scan.readings.empty();
-  rm.view.sensor = rm.robot_pose.compose(scan.mount);
-  if (!scan.readings.empty()) {
-    rm.view.angle_min = scan.readings.front().angle;
-    rm.view.angle_max = scan.readings.back().angle;
-  }
+  rm.view = laserViewOf(scan, rm.robot_pose);
   for (Cluster& cl : splitClusters(points, scan.full_circle, cfg)) {
     const std::vector<RmSegment> segs = clusterSegments(cl, cfg);
     rm.segments.insert(rm.segments.end(), segs.begin(), segs.end());

@@ -82,6 +82,8 @@ struct LaserView {
   // sensor within [angle_min, angle_max].
   bool covers(const geom::Vec2& p) const;
 };
+// The view of `scan` with the robot at `robot` (the pose at the scan's last reading).
+LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot);
 
 struct RadarMap {
   int64_t utime = 0;          // [us] time of the scan's last reading

@@ -232,17 +232,11 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     // A scan none of whose returns could be placed says nothing: keep the previous one (it ages).
     if (points.empty() && moving.empty()) return;
   }
-  if (laser_memory_.enabled()) {
-    // The view as the Radar Map takes it: the scanner's pose at the scan's last reading.
-    const geom::Pose2 robot = poses_.at(newest).value_or(geom::Pose2{});
-    complement::LaserView view;
-    view.full_circle = scan->full_circle || scan->readings.empty();
-    view.sensor = robot.compose(scan->mount);
-    if (!scan->readings.empty()) {
-      view.angle_min = scan->readings.front().angle;
-      view.angle_max = scan->readings.back().angle;
-    }
-    laser_memory_.update(newest, robot.position(), cfg_.predict_movers ? still : points,
+  // The view as the Radar Map takes it: the scanner's pose at the scan's last reading. Without
+  // that pose nothing tells what the scan covered: nothing is remembered or recalled.
+  if (const auto robot = poses_.at(newest); laser_memory_.enabled() && robot) {
+    const complement::LaserView view = complement::laserViewOf(*scan, *robot);
+    laser_memory_.update(newest, robot->position(), cfg_.predict_movers ? still : points,
                          [&view](const geom::Vec2& p) { return view.covers(p); });
     const std::vector<geom::Vec2>& remembered = laser_memory_.points();
     if (!remembered.empty()) {
