@@ -34,26 +34,9 @@ if [[ ${1:-} == --inner ]]; then
   java -Djava.net.preferIPv4Stack=true -cp "$cp" SpyProbe "$url" "$jar" "$tmp/ready" "$tmp/done" \
     "$tsv" ${png:+"$png"} >"$out" 2>&1 &
   pid=$!
-  deadline=$((SECONDS + ${LCM_SPY_STARTUP_TIMEOUT:-60}))
-  until [[ -e $tmp/ready ]]; do
-    if ! kill -0 "$pid" 2>/dev/null; then
-      rc=0; wait "$pid" || rc=$?
-      echo "lcm-spy exited during start-up (status $rc)" >>"$out"
-      exit 3
-    fi
-    if ((SECONDS >= deadline)); then
-      kill -TERM "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true
-      echo "lcm-spy did not finish start-up within ${LCM_SPY_STARTUP_TIMEOUT:-60} s" >>"$out"
-      exit 4
-    fi
-    sleep 0.2
-  done
-  sleep 1   # the spy's subscription is up before the first message
-  lcm-logplayer --lcm-url="$url" "$log" >>"$out" 2>&1 || echo "lcm-logplayer failed" >>"$out"
-  touch "$tmp/done"
-  rc=0; wait "$pid" || rc=$?
-  ((rc == 0)) || echo "SpyProbe exited with status $rc" >>"$out"
-  exit "$rc"
+  # shellcheck source=spy_lib.sh
+  source "$(dirname "${BASH_SOURCE[0]}")/spy_lib.sh"
+  play_into_spy "$pid" "$out" "$url" "$log" "$tmp" SpyProbe ${LCM_SPY_STARTUP_TIMEOUT:-60}
 fi
 
 # ---- outer part ---------------------------------------------------------------
