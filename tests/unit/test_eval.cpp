@@ -6,6 +6,7 @@
 #include <string>
 
 #include "eval/evaluate.hpp"
+#include "sim_state_fixture.hpp"
 
 using namespace lasonic;
 using namespace lasonic::eval;
@@ -24,14 +25,7 @@ robot: {radius: 0.35, path: [[2,2],[2.5,2]], speed: 0.1}
 )"));
 }
 
-sim_state_t state(int64_t utime, double x, double y, double th) {
-  sim_state_t s{};
-  s.utime = utime;
-  s.robot_pose.x = x;
-  s.robot_pose.y = y;
-  s.robot_pose.theta = th;
-  return s;
-}
+using lasonic::testing::state;
 }  // namespace
 
 TEST(Metrics, JsonIsNestedAndOrdered) {

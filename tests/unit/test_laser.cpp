@@ -5,6 +5,7 @@
 #include <random>
 
 #include "sim/drivers.hpp"
+#include "sim_state_fixture.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -20,15 +21,7 @@ Scenario world(const std::string& obstacles) {
   return parse("name: t\nobstacles:\n" + obstacles + "robot: {path: [[0,0],[1,0]]}\n");
 }
 
-sim_state_t state(int64_t utime, double x, double y, double theta) {
-  sim_state_t st;
-  st.utime = utime;
-  st.robot_pose.x = x;
-  st.robot_pose.y = y;
-  st.robot_pose.theta = theta;
-  st.nmovers = 0;
-  return st;
-}
+using lasonic::testing::state;
 
 // One scan (and its LASER_TRUTH) by a robot standing at `pose`.
 LaserDriverCore::Output scanAndTruthFrom(LaserDriverCore& laser, const geom::Pose2& pose, int64_t t0 = 1'000'000) {

@@ -10,6 +10,7 @@
 #include "eval/laser_seen.hpp"
 #include "eval/observability.hpp"
 #include "sim/world_geometry.hpp"
+#include "sim_state_fixture.hpp"
 
 using namespace lasonic;
 using namespace lasonic::eval;
@@ -33,14 +34,7 @@ robot: {radius: 0.35, path: [[1.5,2],[2,2]], speed: 0.1}
 )"));
 }
 
-sim_state_t state(int64_t utime, double x, double y, double th) {
-  sim_state_t s{};
-  s.utime = utime;
-  s.robot_pose.x = x;
-  s.robot_pose.y = y;
-  s.robot_pose.theta = th;
-  return s;
-}
+using lasonic::testing::state;
 
 // The robot standing at (1.5, 2) facing +x for 3 s.
 std::vector<sim_state_t> standing() { return {state(0, 1.5, 2, 0), state(3'000'000, 1.5, 2, 0)}; }

@@ -9,6 +9,7 @@
 
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
+#include "sim_state_fixture.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -52,14 +53,7 @@ std::string errorOf(const std::function<void()>& f) {
   return "";
 }
 
-sim_state_t state(int64_t utime, double x = 0, double y = 0, double theta = 0) {
-  sim_state_t st{};
-  st.utime = utime;
-  st.robot_pose.x = x;
-  st.robot_pose.y = y;
-  st.robot_pose.theta = theta;
-  return st;
-}
+using lasonic::testing::state;
 
 std::vector<uint8_t> bytes(const sonar_ring_t& r, const sonar_truth_t& t) {
   std::vector<uint8_t> b(static_cast<size_t>(r.getEncodedSize() + t.getEncodedSize()));

@@ -12,6 +12,7 @@
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
 #include "sim/sonar_physical.hpp"
+#include "sim_state_fixture.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -50,14 +51,7 @@ SonarReading fire(const Scenario& s, const SonarConfig& c, const geom::Pose2& se
   return model.fireGroup(w, 1'000'000, {0}, {sensor}, {}, rng).at(0);
 }
 
-sim_state_t state(int64_t utime, double x = 0, double y = 0, double theta = 0) {
-  sim_state_t st{};
-  st.utime = utime;
-  st.robot_pose.x = x;
-  st.robot_pose.y = y;
-  st.robot_pose.theta = theta;
-  return st;
-}
+using lasonic::testing::state;
 
 std::string pipeAt(double range, double bearing_deg, const std::string& material = "plastic", double r = 0.01) {
   const double a = deg2rad(bearing_deg), d = range + r;
