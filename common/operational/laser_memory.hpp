@@ -21,12 +21,16 @@
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "operational/sector_map.hpp"
 
 namespace lasonic {
 
 struct LaserMemoryParams {
   double memory_s = 0;  // [s] 0: off (the paper: the newest scan only)
   double reach = 0;     // [m] from the robot centre; farther points are dropped (0: no limit)
+  // [s] a mover (a person the laser saw walking) that walked on where the scanner does not look
+  // is reported where it would be by now, for this long after the laser last saw it (0: off).
+  double coast_s = 0;
 };
 
 class LaserMemory {
@@ -41,6 +45,15 @@ class LaserMemory {
   // farther than reach from `robot` are dropped; this scan's returns are kept for the next.
   template <typename Covers>
   void update(int64_t utime, const geom::Vec2& robot, const std::vector<geom::Vec2>& points, Covers&& covers) {
+    update(utime, robot, points, {}, covers);
+  }
+  // The same with the scan's movers (SectorMap::MovingPoint: where and when the laser saw them,
+  // and their velocity): the earlier scans' movers, moved on by their velocity to `utime`, are
+  // kept while that is outside the new view, within reach and within coast_s of when the laser
+  // last saw them (coastingMovers()).
+  template <typename Covers>
+  void update(int64_t utime, const geom::Vec2& robot, const std::vector<geom::Vec2>& points,
+              const std::vector<SectorMap::MovingPoint>& movers, Covers&& covers) {
     if (!enabled()) return;
     const auto max_age_us = static_cast<int64_t>(p_.memory_s * 1e6);
     const double reach2 = p_.reach * p_.reach;
@@ -60,7 +73,29 @@ class LaserMemory {
     for (const Remembered& r : remembered_) points_.push_back(r.p);
     last_ = points;
     last_utime_ = utime;
+
+    std::vector<Coasting> coasting;
+    const auto coast_us = static_cast<int64_t>(p_.coast_s * 1e6);
+    const auto coast = [&](const Coasting& c) {
+      if (utime - c.seen > coast_us) return;
+      Coasting n = c;
+      n.m.p = c.m.p + c.m.v * (static_cast<double>(utime - c.m.utime) * 1e-6);
+      n.m.utime = utime;
+      if ((p_.reach > 0 && (n.m.p - robot).squaredNorm() > reach2) || covers(n.m.p)) return;
+      coasting.push_back(n);
+    };
+    if (p_.coast_s > 0) {
+      for (const Coasting& c : coasting_) coast(c);
+      for (const SectorMap::MovingPoint& m : last_movers_) coast({m, m.utime});
+      last_movers_ = movers;
+    }
+    coasting_ = std::move(coasting);
+    coasting_points_.clear();
+    for (const Coasting& c : coasting_) coasting_points_.push_back(c.m);
   }
+  // Earlier scans' movers that walked on where the newest scan does not look, moved on to its
+  // time (each keeps its velocity).
+  const std::vector<SectorMap::MovingPoint>& coastingMovers() const { return coasting_points_; }
 
   // Earlier scans' returns outside the newest scan's view (global frame), oldest scans first.
   const std::vector<geom::Vec2>& points() const { return points_; }
@@ -75,6 +110,12 @@ class LaserMemory {
   std::vector<geom::Vec2> points_;
   std::vector<geom::Vec2> last_;  // the newest scan's returns (in its own view: not remembered yet)
   int64_t last_utime_ = 0;
+  struct Coasting {
+    SectorMap::MovingPoint m;
+    int64_t seen = 0;  // when the laser last saw it
+  };
+  std::vector<Coasting> coasting_;
+  std::vector<SectorMap::MovingPoint> coasting_points_, last_movers_;
 };
 
 }  // namespace lasonic

@@ -44,7 +44,7 @@ namespace {
 LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
   // Beyond the sector map's reach a point is never reported; it comes back only by driving
   // back, and then the scanner sees it again.
-  return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range};
+  return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range, c.laser_memory_coast_s};
 }
 }  // namespace
 
@@ -53,7 +53,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "copy_over_own",
-                                   "predict_movers", "mover_prediction", "laser_memory_s"};
+                                   "predict_movers", "mover_prediction", "laser_memory_s", "laser_memory_coast_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -83,6 +83,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
+  p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
   {
     const Config m = c.section("mover_prediction");
     m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "agree_speed"});
@@ -236,8 +237,13 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // that pose nothing tells what the scan covered: nothing is remembered or recalled.
   if (const auto robot = poses_.at(newest); laser_memory_.enabled() && robot) {
     const complement::LaserView view = complement::laserViewOf(*scan, *robot);
-    laser_memory_.update(newest, robot->position(), cfg_.predict_movers ? still : points,
+    laser_memory_.update(newest, robot->position(), cfg_.predict_movers ? still : points, moving,
                          [&view](const geom::Vec2& p) { return view.covers(p); });
+    const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
+    if (!coasting.empty()) {
+      moving.insert(moving.end(), coasting.begin(), coasting.end());
+      node_.count("laser.coasting_returns", static_cast<int64_t>(coasting.size()));
+    }
     const std::vector<geom::Vec2>& remembered = laser_memory_.points();
     if (!remembered.empty()) {
       points.insert(points.end(), remembered.begin(), remembered.end());

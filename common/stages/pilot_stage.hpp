@@ -9,7 +9,8 @@
 //      passed since the last one (the first cycle always publishes).
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
 // laser.moving_returns (returns moved by MoverPrediction), laser.remembered_returns (earlier
-// scans' returns outside the newest scan's view, LaserMemory),
+// scans' returns outside the newest scan's view, LaserMemory), laser.coasting_returns (movers
+// that walked on out of the view, LaserMemory),
 // sector_map.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -82,6 +83,9 @@ struct PilotConfig {
   // the sector map takes the returns earlier scans saw, for this long (operational/laser_memory.hpp).
   // 0: the newest scan only (the paper). A full-circle scanner is unaffected.
   double laser_memory_s = 3.0;
+  // A person the laser saw walking, who walked on where it does not look, is reported where they
+  // would be by now for this long after the laser last saw them (LaserMemoryParams::coast_s).
+  double laser_memory_coast_s = 1.0;
 
   static AgmParams operationalAgmDefaults();
   static SectorMapParams sectorMapDefaults();

@@ -92,3 +92,37 @@ TEST(LaserMemory, PointsAccumulateOverScansOldestFirst) {
   ASSERT_EQ(m.points().size(), 5u);
   for (size_t i = 0; i < 5; ++i) EXPECT_NEAR(m.points()[i].x(), 0.5 * static_cast<double>(i) - 0.9, 1e-12) << i;
 }
+
+// A person the laser saw walking at 1 m/s along -x, who walks on into the blind wedge behind a
+// 270 deg scanner facing +x: reported where they would be by now, until coast_s after the laser
+// last saw them; and dropped as soon as a scan's view covers where they would be.
+TEST(LaserMemory, AMoverThatWalksOnWhereTheScannerDoesNotLookCoasts) {
+  LaserMemory m({3.0, 0.0, 1.0});
+  const Vec2 v(-1.0, 0.0);
+  const SectorMap::MovingPoint seen{{-0.6, 0.5}, v, 0};  // 140 deg: already outside the view
+  m.update(0, Vec2::Zero(), {}, {seen}, View270{});
+  EXPECT_TRUE(m.coastingMovers().empty());  // the newest scan's own movers are the sector map's
+  m.update(kScanUs, Vec2::Zero(), {}, {}, View270{});
+  ASSERT_EQ(m.coastingMovers().size(), 1u);
+  EXPECT_NEAR(m.coastingMovers()[0].p.x(), -0.7, 1e-12);  // moved on by 0.1 s at 1 m/s
+  EXPECT_EQ(m.coastingMovers()[0].utime, kScanUs);
+  EXPECT_EQ(m.coastingMovers()[0].v, v);
+  m.update(1'000'000, Vec2::Zero(), {}, {}, View270{});  // 1 s after it was seen: still
+  ASSERT_EQ(m.coastingMovers().size(), 1u);
+  EXPECT_NEAR(m.coastingMovers()[0].p.x(), -1.6, 1e-12);
+  m.update(1'000'001, Vec2::Zero(), {}, {}, View270{});
+  EXPECT_TRUE(m.coastingMovers().empty());
+
+  // Seen again at 0 s; at 0.1 s the robot has turned round (facing -x): the scanner looks where
+  // the person would be, so the newest scan decides, whether it saw them or not.
+  LaserMemory n({3.0, 0.0, 1.0});
+  n.update(0, Vec2::Zero(), {}, {seen}, View270{});
+  n.update(kScanUs, Vec2::Zero(), {}, {}, View270{Vec2::Zero(), geom::kPi});
+  EXPECT_TRUE(n.coastingMovers().empty());
+
+  // coast_s 0: nothing coasts.
+  LaserMemory off({3.0, 0.0, 0.0});
+  off.update(0, Vec2::Zero(), {}, {seen}, View270{});
+  off.update(kScanUs, Vec2::Zero(), {}, {}, View270{});
+  EXPECT_TRUE(off.coastingMovers().empty());
+}
