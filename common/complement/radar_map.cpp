@@ -3,10 +3,24 @@
 #include "core/pose_history.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+// The placement's AVX2 loop: compiled on x86-64 whatever the build's baseline (a function
+// attribute), run only where the CPU has AVX2 (asked at run time).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LASONIC_AVX2_LOOP 1
+#define LASONIC_AVX2 __attribute__((target("avx2")))  // not "fma": a fused a * b + c rounds once
+#else
+#define LASONIC_AVX2_LOOP 0
+#endif
 
 namespace lasonic::complement {
 
@@ -18,13 +32,19 @@ namespace {
 class CachedRotation {
  public:
   Vec2 transform(const geom::Pose2& f, const Vec2& l) {
-    if (std::memcmp(&f.theta, &theta_, sizeof theta_) != 0) {
-      theta_ = f.theta;
+    use(f.theta);
+    return {f.x + c_ * l.x() - s_ * l.y(), f.y + s_ * l.x() + c_ * l.y()};
+  }
+  // The cos and sin transform(f, l) uses for f.theta == theta: c(), s().
+  void use(double theta) {
+    if (std::memcmp(&theta, &theta_, sizeof theta_) != 0) {
+      theta_ = theta;
       c_ = std::cos(theta_);
       s_ = std::sin(theta_);
     }
-    return {f.x + c_ * l.x() - s_ * l.y(), f.y + s_ * l.x() + c_ * l.y()};
   }
+  double c() const { return c_; }
+  double s() const { return s_; }
 
  private:
   double theta_ = std::numeric_limits<double>::quiet_NaN(), c_ = 0, s_ = 0;
@@ -41,12 +61,21 @@ class UnitVectors {
     if (std::memcmp(&e.angle, &angle, sizeof angle) != 0) e = {angle, geom::unitVector(angle)};
     return e.u;
   }
-
- private:
   struct Entry {
     double angle;
     Vec2 u;
   };
+  // Entry i holds at(i, r[i].angle) for every valid reading i of r[0 .. n-1].
+  const Entry* prepare(const LaserReading* r, size_t n) {
+    if (n > cache_.size()) cache_.resize(n, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
+    for (size_t i = 0; i < n; ++i) {
+      Entry& e = cache_[i];
+      if (r[i].valid && std::memcmp(&e.angle, &r[i].angle, sizeof e.angle) != 0) e = {r[i].angle, geom::unitVector(r[i].angle)};
+    }
+    return cache_.data();
+  }
+
+ private:
   std::vector<Entry> cache_;
 };
 }  // namespace
@@ -79,24 +108,164 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
   return placeWith(scan, pose_at, no_pose);
 }
 
+namespace {
+VectorPath widestPath() {
+#if LASONIC_AVX2_LOOP
+  __builtin_cpu_init();  // (in case this runs before the constructors)
+  if (__builtin_cpu_supports("avx2")) return VectorPath::Avx2;
+#endif
+#if defined(__SSE2__)
+  return VectorPath::Sse2;
+#else
+  return VectorPath::Scalar;
+#endif
+}
+
+std::atomic<VectorPath>& pathInUse() {
+  static std::atomic<VectorPath> path{widestPath()};  // the CPU asked once
+  return path;
+}
+}  // namespace
+
+void setVectorPath(VectorPath widest) { pathInUse().store(std::min(widest, widestPath()), std::memory_order_relaxed); }
+VectorPath vectorPath() { return pathInUse().load(std::memory_order_relaxed); }
+
+namespace {
+// placeReadings' vector loops: W readings of one odometry interval at a time, where the cursor
+// interpolates there by the series (PoseHistory::Cursor::seriesAt). Each lane does the scalar
+// loop's operations on one reading, in the same order and rounded the same way (no fused
+// multiply-add: the AVX2 loop is compiled for "avx2" alone), so every value is the scalar one.
+//   f = double(t - lo) / den, phi = f * dtheta, q = phi * phi, the series sp and cp,
+//   c = ca * cp - sa * sp, s = sa * cp + ca * sp, robot (ax + f * dx, ay + f * dy),
+//   out = (rx + c * lx - s * ly, ry + s * lx + c * ly), (lx, ly) the reading in the robot frame.
+using Cursor = PoseHistory::Cursor;
+
+// Readings i .. i + w - 1 are valid and inside the cursor's interval, which interpolates by the
+// series (entered for reading i if needed).
+inline bool lanesInInterval(Cursor& cursor, const LaserReading* r, size_t w) {
+  if (!r[0].valid || !cursor.seriesAt(r[0].utime)) return false;
+  for (size_t k = 0; k < w; ++k)
+    if (!r[k].valid || !(cursor.lo() < r[k].utime && r[k].utime <= cursor.hi())) return false;
+  return true;
+}
+
+#if defined(__SSE2__)
+void placeTwoSse2(const Cursor& cu, const LaserReading* r, const double* lx, const double* ly, ScanPoint* out) {
+  const __m128d f = _mm_div_pd(_mm_set_pd(static_cast<double>(r[1].utime - cu.lo()),
+                                          static_cast<double>(r[0].utime - cu.lo())),
+                               _mm_set1_pd(cu.den()));
+  const __m128d phi = _mm_mul_pd(f, _mm_set1_pd(cu.dtheta()));
+  const __m128d rx = _mm_add_pd(_mm_set1_pd(cu.ax()), _mm_mul_pd(f, _mm_set1_pd(cu.dx())));
+  const __m128d ry = _mm_add_pd(_mm_set1_pd(cu.ay()), _mm_mul_pd(f, _mm_set1_pd(cu.dy())));
+  const __m128d q = _mm_mul_pd(phi, phi);
+  const auto k = [](double v) { return _mm_set1_pd(v); };
+  __m128d ps = _mm_add_pd(k(Cursor::s9), _mm_mul_pd(q, k(Cursor::s11)));
+  ps = _mm_add_pd(k(Cursor::s7), _mm_mul_pd(q, ps));
+  ps = _mm_add_pd(k(Cursor::s5), _mm_mul_pd(q, ps));
+  ps = _mm_add_pd(k(Cursor::s3), _mm_mul_pd(q, ps));
+  const __m128d sp = _mm_add_pd(phi, _mm_mul_pd(_mm_mul_pd(phi, q), ps));
+  __m128d pc = _mm_add_pd(k(Cursor::c8), _mm_mul_pd(q, k(Cursor::c10)));
+  pc = _mm_add_pd(k(Cursor::c6), _mm_mul_pd(q, pc));
+  pc = _mm_add_pd(k(Cursor::c4), _mm_mul_pd(q, pc));
+  pc = _mm_add_pd(k(Cursor::c2), _mm_mul_pd(q, pc));
+  const __m128d cp = _mm_add_pd(k(1.0), _mm_mul_pd(q, pc));
+  const __m128d ca = k(cu.ca()), sa = k(cu.sa());
+  const __m128d c = _mm_sub_pd(_mm_mul_pd(ca, cp), _mm_mul_pd(sa, sp));
+  const __m128d s = _mm_add_pd(_mm_mul_pd(sa, cp), _mm_mul_pd(ca, sp));
+  const __m128d x = _mm_loadu_pd(lx), y = _mm_loadu_pd(ly);
+  const __m128d ox = _mm_sub_pd(_mm_add_pd(rx, _mm_mul_pd(c, x)), _mm_mul_pd(s, y));
+  const __m128d oy = _mm_add_pd(_mm_add_pd(ry, _mm_mul_pd(s, x)), _mm_mul_pd(c, y));
+  _mm_storeu_pd(out[0].p.data(), _mm_unpacklo_pd(ox, oy));
+  _mm_storeu_pd(out[1].p.data(), _mm_unpackhi_pd(ox, oy));
+  for (size_t j = 0; j < 2; ++j) out[j].range = r[j].range, out[j].valid = true;
+}
+#endif
+
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 void placeFourAvx2(const Cursor& cu, const LaserReading* r, const double* lx, const double* ly,
+                                ScanPoint* out) {
+  const __m256d f = _mm256_div_pd(
+      _mm256_set_pd(static_cast<double>(r[3].utime - cu.lo()), static_cast<double>(r[2].utime - cu.lo()),
+                    static_cast<double>(r[1].utime - cu.lo()), static_cast<double>(r[0].utime - cu.lo())),
+      _mm256_set1_pd(cu.den()));
+  const __m256d phi = _mm256_mul_pd(f, _mm256_set1_pd(cu.dtheta()));
+  const __m256d rx = _mm256_add_pd(_mm256_set1_pd(cu.ax()), _mm256_mul_pd(f, _mm256_set1_pd(cu.dx())));
+  const __m256d ry = _mm256_add_pd(_mm256_set1_pd(cu.ay()), _mm256_mul_pd(f, _mm256_set1_pd(cu.dy())));
+  const __m256d q = _mm256_mul_pd(phi, phi);
+  __m256d ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s9), _mm256_mul_pd(q, _mm256_set1_pd(Cursor::s11)));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s7), _mm256_mul_pd(q, ps));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s5), _mm256_mul_pd(q, ps));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s3), _mm256_mul_pd(q, ps));
+  const __m256d sp = _mm256_add_pd(phi, _mm256_mul_pd(_mm256_mul_pd(phi, q), ps));
+  __m256d pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c8), _mm256_mul_pd(q, _mm256_set1_pd(Cursor::c10)));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c6), _mm256_mul_pd(q, pc));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c4), _mm256_mul_pd(q, pc));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c2), _mm256_mul_pd(q, pc));
+  const __m256d cp = _mm256_add_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(q, pc));
+  const __m256d ca = _mm256_set1_pd(cu.ca()), sa = _mm256_set1_pd(cu.sa());
+  const __m256d c = _mm256_sub_pd(_mm256_mul_pd(ca, cp), _mm256_mul_pd(sa, sp));
+  const __m256d s = _mm256_add_pd(_mm256_mul_pd(sa, cp), _mm256_mul_pd(ca, sp));
+  const __m256d x = _mm256_loadu_pd(lx), y = _mm256_loadu_pd(ly);
+  const __m256d ox = _mm256_sub_pd(_mm256_add_pd(rx, _mm256_mul_pd(c, x)), _mm256_mul_pd(s, y));
+  const __m256d oy = _mm256_add_pd(_mm256_add_pd(ry, _mm256_mul_pd(s, x)), _mm256_mul_pd(c, y));
+  const __m256d even = _mm256_unpacklo_pd(ox, oy), odd = _mm256_unpackhi_pd(ox, oy);  // (x0 y0 x2 y2), (x1 y1 x3 y3)
+  _mm_storeu_pd(out[0].p.data(), _mm256_castpd256_pd128(even));
+  _mm_storeu_pd(out[1].p.data(), _mm256_castpd256_pd128(odd));
+  _mm_storeu_pd(out[2].p.data(), _mm256_extractf128_pd(even, 1));
+  _mm_storeu_pd(out[3].p.data(), _mm256_extractf128_pd(odd, 1));
+  for (size_t j = 0; j < 4; ++j) out[j].range = r[j].range, out[j].valid = true;
+}
+#endif
+}  // namespace
+
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
   // As placeWith, with the robot's rotation from the cursor (angle addition while it turns).
-  std::vector<ScanPoint> out(scan.readings.size());
-  int missing = 0;
-  CachedRotation mount_rot;
+  const size_t n = scan.readings.size();
+  std::vector<ScanPoint> out(n);
+  // First each valid reading in the robot frame (the mount's rotation and the reading's own
+  // direction do not depend on the pose), then each placed with its pose.
   thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
+  thread_local std::vector<double> lx, ly;  // (scratch)
+  lx.resize(n);
+  ly.resize(n);
+  CachedRotation mount_rot;  // (CachedRotation::transform's values, its cos and sin taken once)
+  mount_rot.use(scan.mount.theta);
+  const double mc = mount_rot.c(), ms = mount_rot.s(), mx = scan.mount.x, my = scan.mount.y;
+  const LaserReading* rd = scan.readings.data();
+  const UnitVectors::Entry* u = unit.prepare(rd, n);
+  for (size_t i = 0; i < n; ++i) {
+    // mount_rot.transform(scan.mount, range * u), for valid readings (others: not used)
+    const double x = rd[i].range * u[i].u.x(), y = rd[i].range * u[i].u.y();
+    lx[i] = mx + mc * x - ms * y;
+    ly[i] = my + ms * x + mc * y;
+  }
+  int missing = 0;
   PoseHistory::Cursor cursor(poses);
-  for (size_t i = 0; i < scan.readings.size(); ++i) {
-    const LaserReading& r = scan.readings[i];
-    if (!r.valid) continue;
-    double c = 1, s = 0;
-    const auto robot = cursor.atRotated(r.utime, c, s);
-    if (!robot) {
-      ++missing;
+  const VectorPath path = vectorPath();
+  for (size_t i = 0; i < n;) {
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2 && i + 4 <= n && lanesInInterval(cursor, rd + i, 4)) {
+      placeFourAvx2(cursor, rd + i, lx.data() + i, ly.data() + i, out.data() + i);
+      i += 4;
       continue;
     }
-    const Vec2 l = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
-    out[i] = {Vec2(robot->x + c * l.x() - s * l.y(), robot->y + s * l.x() + c * l.y()), r.range, true};
+#endif
+#if defined(__SSE2__)
+    if (path != VectorPath::Scalar && i + 2 <= n && lanesInInterval(cursor, rd + i, 2)) {
+      placeTwoSse2(cursor, rd + i, lx.data() + i, ly.data() + i, out.data() + i);
+      i += 2;
+      continue;
+    }
+#endif
+    const LaserReading& r = rd[i];
+    if (r.valid) {
+      double c = 1, s = 0;
+      if (const auto robot = cursor.atRotated(r.utime, c, s))
+        out[i] = {Vec2(robot->x + c * lx[i] - s * ly[i], robot->y + s * lx[i] + c * ly[i]), r.range, true};
+      else
+        ++missing;
+    }
+    ++i;
   }
   if (no_pose) *no_pose = missing;
   return out;

@@ -109,6 +109,14 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
 // The same with the poses of an odometry history (PoseHistory::at), found interval by interval.
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
 
+// The widest vector loop placeReadings (from a PoseHistory) and splitClusters may use; all give
+// the same values, bit for bit. By default the widest the CPU has (AVX2 where there, else SSE2);
+// tests set a narrower one to compare them. Process-wide; a path the CPU lacks is narrowed to
+// one it has.
+enum class VectorPath { Scalar, Sse2, Avx2 };
+void setVectorPath(VectorPath widest);
+VectorPath vectorPath();
+
 // Runs of valid consecutive points without a jump. For a full-circle scan a run that crosses
 // the end of the list continues at its start; if nothing breaks the circle at all (a closed room
 // seen without a gap) the one cluster is `closed`.

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <iostream>
+#include <limits>
 #include <random>
 
 #include "complement/messages.hpp"
@@ -397,4 +399,116 @@ TEST(SharedPlacement, ScanFromTheSameMessageOnly) {
   n.nranges = 49;  // inconsistent: no scan
   sameScanAndProblems(shared, n);
   sameScanAndProblems(shared, m);
+}
+
+namespace {
+// Restores the widest vector path when a test ends (also when an assertion returns early).
+struct RestoreVectorPath {
+  VectorPath path = vectorPath();
+  ~RestoreVectorPath() { setVectorPath(path); }
+};
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool samePoints(const std::vector<ScanPoint>& a, const std::vector<ScanPoint>& b, size_t& at) {
+  if (a.size() != b.size()) return at = 0, false;
+  for (at = 0; at < a.size(); ++at)
+    if (a[at].valid != b[at].valid || !sameBits(a[at].p.x(), b[at].p.x()) || !sameBits(a[at].p.y(), b[at].p.y()) ||
+        !sameBits(a[at].range, b[at].range))
+      return false;
+  return true;
+}
+
+// The placement's definition, reading by reading: the cursor's pose and rotation (atRotated) at
+// the reading's time, the reading in the robot frame through the mount (Pose2::transform's
+// operations), the point (x + c lx - s ly, y + s lx + c ly).
+std::vector<ScanPoint> placedOneByOne(const LaserScan& scan, const PoseHistory& h, int& missing) {
+  std::vector<ScanPoint> out(scan.readings.size());
+  PoseHistory::Cursor cursor(h);
+  const double mc = std::cos(scan.mount.theta), ms = std::sin(scan.mount.theta);
+  missing = 0;
+  for (size_t i = 0; i < scan.readings.size(); ++i) {
+    const LaserReading& r = scan.readings[i];
+    if (!r.valid) continue;
+    double c = 1, s = 0;
+    const auto robot = cursor.atRotated(r.utime, c, s);
+    if (!robot) {
+      ++missing;
+      continue;
+    }
+    const double x = r.range * std::cos(r.angle), y = r.range * std::sin(r.angle);
+    const double lx = scan.mount.x + mc * x - ms * y, ly = scan.mount.y + ms * x + mc * y;
+    out[i] = {Vec2(robot->x + c * lx - s * ly, robot->y + s * lx + c * ly), r.range, true};
+  }
+  return out;
+}
+}  // namespace
+
+// placeReadings' vector loops (AVX2 where the CPU has it, SSE2, none) against the definition
+// one reading at a time, bit for bit: random scans of 0..60 readings (none, fewer than a
+// register's lanes, a tail) over random odometry histories (small and large turns, intervals of
+// a few microseconds, readings on interval ends, before and after the history, out of time
+// order, invalid, NaN, infinite and huge ranges, turns across +-pi, far-off positions).
+TEST(RadarMap, PlacementVectorPathsEqualTheDefinitionBitForBit) {
+  RestoreVectorPath restore;
+  if (vectorPath() != VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: SSE2 against scalar only)\n";
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> coin(0.0, 1.0), pos(-50.0, 50.0), ang(-geom::kPi, geom::kPi);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int vector_lanes = 0, missing_total = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    // The history: every 2..40 ms, heading steps up to 0.05 rad (small turns) or up to 2 rad.
+    PoseHistory h(5'000'000, trial % 3 == 0 ? 0 : 200'000);
+    const int64_t t0 = 1'000'000 + static_cast<int64_t>(coin(rng) * 1e6);
+    const bool big_turns = trial % 4 == 1;
+    geom::Pose2 p{pos(rng), pos(rng), ang(rng)};
+    int64_t t = t0;
+    const int entries = 1 + static_cast<int>(coin(rng) * 12);
+    for (int k = 0; k < entries; ++k) {
+      h.add(t, p);
+      t += trial % 7 == 0 ? 1 + static_cast<int64_t>(coin(rng) * 5) : 2'000 + static_cast<int64_t>(coin(rng) * 38'000);
+      p.x += 0.05 * (coin(rng) - 0.5);
+      p.y += 0.05 * (coin(rng) - 0.5);
+      p.theta = geom::normalizeAngle(p.theta + (big_turns ? 4.0 : 0.1) * (coin(rng) - 0.5));
+    }
+    const int64_t t_end = t;
+    LaserScan scan;
+    scan.mount = {coin(rng) < 0.3 ? 0.0 : 0.3 * (coin(rng) - 0.5), 0.1 * (coin(rng) - 0.5),
+                  trial % 5 == 0 ? 0.0 : ang(rng)};
+    const int n = trial % 61;
+    scan.utime = t0 - 30'000 + static_cast<int64_t>(coin(rng) * 60'000);
+    int64_t rt = scan.utime;
+    for (int i = 0; i < n; ++i) {
+      LaserReading r;
+      const double pick = coin(rng);
+      rt += static_cast<int64_t>(coin(rng) * static_cast<double>(t_end - t0 + 60'000) / std::max(n, 1) * 2);
+      r.utime = pick < 0.05 ? t0 - 300'000 + static_cast<int64_t>(coin(rng) * static_cast<double>(t_end - t0 + 600'000))  // anywhere
+                            : rt;
+      r.angle = -geom::kPi + 2 * geom::kPi * i / std::max(n, 1);
+      r.range = 0.1 + 10 * coin(rng);
+      r.valid = coin(rng) > 0.05;
+      if (pick > 0.97) r.range = coin(rng) < 0.5 ? nan : (coin(rng) < 0.5 ? inf : 1e300);
+      scan.readings.push_back(r);
+    }
+    // Some readings exactly on the history's entries (an interval's end, and just after its start).
+    for (auto& r : scan.readings)
+      if (coin(rng) < 0.1) r.utime = t0 + (coin(rng) < 0.5 ? 0 : 1);
+    int missing_def = 0;
+    const std::vector<ScanPoint> def = placedOneByOne(scan, h, missing_def);
+    missing_total += missing_def;
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      int missing = -1;
+      const std::vector<ScanPoint> got = placeReadings(scan, h, &missing);
+      size_t at = 0;
+      ASSERT_TRUE(samePoints(got, def, at)) << "trial " << trial << ", path " << static_cast<int>(vectorPath())
+                                            << ", reading " << at << " of " << n;
+      ASSERT_EQ(missing, missing_def) << "trial " << trial;
+    }
+    PoseHistory::Cursor cursor(h);
+    for (size_t i = 0; i + 2 <= scan.readings.size(); i += 2)
+      vector_lanes += scan.readings[i].valid && scan.readings[i + 1].valid && cursor.seriesAt(scan.readings[i].utime) &&
+                      cursor.seriesAt(scan.readings[i + 1].utime);
+  }
+  EXPECT_GT(vector_lanes, 5000);  // the vector loops were exercised
+  EXPECT_GT(missing_total, 100);  // and readings without a pose
 }
