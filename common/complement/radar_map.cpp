@@ -288,6 +288,88 @@ bool isJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
   // (a.p - b.p).norm() > threshold
   return rootGreater((a.p - b.p).squaredNorm(), cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range));
 }
+
+// Point b cannot continue the cluster of point a, its predecessor.
+inline bool breakBetween(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
+  return !a.valid || !b.valid || isJump(a, b, cfg);
+}
+
+// The jump test's vector loops: W neighbouring pairs at a time, each lane rootGreater's
+// operations on one pair (d2 = dx * dx + dy * dy, t = jump_abs + jump_rel * min(range), the
+// squares against t * t (1 +- 2^-48)); a lane the squares leave undecided (t outside
+// (1e-150, 1e150), d2 within the band or NaN) and a lane with an invalid point go the scalar
+// way. _mm_min_pd(b, a) is std::min(a, b) (b < a ? b : a) whatever the values.
+#if defined(__SSE2__)
+// brk[k] = breakBetween(p[k - 1], p[k]) for k = 1, 2; returns false (nothing written) if a lane
+// needs the scalar test.
+inline bool twoBreaksSse2(const ScanPoint* p, const RadarMapConfig& cfg, uint8_t* brk) {
+  const __m128d p0 = _mm_loadu_pd(p[0].p.data()), p1 = _mm_loadu_pd(p[1].p.data()), p2 = _mm_loadu_pd(p[2].p.data());
+  const __m128d dx = _mm_sub_pd(_mm_unpacklo_pd(p0, p1), _mm_unpacklo_pd(p1, p2));
+  const __m128d dy = _mm_sub_pd(_mm_unpackhi_pd(p0, p1), _mm_unpackhi_pd(p1, p2));
+  const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+  const __m128d ra = _mm_set_pd(p[1].range, p[0].range), rb = _mm_set_pd(p[2].range, p[1].range);
+  const __m128d t = _mm_add_pd(_mm_set1_pd(cfg.jump_abs), _mm_mul_pd(_mm_set1_pd(cfg.jump_rel), _mm_min_pd(rb, ra)));
+  const __m128d t2 = _mm_mul_pd(t, t);
+  const __m128d above = _mm_cmpgt_pd(d2, _mm_mul_pd(t2, _mm_set1_pd(1.0 + 0x1p-48)));
+  const __m128d below = _mm_cmplt_pd(d2, _mm_mul_pd(t2, _mm_set1_pd(1.0 - 0x1p-48)));
+  const __m128d safe = _mm_and_pd(_mm_cmpgt_pd(t, _mm_set1_pd(1e-150)), _mm_cmplt_pd(t, _mm_set1_pd(1e150)));
+  const int decided = _mm_movemask_pd(_mm_and_pd(safe, _mm_or_pd(above, below)));
+  if (decided != 3 || !(p[0].valid && p[1].valid && p[2].valid)) return false;
+  const int jump = _mm_movemask_pd(above);
+  brk[1] = static_cast<uint8_t>(jump & 1);
+  brk[2] = static_cast<uint8_t>((jump >> 1) & 1);
+  return true;
+}
+#endif
+
+#if LASONIC_AVX2_LOOP
+// brk[k] = breakBetween(p[k - 1], p[k]) for k = 1 .. 4, as twoBreaksSse2.
+LASONIC_AVX2 bool fourBreaksAvx2(const ScanPoint* p, const RadarMapConfig& cfg, uint8_t* brk) {
+  // (x0 y0 x2 y2), (x1 y1 x3 y3), (x2 y2 x4 y4): the x and y of points 0-3 and of points 1-4.
+  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].p.data()), _mm_loadu_pd(p[0].p.data()));
+  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].p.data()), _mm_loadu_pd(p[1].p.data()));
+  const __m256d c = _mm256_set_m128d(_mm_loadu_pd(p[4].p.data()), _mm_loadu_pd(p[2].p.data()));
+  const __m256d dx = _mm256_sub_pd(_mm256_unpacklo_pd(a, b), _mm256_unpacklo_pd(b, c));
+  const __m256d dy = _mm256_sub_pd(_mm256_unpackhi_pd(a, b), _mm256_unpackhi_pd(b, c));
+  const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+  const __m256d ra = _mm256_set_pd(p[3].range, p[2].range, p[1].range, p[0].range);
+  const __m256d rb = _mm256_set_pd(p[4].range, p[3].range, p[2].range, p[1].range);
+  const __m256d t = _mm256_add_pd(_mm256_set1_pd(cfg.jump_abs),
+                                  _mm256_mul_pd(_mm256_set1_pd(cfg.jump_rel), _mm256_min_pd(rb, ra)));
+  const __m256d t2 = _mm256_mul_pd(t, t);
+  const __m256d above = _mm256_cmp_pd(d2, _mm256_mul_pd(t2, _mm256_set1_pd(1.0 + 0x1p-48)), _CMP_GT_OS);
+  const __m256d below = _mm256_cmp_pd(d2, _mm256_mul_pd(t2, _mm256_set1_pd(1.0 - 0x1p-48)), _CMP_LT_OS);
+  const __m256d safe = _mm256_and_pd(_mm256_cmp_pd(t, _mm256_set1_pd(1e-150), _CMP_GT_OS),
+                                     _mm256_cmp_pd(t, _mm256_set1_pd(1e150), _CMP_LT_OS));
+  const int decided = _mm256_movemask_pd(_mm256_and_pd(safe, _mm256_or_pd(above, below)));
+  if (decided != 15 || !(p[0].valid && p[1].valid && p[2].valid && p[3].valid && p[4].valid)) return false;
+  const int jump = _mm256_movemask_pd(above);
+  for (int k = 0; k < 4; ++k) brk[k + 1] = static_cast<uint8_t>((jump >> k) & 1);
+  return true;
+}
+#endif
+
+// brk[i] = breakBetween(points[i - 1], points[i]) for 1 <= i < n.
+void jumpBreaks(const ScanPoint* points, size_t n, const RadarMapConfig& cfg, uint8_t* brk) {
+  const VectorPath path = vectorPath();
+  size_t i = 1;  // the next pair (i - 1, i)
+  while (i < n) {
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2 && i + 4 <= n && fourBreaksAvx2(points + i - 1, cfg, brk + i - 1)) {
+      i += 4;
+      continue;
+    }
+#endif
+#if defined(__SSE2__)
+    if (path != VectorPath::Scalar && i + 2 <= n && twoBreaksSse2(points + i - 1, cfg, brk + i - 1)) {
+      i += 2;
+      continue;
+    }
+#endif
+    brk[i] = breakBetween(points[i - 1], points[i], cfg);
+    ++i;
+  }
+}
 }  // namespace
 
 std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
@@ -295,17 +377,15 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
   const size_t n = points.size();
   std::vector<Cluster> clusters;
   if (n == 0) return clusters;
-  // breakBefore(i): point i cannot continue the cluster of point i-1.
-  auto breakBefore = [&](size_t i) {
-    if (i == 0 && !full_circle) return true;
-    const ScanPoint& prev = points[i == 0 ? n - 1 : i - 1];
-    const ScanPoint& cur = points[i];
-    return !prev.valid || !cur.valid || isJump(prev, cur, cfg);
-  };
+  // brk[i]: point i cannot continue the cluster of point i-1 (of the last point for i = 0).
+  thread_local std::vector<uint8_t> brk;  // (scratch)
+  brk.resize(n);
+  brk[0] = !full_circle || breakBetween(points[n - 1], points[0], cfg);
+  jumpBreaks(points.data(), n, cfg, brk.data());
   // Start at a break so that a cluster spanning the end of a full circle stays whole.
   std::optional<size_t> start;
   for (size_t i = 0; i < n && !start; ++i)
-    if (breakBefore(i)) start = i;
+    if (brk[i]) start = i;
   if (!start) {  // a full circle without a single break
     Cluster all;
     all.points.reserve(n);
@@ -314,20 +394,22 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
     clusters.push_back(std::move(all));
     return clusters;
   }
-  // Each cluster's points are gathered in one buffer and copied out once, at their number.
-  std::vector<geom::Vec2> cur;
-  cur.reserve(n);
-  const auto close = [&] {
-    if (cur.empty()) return;
-    clusters.emplace_back();
-    clusters.back().points.assign(cur.begin(), cur.end());
-    cur.clear();
-  };
-  for (size_t k = 0, i = *start; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {  // i = (start + k) % n
-    if (k > 0 && breakBefore(i)) close();
-    if (points[i].valid) cur.push_back(points[i].p);
+  // Each run from a break to the next (the last one on round the end to the first break) is a
+  // cluster: a point without a break before it is valid and so is its predecessor, so a run's
+  // points are all valid -- but for a run of one invalid point, which gives no cluster.
+  size_t s = *start;
+  while (true) {
+    const void* hit = s + 1 < n ? std::memchr(brk.data() + s + 1, 1, n - s - 1) : nullptr;
+    const size_t e = hit ? static_cast<size_t>(static_cast<const uint8_t*>(hit) - brk.data()) : n;
+    const size_t len = e - s + (e == n ? *start : 0);
+    if (points[s].valid) {
+      std::vector<geom::Vec2>& out = clusters.emplace_back().points;
+      out.resize(len);
+      for (size_t k = 0, i = s; k < len; ++k, i = i + 1 == n ? 0 : i + 1) out[k] = points[i].p;
+    }
+    if (e == n) break;
+    s = e;
   }
-  close();
   return clusters;
 }
 

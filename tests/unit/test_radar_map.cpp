@@ -512,3 +512,110 @@ TEST(RadarMap, PlacementVectorPathsEqualTheDefinitionBitForBit) {
   EXPECT_GT(vector_lanes, 5000);  // the vector loops were exercised
   EXPECT_GT(missing_total, 100);  // and readings without a pose
 }
+
+namespace {
+// splitClusters' definition, pair by pair: point i continues the cluster of point i-1 when both
+// are valid and (p_i - p_{i-1}).norm() <= jump_abs + jump_rel * min(range_{i-1}, range_i); a full
+// circle starts at a break, or is one closed cluster.
+std::vector<Cluster> clustersByDefinition(const std::vector<ScanPoint>& pts, bool full_circle, const RadarMapConfig& cfg) {
+  const size_t n = pts.size();
+  std::vector<Cluster> out;
+  if (n == 0) return out;
+  const auto brk = [&](size_t i) {
+    if (i == 0 && !full_circle) return true;
+    const ScanPoint& a = pts[i == 0 ? n - 1 : i - 1];
+    const ScanPoint& b = pts[i];
+    return !a.valid || !b.valid || (a.p - b.p).norm() > cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range);
+  };
+  size_t start = n;
+  for (size_t i = 0; i < n && start == n; ++i)
+    if (brk(i)) start = i;
+  if (start == n) {
+    Cluster all;
+    for (const auto& p : pts) all.points.push_back(p.p);
+    all.closed = true;
+    out.push_back(all);
+    return out;
+  }
+  Cluster cur;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = (start + k) % n;
+    if (k > 0 && brk(i) && !cur.points.empty()) out.push_back(cur), cur.points.clear();
+    if (pts[i].valid) cur.points.push_back(pts[i].p);
+  }
+  if (!cur.points.empty()) out.push_back(cur);
+  return out;
+}
+
+bool sameClusters(const std::vector<Cluster>& a, const std::vector<Cluster>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t c = 0; c < a.size(); ++c) {
+    if (a[c].closed != b[c].closed || a[c].points.size() != b[c].points.size()) return false;
+    for (size_t k = 0; k < a[c].points.size(); ++k)
+      if (!sameBits(a[c].points[k].x(), b[c].points[k].x()) || !sameBits(a[c].points[k].y(), b[c].points[k].y()))
+        return false;
+  }
+  return true;
+}
+}  // namespace
+
+// splitClusters' jump test in vector loops (AVX2 where the CPU has it, SSE2, none) against the
+// definition with the root (norm()): random point lists of 0..50 points, with neighbours at the
+// threshold and one or two ulps either side of it, equal ranges of both signs of zero, invalid
+// points, NaN and infinite coordinates and ranges, thresholds of zero, tiny and huge, full
+// circles with and without a break.
+TEST(RadarMap, ClusterVectorPathsEqualTheDefinition) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(32);
+  std::uniform_real_distribution<double> coin(0.0, 1.0), pos(-20.0, 20.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int near_threshold = 0, clusters = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    RadarMapConfig cfg;
+    const int kind = trial % 10;
+    if (kind == 1) cfg.jump_abs = 0, cfg.jump_rel = 0;  // t = 0: outside the squares' range
+    if (kind == 2) cfg.jump_abs = 1e-160, cfg.jump_rel = 0;
+    if (kind == 3) cfg.jump_abs = 1e200;
+    if (kind == 4) cfg.jump_rel = -0.5;  // t may be negative
+    if (kind == 5) cfg.jump_abs = 0.5 * coin(rng), cfg.jump_rel = 0.2 * coin(rng);
+    const bool full_circle = trial % 3 == 0;
+    const int n = trial % 51;
+    std::vector<ScanPoint> pts;
+    Vec2 p(pos(rng), pos(rng));
+    for (int i = 0; i < n; ++i) {
+      ScanPoint sp;
+      sp.range = 0.1 + 8 * coin(rng);
+      if (coin(rng) < 0.1 && !pts.empty()) sp.range = pts.back().range;  // a tie in min()
+      if (coin(rng) < 0.03) sp.range = coin(rng) < 0.5 ? 0.0 : -0.0;
+      const double pick = coin(rng);
+      if (pick < 0.45 && !pts.empty()) {  // at the threshold from the previous point, or an ulp or two beside it
+        const double t = cfg.jump_abs + cfg.jump_rel * std::min(pts.back().range, sp.range);
+        const Vec2 dir = coin(rng) < 0.5 ? Vec2(1, 0) : geom::unitVector(2 * geom::kPi * coin(rng));
+        p = pts.back().p + dir * t;
+        const int ulps = static_cast<int>(coin(rng) * 5) - 2;
+        for (int u = 0; u < std::abs(ulps); ++u) p.x() = std::nextafter(p.x(), ulps > 0 ? inf : -inf);
+        ++near_threshold;
+      } else if (pick < 0.8) {
+        p += Vec2(0.3 * (coin(rng) - 0.5), 0.3 * (coin(rng) - 0.5));
+      } else if (pick < 0.83) {
+        p = Vec2(coin(rng) < 0.5 ? nan : inf, pos(rng));
+      } else if (pick < 0.85) {
+        sp.range = coin(rng) < 0.5 ? nan : inf;
+      } else {
+        p = Vec2(pos(rng), pos(rng));
+      }
+      sp.p = p;
+      sp.valid = coin(rng) > 0.06;
+      pts.push_back(sp);
+    }
+    const std::vector<Cluster> def = clustersByDefinition(pts, full_circle, cfg);
+    clusters += static_cast<int>(def.size());
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      ASSERT_TRUE(sameClusters(splitClusters(pts, full_circle, cfg), def))
+          << "trial " << trial << ", path " << static_cast<int>(vectorPath()) << ", " << n << " points";
+    }
+  }
+  EXPECT_GT(near_threshold, 20000);
+  EXPECT_GT(clusters, 20000);
+}
