@@ -619,3 +619,40 @@ TEST(RadarMap, ClusterVectorPathsEqualTheDefinition) {
   EXPECT_GT(near_threshold, 20000);
   EXPECT_GT(clusters, 20000);
 }
+
+// The scan scanFrom returns, passed on to place() (as both stages do in lasonic-replay), is
+// known by its generation rather than compared: the stored placement is taken for the same
+// message's scan and an equal history, and computed afresh for the next message's scan (in the
+// same object), for an equal copy of a scan, and after a copy was placed.
+TEST(SharedPlacement, TheScanFromAMessageIsKnownWithoutAComparison) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const laser_scan_t m1 = fixture::simulateScan(rectangleRoom(), traj, t0, dur);
+  laser_scan_t m2 = m1;
+  m2.ranges[100] = std::nextafter(m2.ranges[100], 100.0f);  // one bit in one reading
+  PoseHistory a(5'000'000, 30'000), b(5'000'000, 30'000);
+  for (int64_t t = t0 - 100'000; t <= t0 + 250'000; t += 20'000) a.add(t, traj(t)), b.add(t, traj(t));
+  SharedPlacement shared;
+  std::vector<InputProblem> p;
+  const LaserScan s1 = *laserScanFromMessage(m1, p), s2 = *laserScanFromMessage(m2, p);
+  const std::vector<ScanPoint> want1 = placeReadings(s1, a), want2 = placeReadings(s2, a);
+  ASSERT_FALSE(samePlacement(want1, want2));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), a), want1));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), b), want1));  // the other stage
+  EXPECT_EQ(shared.computed(), 1);
+  EXPECT_EQ(shared.reused(), 1);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), a), want2));  // the next message
+  EXPECT_EQ(shared.computed(), 2);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), b), want2));
+  EXPECT_EQ(shared.reused(), 2);
+  EXPECT_TRUE(samePlacement(shared.place(s2, b), want2));  // an equal copy: placed afresh
+  EXPECT_EQ(shared.computed(), 3);
+  EXPECT_TRUE(samePlacement(shared.place(s2, a), want2));  // the copy again: compared and taken
+  EXPECT_EQ(shared.reused(), 3);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), a), want2));  // after a copy: afresh
+  EXPECT_EQ(shared.computed(), 4);
+  EXPECT_TRUE(samePlacement(shared.place(s1, a), want1));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), a), want1));
+  EXPECT_EQ(shared.computed(), 6);
+  EXPECT_EQ(shared.reused(), 3);
+}
