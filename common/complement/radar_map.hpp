@@ -132,6 +132,10 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
 // and its last and first segments are joined like every other corner.
 std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg);
 
+// out[k] = the square of geom::distance(chord, points[k]) for k < count, bit for bit (the
+// squared norm of closestPoint(chord, p) - p): the end-point fit's distances.
+void chordSquaredDistances(const geom::Segment& chord, const geom::Vec2* points, size_t count, double* out);
+
 // Iterative end-point fit of points[r]: split at the point farthest from the chord until every
 // point lies within `threshold` of it. The split point belongs to both halves (a corner).
 std::vector<IndexRange> iterativeEndPointFit(const std::vector<geom::Vec2>& points, IndexRange r,

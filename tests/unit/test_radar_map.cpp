@@ -656,3 +656,83 @@ TEST(SharedPlacement, TheScanFromAMessageIsKnownWithoutAComparison) {
   EXPECT_EQ(shared.computed(), 6);
   EXPECT_EQ(shared.reused(), 3);
 }
+
+// The end-point fit's distances in vector loops (AVX2 where the CPU has it, SSE2, none) split
+// where the definition does (roots, the first of equal roots): polylines with exact and
+// near ties, points beyond the chord's ends (u clamped, -0 included), chords of zero length
+// (equal ends), NaN and infinite points, thresholds at the distances.
+TEST(IterativeEndPointFit, VectorPathsSplitWhereTheDefinitionSplits) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int splits = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::vector<Vec2> pts;
+    const int n = 2 + trial % 70;
+    for (int k = 0; k < n; ++k) {
+      const double x = trial % 5 == 3 ? 0.05 * k - 0.5 * coin(rng) : 0.05 * k;  // some beyond the ends
+      double y = 0.02 * u(rng) + (k > n / 2 ? 0.3 * (x - 0.025 * n) : 0.0);
+      if (trial % 3 == 0) y = (k % 4 == 1 || k % 4 == 2) ? 0.07 : 0.0;  // exact ties
+      if (trial % 3 == 1 && k % 5 == 2) y = std::nextafter(0.07, trial % 2 ? 1.0 : 0.0);  // near ties
+      pts.emplace_back(x, y);
+      if (coin(rng) < 0.02) pts.back() = Vec2(coin(rng) < 0.5 ? nan : inf, y);
+    }
+    if (trial % 7 == 0) pts.back() = pts.front();  // a chord of zero length
+    if (trial % 11 == 0) pts.back() = Vec2(-0.0, 0.0), pts.front() = Vec2(0.0, -0.0);
+    const double thr = trial % 3 == 2 ? 0.03 : 0.07;  // 0.07: distances at the threshold
+    std::vector<IndexRange> expected;
+    referenceFit(pts, 0, pts.size() - 1, thr, expected);
+    splits += static_cast<int>(expected.size()) - 1;
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
+      ASSERT_EQ(got.size(), expected.size()) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      for (size_t k = 0; k < got.size(); ++k) {
+        ASSERT_EQ(got[k].first, expected[k].first) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+        ASSERT_EQ(got[k].last, expected[k].last) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      }
+    }
+  }
+  EXPECT_GT(splits, 3000);
+}
+
+// The end-point fit's squared distances in each vector path, bit for bit the squared norm of
+// closestPoint(chord, p) - p: random chords (and chords of zero length, tiny and huge ones),
+// points before, on and beyond the chord's ends, on the chord's line, NaN and infinite, counts
+// 0..40 (a register's lanes and a tail).
+TEST(IterativeEndPointFit, ChordDistancesOfEveryVectorPathAreTheDefinitionBitForBit) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(34);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (int trial = 0; trial < 4000; ++trial) {
+    Segment chord{{u(rng), u(rng)}, {u(rng), u(rng)}};
+    if (trial % 13 == 0) chord.b = chord.a;
+    if (trial % 17 == 0) chord.b = chord.a + Vec2(1e-160, -1e-160);
+    if (trial % 19 == 0) chord.b = chord.a * 1e200;
+    if (trial % 23 == 0) chord.a.x() = nan;
+    std::vector<Vec2> pts;
+    const int n = trial % 41;
+    for (int k = 0; k < n; ++k) {
+      const double pick = coin(rng);
+      const double t = 1.4 * coin(rng) - 0.2;  // before, on and beyond the ends
+      if (pick < 0.5) pts.push_back(chord.a + t * (chord.b - chord.a) + Vec2(0.1 * u(rng), 0.1 * u(rng)));
+      else if (pick < 0.7) pts.push_back(chord.a + t * (chord.b - chord.a));  // on the line
+      else if (pick < 0.75) pts.push_back(k % 2 ? chord.a : chord.b);
+      else if (pick < 0.8) pts.emplace_back(coin(rng) < 0.5 ? nan : inf, u(rng));
+      else pts.emplace_back(u(rng), u(rng));
+    }
+    std::vector<double> want(pts.size());
+    for (size_t k = 0; k < pts.size(); ++k) want[k] = (geom::closestPoint(chord, pts[k]) - pts[k]).squaredNorm();
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      std::vector<double> got(pts.size() + 1, -7.0);
+      chordSquaredDistances(chord, pts.data(), pts.size(), got.data());
+      for (size_t k = 0; k < pts.size(); ++k)
+        ASSERT_TRUE(sameBits(got[k], want[k])) << "trial " << trial << ", path " << static_cast<int>(vectorPath())
+                                               << ", point " << k << ": " << got[k] << " vs " << want[k];
+      ASSERT_EQ(got[pts.size()], -7.0);  // nothing written beyond count
+    }
+  }
+}
