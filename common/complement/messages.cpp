@@ -160,11 +160,25 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
   s.mount = {m.mount.x, m.mount.y, m.mount.theta};
   s.full_circle = static_cast<double>(n) * m.angle_increment >= 2.0 * geom::kPi - 1.5 * m.angle_increment;
   s.readings.resize(n);
+  // The arrays through local pointers: a problem appended below cannot make the compiler
+  // reload them (or the scalars) per reading.
+  const int64_t utime = m.utime;
+  const double angle_min = m.angle_min, angle_increment = m.angle_increment;
+  const float range_min = m.range_min, range_max = m.range_max;
+  const int32_t* offset_us = m.offset_us.data();
+  const int8_t* flags = m.flags.data();
+  const float* ranges = m.ranges.data();
+  LaserReading* readings = s.readings.data();
   for (size_t i = 0; i < n; ++i) {
-    LaserReading& r = s.readings[i];
-    r.utime = m.utime + m.offset_us[i];
-    r.angle = m.angle_min + static_cast<double>(i) * m.angle_increment;
-    r.range = m.ranges[i];
+    LaserReading& r = readings[i];
+    r.utime = utime + offset_us[i];
+    r.angle = angle_min + static_cast<double>(static_cast<int64_t>(i)) * angle_increment;  // (the same double: i < 2^31)
+    r.range = ranges[i];
+    // The common case first: a return within [range_min, range_max] (or below range_min).
+    if (offset_us[i] >= 0 && flags[i] == laser_scan_t::FLAG_OK && ranges[i] >= 0 && ranges[i] <= range_max) {
+      r.valid = ranges[i] >= range_min;
+      continue;
+    }
     if (m.offset_us[i] < 0) {
       problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", i) + " = " +
                                                        std::to_string(m.offset_us[i]) + " (must be >= 0)"});
