@@ -54,6 +54,11 @@ int gridMapHeadSize() {
   return size;
 }
 
+int laserScanHeadSize() {
+  static const int size = laser_scan_t{}.getEncodedSize();
+  return size;
+}
+
 }  // namespace
 
 int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
@@ -116,6 +121,34 @@ int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   swap16(m.h.data(), in + 2 * cells, cells);
   swap32(m.gp.data(), in + 4 * cells, cells);
   return head_size + n * 8;
+}
+
+int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {
+  // As fastDecode(grid_map_t&): the fields before the readings by the generated code (whose
+  // encoding ends with nranges), the three arrays a whole element at a time; anything else (no
+  // readings, a negative count, too few bytes) left to the generated decode.
+  const int head_size = laserScanHeadSize();
+  if (maxlen < head_size) return m.decode(buf, 0, maxlen);
+  const auto* in = static_cast<const uint8_t*>(buf);
+  uint32_t be_n;
+  std::memcpy(&be_n, in + head_size - 4, 4);
+  const auto n = static_cast<int32_t>(__builtin_bswap32(be_n));
+  if (n <= 0 || int64_t{head_size} + int64_t{n} * 9 > int64_t{maxlen}) return m.decode(buf, 0, maxlen);
+  uint8_t head[128];
+  if (static_cast<size_t>(head_size) > sizeof head) return m.decode(buf, 0, maxlen);
+  std::memcpy(head, in, static_cast<size_t>(head_size));
+  std::memset(head + head_size - 4, 0, 4);
+  if (m.decode(head, 0, head_size) != head_size) return m.decode(buf, 0, maxlen);
+  m.nranges = n;
+  const auto count = static_cast<size_t>(n);
+  m.ranges.resize(count);
+  m.flags.resize(count);
+  m.offset_us.resize(count);
+  in += head_size;
+  swap32(m.ranges.data(), in, count);
+  std::memcpy(m.flags.data(), in + 4 * count, count);
+  swap32(m.offset_us.data(), in + 5 * count, count);
+  return head_size + n * 9;
 }
 
 }  // namespace lasonic
