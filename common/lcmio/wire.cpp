@@ -54,6 +54,13 @@ int gridMapHeadSize() {
   return size;
 }
 
+// A sector map without sectors: its fields up to nsectors, then laser_stale .. sonar_age_s
+// (10 bytes), then remembered_stale and remembered_age_s (5 bytes).
+int sectorMapEmptySize() {
+  static const int size = sector_map_t{}.getEncodedSize();
+  return size;
+}
+
 int laserScanHeadSize() {
   static const int size = laser_scan_t{}.getEncodedSize();
   return size;
@@ -91,6 +98,56 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   swap16(out, m.g.data(), static_cast<size_t>(n));
   swap16(out + 2 * static_cast<size_t>(n), m.h.data(), static_cast<size_t>(n));
   swap32(out + 4 * static_cast<size_t>(n), m.gp.data(), static_cast<size_t>(n));
+  return static_cast<int>(size);
+}
+
+int fastEncode(const sector_map_t& m, void* buf, int maxlen) {
+  const int32_t n = m.nsectors;
+  const auto count = static_cast<size_t>(n);
+  // What the generated encode would not do the same way here (a short buffer, arrays shorter
+  // than nsectors): left to it.
+  if (n < 0 || m.distance.size() < count || m.source.size() < count || m.laser_distance.size() < count ||
+      m.sonar_distance.size() < count || m.remembered_distance.size() < count)
+    return m.encode(buf, 0, maxlen);
+  const int empty_size = sectorMapEmptySize();
+  const int64_t size = int64_t{empty_size} + int64_t{n} * 17;
+  if (size > maxlen) return m.encode(buf, 0, maxlen);
+  // The scalar fields by the generated code, from the map without sectors (nsectors 0,
+  // patched), then spliced around the arrays.
+  sector_map_t head;
+  head.utime = m.utime;
+  head.robot_pose = m.robot_pose;
+  head.robot_radius = m.robot_radius;
+  head.max_range = m.max_range;
+  head.nsectors = 0;
+  head.laser_stale = m.laser_stale;
+  head.sonar_stale = m.sonar_stale;
+  head.laser_age_s = m.laser_age_s;
+  head.sonar_age_s = m.sonar_age_s;
+  head.remembered_stale = m.remembered_stale;
+  head.remembered_age_s = m.remembered_age_s;
+  uint8_t fields[128];
+  if (static_cast<size_t>(empty_size) > sizeof fields || head.encode(fields, 0, empty_size) != empty_size)
+    return m.encode(buf, 0, maxlen);
+  const auto first = static_cast<size_t>(empty_size - 15);  // through nsectors
+  auto* out = static_cast<uint8_t*>(buf);
+  std::memcpy(out, fields, first);
+  const uint32_t be_n = __builtin_bswap32(static_cast<uint32_t>(n));
+  std::memcpy(out + first - 4, &be_n, 4);
+  out += first;
+  swap32(out, m.distance.data(), count);
+  out += 4 * count;
+  std::memcpy(out, m.source.data(), count);
+  out += count;
+  swap32(out, m.laser_distance.data(), count);
+  out += 4 * count;
+  swap32(out, m.sonar_distance.data(), count);
+  out += 4 * count;
+  std::memcpy(out, fields + first, 10);
+  out += 10;
+  swap32(out, m.remembered_distance.data(), count);
+  out += 4 * count;
+  std::memcpy(out, fields + first + 10, 5);
   return static_cast<int>(size);
 }
 
