@@ -428,16 +428,35 @@ class ChordDistance {
   }
   // out[k] = squared(p[k]) for k < count.
   void squaredMany(const Vec2* p, size_t count, double* out) const;
+  // The end-point fit's choice over p[0 .. count-1] in order, from the leader (m2, at): a point
+  // takes over when its square is larger and so is its root (takeOver).
+  void farthest(const Vec2* p, size_t count, double& m2, size_t& at) const;
 
  private:
   Vec2 a_, e_;
   double l2_;
 };
 
+// sqrt(d2) > sqrt(m2) for d2 > m2 >= 0: on the squares unless they are within 2^-48 (then both
+// roots may round to the same double).
+inline bool rootOfLarger(double d2, double m2) {
+  return d2 > m2 * (1.0 + 0x1p-48) || std::sqrt(d2) > std::sqrt(m2);
+}
+
+// Point k, at squared distance d2, becomes the leader (m2, at): the first point farthest from the
+// chord, a later one only if its distance (the root) is larger. m2 < 0: none yet; NaN never.
+inline void takeOver(double d2, size_t k, double& m2, size_t& at) {
+  if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {
+    m2 = d2;
+    at = k;
+  }
+}
+
 // squared()'s vector loops, each lane its operations on one point in the same order: w = p - a,
 // u = clamp((w.x e.x + w.y e.y) / l2, 0, 1) (_mm_max_pd(0, v) is std::max(v, 0) and
 // _mm_min_pd(1, t) std::min(t, 1), whatever the values), c = a + u e, (c.x - p.x)^2 + (c.y - p.y)^2.
-// Only for l2 > 0 or NaN (the other branch goes the scalar way).
+// Only for l2 > 0 or NaN (the other branch goes the scalar way). The choice goes on lane by lane
+// in order where a lane's square is larger than the leader's; none is, none can take over.
 #if defined(__SSE2__)
 inline __m128d chordSquaresSse2(__m128d x, __m128d y, const double* k) {  // k: ax ay ex ey l2
   const __m128d ax = _mm_set1_pd(k[0]), ay = _mm_set1_pd(k[1]), ex = _mm_set1_pd(k[2]), ey = _mm_set1_pd(k[3]);
@@ -447,24 +466,39 @@ inline __m128d chordSquaresSse2(__m128d x, __m128d y, const double* k) {  // k: 
   const __m128d cy = _mm_sub_pd(_mm_add_pd(ay, _mm_mul_pd(u, ey)), y);
   return _mm_add_pd(_mm_mul_pd(cx, cx), _mm_mul_pd(cy, cy));
 }
+inline __m128d chordSquaresSse2(const Vec2* p, const double* k) {  // p[0], p[1]
+  const __m128d a = _mm_loadu_pd(p[0].data()), b = _mm_loadu_pd(p[1].data());
+  return chordSquaresSse2(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b), k);
+}
 #endif
 #if LASONIC_AVX2_LOOP
-LASONIC_AVX2 size_t chordSquaresAvx2(const Vec2* p, size_t count, const double* k, double* out) {
+LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k) {  // p[0 .. 3]
   const __m256d ax = _mm256_set1_pd(k[0]), ay = _mm256_set1_pd(k[1]), ex = _mm256_set1_pd(k[2]),
-                ey = _mm256_set1_pd(k[3]), l2 = _mm256_set1_pd(k[4]);
+                ey = _mm256_set1_pd(k[3]);
+  // (x0 y0 x2 y2), (x1 y1 x3 y3) -> (x0 x1 x2 x3), (y0 y1 y2 y3)
+  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].data()), _mm_loadu_pd(p[0].data()));
+  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].data()), _mm_loadu_pd(p[1].data()));
+  const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
+  const __m256d dot = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
+  const __m256d u =
+      _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_div_pd(dot, _mm256_set1_pd(k[4]))));
+  const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
+  const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
+  return _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy));
+}
+LASONIC_AVX2 size_t chordSquaresAvx2(const Vec2* p, size_t count, const double* k, double* out) {
+  size_t i = 0;
+  for (; i + 4 <= count; i += 4) _mm256_storeu_pd(out + i, chordSquaresAvx2(p + i, k));
+  return i;
+}
+LASONIC_AVX2 size_t farthestAvx2(const Vec2* p, size_t count, const double* k, double& m2, size_t& at) {
   size_t i = 0;
   for (; i + 4 <= count; i += 4) {
-    // (x0 y0 x2 y2), (x1 y1 x3 y3) -> (x0 x1 x2 x3), (y0 y1 y2 y3)
-    const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[i + 2].data()), _mm_loadu_pd(p[i].data()));
-    const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[i + 3].data()), _mm_loadu_pd(p[i + 1].data()));
-    const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
-    const __m256d dot =
-        _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
-    const __m256d u =
-        _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_div_pd(dot, l2)));
-    const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
-    const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
-    _mm256_storeu_pd(out + i, _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy)));
+    const __m256d d2 = chordSquaresAvx2(p + i, k);
+    if (_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(m2), _CMP_GT_OQ)) == 0) continue;
+    alignas(32) double v[4];
+    _mm256_store_pd(v, d2);
+    for (size_t l = 0; l < 4; ++l) takeOver(v[l], i + l, m2, at);
   }
   return i;
 }
@@ -479,39 +513,39 @@ void ChordDistance::squaredMany(const Vec2* p, size_t count, double* out) const 
     if (path == VectorPath::Avx2) i = chordSquaresAvx2(p, count, k, out);
 #endif
 #if defined(__SSE2__)
-    for (; path != VectorPath::Scalar && i + 2 <= count; i += 2) {
-      const __m128d a = _mm_loadu_pd(p[i].data()), b = _mm_loadu_pd(p[i + 1].data());
-      _mm_storeu_pd(out + i, chordSquaresSse2(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b), k));
-    }
+    for (; path != VectorPath::Scalar && i + 2 <= count; i += 2) _mm_storeu_pd(out + i, chordSquaresSse2(p + i, k));
 #endif
   }
   for (; i < count; ++i) out[i] = squared(p[i]);
 }
 
-// sqrt(d2) > sqrt(m2) for d2 > m2 >= 0: on the squares unless they are within 2^-48 (then both
-// roots may round to the same double).
-inline bool rootOfLarger(double d2, double m2) {
-  return d2 > m2 * (1.0 + 0x1p-48) || std::sqrt(d2) > std::sqrt(m2);
+void ChordDistance::farthest(const Vec2* p, size_t count, double& m2, size_t& at) const {
+  size_t i = 0;
+  if (!(l2_ <= 0.0)) {
+    const double k[5] = {a_.x(), a_.y(), e_.x(), e_.y(), l2_};
+    const VectorPath path = vectorPath();
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2) i = farthestAvx2(p, count, k, m2, at);
+#endif
+#if defined(__SSE2__)
+    for (; path != VectorPath::Scalar && i + 2 <= count; i += 2) {
+      const __m128d d2 = chordSquaresSse2(p + i, k);
+      if (_mm_movemask_pd(_mm_cmpgt_pd(d2, _mm_set1_pd(m2))) == 0) continue;
+      takeOver(_mm_cvtsd_f64(d2), i, m2, at);
+      takeOver(_mm_cvtsd_f64(_mm_unpackhi_pd(d2, d2)), i + 1, m2, at);
+    }
+#endif
+  }
+  for (; i < count; ++i) takeOver(squared(p[i]), i, m2, at);
 }
 
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
-  // The first point farthest from the chord: a point takes over only if its distance (the root
-  // of its square) is larger, so ties keep the first. m2: the leader's square, -1 for none.
+  // The first point farthest from the chord (takeOver). m2: the leader's square, -1 for none.
   double m2 = -1;
-  size_t kmax = i;
-  if (j > i + 1) {
-    thread_local std::vector<double> sq;  // (scratch: used up before the recursion)
-    sq.resize(j - i - 1);
-    ChordDistance(geom::Segment{pts[i], pts[j]}).squaredMany(pts.data() + i + 1, j - i - 1, sq.data());
-    for (size_t k = i + 1; k < j; ++k) {
-      const double d2 = sq[k - i - 1];
-      if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {  // (NaN never takes over)
-        m2 = d2;
-        kmax = k;
-      }
-    }
-  }
+  size_t kmax = 0;  // (offset from i + 1)
+  if (j > i + 1) ChordDistance(geom::Segment{pts[i], pts[j]}).farthest(pts.data() + i + 1, j - i - 1, m2, kmax);
+  kmax = m2 < 0 ? i : i + 1 + kmax;
   const double dmax = m2 < 0 ? -1.0 : std::sqrt(m2);
   if (dmax < threshold) {
     out.push_back({i, j});

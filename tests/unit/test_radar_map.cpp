@@ -675,8 +675,15 @@ TEST(IterativeEndPointFit, VectorPathsSplitWhereTheDefinitionSplits) {
       double y = 0.02 * u(rng) + (k > n / 2 ? 0.3 * (x - 0.025 * n) : 0.0);
       if (trial % 3 == 0) y = (k % 4 == 1 || k % 4 == 2) ? 0.07 : 0.0;  // exact ties
       if (trial % 3 == 1 && k % 5 == 2) y = std::nextafter(0.07, trial % 2 ? 1.0 : 0.0);  // near ties
+      if (trial % 6 == 4) {  // from a level chord, distances a few ulp apart, rising (or falling) along it
+        y = 0.0;
+        if (k > 0 && k + 1 < n) {
+          y = 0.07;
+          for (int step = 0; step < (trial % 12 == 4 ? k : n - k) / 2; ++step) y = std::nextafter(y, 1.0);
+        }
+      }
       pts.emplace_back(x, y);
-      if (coin(rng) < 0.02) pts.back() = Vec2(coin(rng) < 0.5 ? nan : inf, y);
+      if (coin(rng) < 0.02 && trial % 6 != 4) pts.back() = Vec2(coin(rng) < 0.5 ? nan : inf, y);
     }
     if (trial % 7 == 0) pts.back() = pts.front();  // a chord of zero length
     if (trial % 11 == 0) pts.back() = Vec2(-0.0, 0.0), pts.front() = Vec2(0.0, -0.0);
@@ -735,4 +742,78 @@ TEST(IterativeEndPointFit, ChordDistancesOfEveryVectorPathAreTheDefinitionBitFor
       ASSERT_EQ(got[pts.size()], -7.0);  // nothing written beyond count
     }
   }
+}
+
+// laserScanFromMessage four readings at a time (AVX2 where the CPU has it) against the
+// reading-by-reading loop: the same scan (every field of every reading) and the same problems,
+// for random messages of 1..60 readings with returns at range_min and range_max and one ulp
+// either side, zero of both signs, negative, NaN and infinite ranges, no-return and unknown
+// flags, negative offsets.
+TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
+  RestoreVectorPath restore;
+  if (vectorPath() != VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: the scalar loop only)\n";
+  std::mt19937 rng(35);
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
+  const float nanf = std::numeric_limits<float>::quiet_NaN(), inff = std::numeric_limits<float>::infinity();
+  int vector_groups = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    laser_scan_t m{};
+    m.utime = 1'000'000 + static_cast<int64_t>(coin(rng) * 1e9);
+    m.angle_min = -2.0 + coin(rng);
+    m.angle_increment = 0.001 + 0.02 * coin(rng);
+    m.range_min = static_cast<float>(0.5 * coin(rng));
+    m.range_max = static_cast<float>(1.0 + 20 * coin(rng));
+    const int n = 1 + trial % 60;
+    const double clean = coin(rng);  // some messages nearly all common readings
+    for (int i = 0; i < n; ++i) {
+      float r = static_cast<float>(25 * coin(rng));
+      int8_t flag = laser_scan_t::FLAG_OK;
+      int32_t off = i * 100;
+      if (coin(rng) > clean) {
+        const double pick = coin(rng);
+        if (pick < 0.15) r = m.range_min;
+        else if (pick < 0.3) r = m.range_max;
+        else if (pick < 0.4) r = std::nextafter(m.range_max, inff);
+        else if (pick < 0.5) r = std::nextafter(m.range_min, -inff);
+        else if (pick < 0.55) r = coin(rng) < 0.5 ? 0.0f : -0.0f;
+        else if (pick < 0.6) r = -1.0f;
+        else if (pick < 0.65) r = nanf;
+        else if (pick < 0.7) r = coin(rng) < 0.5 ? inff : -inff;
+        else if (pick < 0.8) flag = laser_scan_t::FLAG_NO_RETURN;
+        else if (pick < 0.85) flag = static_cast<int8_t>(2 + static_cast<int>(coin(rng) * 100));
+        else if (pick < 0.9) off = -1 - static_cast<int32_t>(coin(rng) * 1000);
+      }
+      m.ranges.push_back(r);
+      m.flags.push_back(flag);
+      m.offset_us.push_back(off);
+    }
+    m.nranges = n;
+    std::vector<InputProblem> want_p, got_p;
+    setVectorPath(VectorPath::Scalar);
+    const std::optional<LaserScan> want = laserScanFromMessage(m, want_p);
+    setVectorPath(VectorPath::Avx2);
+    const std::optional<LaserScan> got = laserScanFromMessage(m, got_p);
+    ASSERT_TRUE(want && got) << "trial " << trial;
+    ASSERT_EQ(got->readings.size(), want->readings.size());
+    for (size_t i = 0; i < want->readings.size(); ++i) {
+      const LaserReading& a = got->readings[i];
+      const LaserReading& b = want->readings[i];
+      ASSERT_TRUE(a.utime == b.utime && sameBits(a.angle, b.angle) && sameBits(a.range, b.range) && a.valid == b.valid)
+          << "trial " << trial << ", reading " << i;
+    }
+    ASSERT_TRUE(sameScan(*got, *want)) << "trial " << trial;
+    ASSERT_EQ(got_p.size(), want_p.size()) << "trial " << trial;
+    for (size_t i = 0; i < want_p.size(); ++i) {
+      ASSERT_EQ(got_p[i].counter, want_p[i].counter) << "trial " << trial;
+      ASSERT_EQ(got_p[i].message, want_p[i].message) << "trial " << trial;
+    }
+    for (int i = 0; i + 4 <= n; i += 4) {  // groups the vector loop can take
+      bool common = true;
+      for (int k = i; k < i + 4; ++k)
+        common = common && m.flags[k] == laser_scan_t::FLAG_OK && m.offset_us[k] >= 0 && m.ranges[k] >= 0 &&
+                 m.ranges[k] <= m.range_max;
+      vector_groups += common;
+    }
+  }
+  EXPECT_GT(vector_groups, 1500);  // (the vector loop was exercised)
 }
