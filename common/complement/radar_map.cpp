@@ -12,8 +12,8 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-// The placement's AVX2 loop: compiled on x86-64 whatever the build's baseline (a function
-// attribute), run only where the CPU has AVX2 (asked at run time).
+// The AVX2 loops (placement, jump test, end-point fit): compiled on x86-64 whatever the build's
+// baseline (a function attribute), run only where the CPU has AVX2 (asked at run time).
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define LASONIC_AVX2_LOOP 1
