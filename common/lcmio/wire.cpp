@@ -137,7 +137,7 @@ int fastEncode(const sector_map_t& m, void* buf, int maxlen) {
   out += first;
   swap32(out, m.distance.data(), count);
   out += 4 * count;
-  std::memcpy(out, m.source.data(), count);
+  if (count > 0) std::memcpy(out, m.source.data(), count);  // (no sectors: source.data() may be null)
   out += count;
   swap32(out, m.laser_distance.data(), count);
   out += 4 * count;
