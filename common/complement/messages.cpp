@@ -2,11 +2,62 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+
+// laserScanFromMessage's AVX2 loop: compiled on x86-64 whatever the build's baseline (a
+// function attribute), run only where the CPU has AVX2 (complement::vectorPath()).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LASONIC_AVX2_LOOP 1
+#define LASONIC_AVX2 __attribute__((target("avx2")))
+#else
+#define LASONIC_AVX2_LOOP 0
+#endif
 
 namespace lasonic::complement {
 namespace {
+
+#if LASONIC_AVX2_LOOP
+static_assert(laser_scan_t::FLAG_OK == 0, "four flags compared as one zero word");
+static_assert(sizeof(LaserReading) == 32 && offsetof(LaserReading, utime) == 0 && offsetof(LaserReading, angle) == 8 &&
+                  offsetof(LaserReading, range) == 16 && offsetof(LaserReading, valid) == 24,
+              "a reading written as one row of four 64-bit words");
+// Readings i .. i + 3 where all four are the common case (offset >= 0, FLAG_OK, 0 <= range <=
+// range_max, compared as floats): the scalar loop's values (utime + offset, angle_min + i *
+// angle_increment, the range as a double, range >= range_min), each reading one row of the
+// transposed registers (valid as the word 1 or 0: the bool and zero padding). Otherwise false,
+// nothing written.
+LASONIC_AVX2 bool fourReadingsAvx2(size_t i, int64_t utime, double angle_min, double angle_increment, float range_min,
+                                   float range_max, const int32_t* offset_us, const int8_t* flags, const float* ranges,
+                                   LaserReading* out) {
+  int32_t four_flags;
+  std::memcpy(&four_flags, flags + i, 4);
+  if (four_flags != 0) return false;
+  const __m128i off = _mm_loadu_si128(reinterpret_cast<const __m128i*>(offset_us + i));
+  if (_mm_movemask_ps(_mm_castsi128_ps(off)) != 0) return false;  // a negative offset
+  const __m128 r = _mm_loadu_ps(ranges + i);
+  const __m128 ok = _mm_and_ps(_mm_cmpge_ps(r, _mm_setzero_ps()), _mm_cmple_ps(r, _mm_set1_ps(range_max)));
+  if (_mm_movemask_ps(ok) != 15) return false;  // (NaN fails both)
+  const __m256d u = _mm256_castsi256_pd(_mm256_add_epi64(_mm256_set1_epi64x(utime), _mm256_cvtepi32_epi64(off)));
+  const auto at = [i](size_t k) { return static_cast<double>(static_cast<int64_t>(i + k)); };
+  const __m256d a = _mm256_add_pd(_mm256_set1_pd(angle_min),
+                                  _mm256_mul_pd(_mm256_set_pd(at(3), at(2), at(1), at(0)), _mm256_set1_pd(angle_increment)));
+  const __m256d rd = _mm256_cvtps_pd(r);
+  const __m128i valid = _mm_srli_epi32(_mm_castps_si128(_mm_cmpge_ps(r, _mm_set1_ps(range_min))), 31);  // 1 or 0
+  const __m256d v = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(valid));
+  const __m256d t0 = _mm256_unpacklo_pd(u, a), t1 = _mm256_unpackhi_pd(u, a);   // (u0 a0 u2 a2), (u1 a1 u3 a3)
+  const __m256d t2 = _mm256_unpacklo_pd(rd, v), t3 = _mm256_unpackhi_pd(rd, v);  // (r0 v0 r2 v2), (r1 v1 r3 v3)
+  double* o = reinterpret_cast<double*>(out + i);
+  _mm256_storeu_pd(o, _mm256_permute2f128_pd(t0, t2, 0x20));
+  _mm256_storeu_pd(o + 4, _mm256_permute2f128_pd(t1, t3, 0x20));
+  _mm256_storeu_pd(o + 8, _mm256_permute2f128_pd(t0, t2, 0x31));
+  _mm256_storeu_pd(o + 12, _mm256_permute2f128_pd(t1, t3, 0x31));
+  return true;
+}
+#endif
 
 std::string num(double v) {
   char buf[32];
@@ -160,11 +211,36 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
   s.mount = {m.mount.x, m.mount.y, m.mount.theta};
   s.full_circle = static_cast<double>(n) * m.angle_increment >= 2.0 * geom::kPi - 1.5 * m.angle_increment;
   s.readings.resize(n);
+  // The arrays through local pointers: a problem appended below cannot make the compiler
+  // reload them (or the scalars) per reading.
+  const int64_t utime = m.utime;
+  const double angle_min = m.angle_min, angle_increment = m.angle_increment;
+  const float range_min = m.range_min, range_max = m.range_max;
+  const int32_t* offset_us = m.offset_us.data();
+  const int8_t* flags = m.flags.data();
+  const float* ranges = m.ranges.data();
+  LaserReading* readings = s.readings.data();
+#if LASONIC_AVX2_LOOP
+  const bool avx2 = vectorPath() == VectorPath::Avx2;
+#endif
   for (size_t i = 0; i < n; ++i) {
-    LaserReading& r = s.readings[i];
-    r.utime = m.utime + m.offset_us[i];
-    r.angle = m.angle_min + static_cast<double>(i) * m.angle_increment;
-    r.range = m.ranges[i];
+#if LASONIC_AVX2_LOOP
+    // Four at a time from each multiple of four where all four are the common case.
+    if (avx2 && (i & 3) == 0 && i + 4 <= n &&
+        fourReadingsAvx2(i, utime, angle_min, angle_increment, range_min, range_max, offset_us, flags, ranges, readings)) {
+      i += 3;
+      continue;
+    }
+#endif
+    LaserReading& r = readings[i];
+    r.utime = utime + offset_us[i];
+    r.angle = angle_min + static_cast<double>(static_cast<int64_t>(i)) * angle_increment;  // (the same double: i < 2^31)
+    r.range = ranges[i];
+    // The common case first: a return within [range_min, range_max] (or below range_min).
+    if (offset_us[i] >= 0 && flags[i] == laser_scan_t::FLAG_OK && ranges[i] >= 0 && ranges[i] <= range_max) {
+      r.valid = ranges[i] >= range_min;
+      continue;
+    }
     if (m.offset_us[i] < 0) {
       problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", i) + " = " +
                                                        std::to_string(m.offset_us[i]) + " (must be >= 0)"});

@@ -3,10 +3,24 @@
 #include "core/pose_history.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+// The AVX2 loops (placement, jump test, end-point fit): compiled on x86-64 whatever the build's
+// baseline (a function attribute), run only where the CPU has AVX2 (asked at run time).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LASONIC_AVX2_LOOP 1
+#define LASONIC_AVX2 __attribute__((target("avx2")))  // not "fma": a fused a * b + c rounds once
+#else
+#define LASONIC_AVX2_LOOP 0
+#endif
 
 namespace lasonic::complement {
 
@@ -18,13 +32,19 @@ namespace {
 class CachedRotation {
  public:
   Vec2 transform(const geom::Pose2& f, const Vec2& l) {
-    if (std::memcmp(&f.theta, &theta_, sizeof theta_) != 0) {
-      theta_ = f.theta;
+    use(f.theta);
+    return {f.x + c_ * l.x() - s_ * l.y(), f.y + s_ * l.x() + c_ * l.y()};
+  }
+  // The cos and sin transform(f, l) uses for f.theta == theta: c(), s().
+  void use(double theta) {
+    if (std::memcmp(&theta, &theta_, sizeof theta_) != 0) {
+      theta_ = theta;
       c_ = std::cos(theta_);
       s_ = std::sin(theta_);
     }
-    return {f.x + c_ * l.x() - s_ * l.y(), f.y + s_ * l.x() + c_ * l.y()};
   }
+  double c() const { return c_; }
+  double s() const { return s_; }
 
  private:
   double theta_ = std::numeric_limits<double>::quiet_NaN(), c_ = 0, s_ = 0;
@@ -41,12 +61,21 @@ class UnitVectors {
     if (std::memcmp(&e.angle, &angle, sizeof angle) != 0) e = {angle, geom::unitVector(angle)};
     return e.u;
   }
-
- private:
   struct Entry {
     double angle;
     Vec2 u;
   };
+  // Entry i holds at(i, r[i].angle) for every valid reading i of r[0 .. n-1].
+  const Entry* prepare(const LaserReading* r, size_t n) {
+    if (n > cache_.size()) cache_.resize(n, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
+    for (size_t i = 0; i < n; ++i) {
+      Entry& e = cache_[i];
+      if (r[i].valid && std::memcmp(&e.angle, &r[i].angle, sizeof e.angle) != 0) e = {r[i].angle, geom::unitVector(r[i].angle)};
+    }
+    return cache_.data();
+  }
+
+ private:
   std::vector<Entry> cache_;
 };
 }  // namespace
@@ -79,24 +108,164 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
   return placeWith(scan, pose_at, no_pose);
 }
 
+namespace {
+VectorPath widestPath() {
+#if LASONIC_AVX2_LOOP
+  __builtin_cpu_init();  // (in case this runs before the constructors)
+  if (__builtin_cpu_supports("avx2")) return VectorPath::Avx2;
+#endif
+#if defined(__SSE2__)
+  return VectorPath::Sse2;
+#else
+  return VectorPath::Scalar;
+#endif
+}
+
+std::atomic<VectorPath>& pathInUse() {
+  static std::atomic<VectorPath> path{widestPath()};  // the CPU asked once
+  return path;
+}
+}  // namespace
+
+void setVectorPath(VectorPath widest) { pathInUse().store(std::min(widest, widestPath()), std::memory_order_relaxed); }
+VectorPath vectorPath() { return pathInUse().load(std::memory_order_relaxed); }
+
+namespace {
+// placeReadings' vector loops: W readings of one odometry interval at a time, where the cursor
+// interpolates there by the series (PoseHistory::Cursor::seriesAt). Each lane does the scalar
+// loop's operations on one reading, in the same order and rounded the same way (no fused
+// multiply-add: the AVX2 loop is compiled for "avx2" alone), so every value is the scalar one.
+//   f = double(t - lo) / den, phi = f * dtheta, q = phi * phi, the series sp and cp,
+//   c = ca * cp - sa * sp, s = sa * cp + ca * sp, robot (ax + f * dx, ay + f * dy),
+//   out = (rx + c * lx - s * ly, ry + s * lx + c * ly), (lx, ly) the reading in the robot frame.
+using Cursor = PoseHistory::Cursor;
+
+// Readings i .. i + w - 1 are valid and inside the cursor's interval, which interpolates by the
+// series (entered for reading i if needed).
+inline bool lanesInInterval(Cursor& cursor, const LaserReading* r, size_t w) {
+  if (!r[0].valid || !cursor.seriesAt(r[0].utime)) return false;
+  for (size_t k = 0; k < w; ++k)
+    if (!r[k].valid || !(cursor.lo() < r[k].utime && r[k].utime <= cursor.hi())) return false;
+  return true;
+}
+
+#if defined(__SSE2__)
+void placeTwoSse2(const Cursor& cu, const LaserReading* r, const double* lx, const double* ly, ScanPoint* out) {
+  const __m128d f = _mm_div_pd(_mm_set_pd(static_cast<double>(r[1].utime - cu.lo()),
+                                          static_cast<double>(r[0].utime - cu.lo())),
+                               _mm_set1_pd(cu.den()));
+  const __m128d phi = _mm_mul_pd(f, _mm_set1_pd(cu.dtheta()));
+  const __m128d rx = _mm_add_pd(_mm_set1_pd(cu.ax()), _mm_mul_pd(f, _mm_set1_pd(cu.dx())));
+  const __m128d ry = _mm_add_pd(_mm_set1_pd(cu.ay()), _mm_mul_pd(f, _mm_set1_pd(cu.dy())));
+  const __m128d q = _mm_mul_pd(phi, phi);
+  const auto k = [](double v) { return _mm_set1_pd(v); };
+  __m128d ps = _mm_add_pd(k(Cursor::s9), _mm_mul_pd(q, k(Cursor::s11)));
+  ps = _mm_add_pd(k(Cursor::s7), _mm_mul_pd(q, ps));
+  ps = _mm_add_pd(k(Cursor::s5), _mm_mul_pd(q, ps));
+  ps = _mm_add_pd(k(Cursor::s3), _mm_mul_pd(q, ps));
+  const __m128d sp = _mm_add_pd(phi, _mm_mul_pd(_mm_mul_pd(phi, q), ps));
+  __m128d pc = _mm_add_pd(k(Cursor::c8), _mm_mul_pd(q, k(Cursor::c10)));
+  pc = _mm_add_pd(k(Cursor::c6), _mm_mul_pd(q, pc));
+  pc = _mm_add_pd(k(Cursor::c4), _mm_mul_pd(q, pc));
+  pc = _mm_add_pd(k(Cursor::c2), _mm_mul_pd(q, pc));
+  const __m128d cp = _mm_add_pd(k(1.0), _mm_mul_pd(q, pc));
+  const __m128d ca = k(cu.ca()), sa = k(cu.sa());
+  const __m128d c = _mm_sub_pd(_mm_mul_pd(ca, cp), _mm_mul_pd(sa, sp));
+  const __m128d s = _mm_add_pd(_mm_mul_pd(sa, cp), _mm_mul_pd(ca, sp));
+  const __m128d x = _mm_loadu_pd(lx), y = _mm_loadu_pd(ly);
+  const __m128d ox = _mm_sub_pd(_mm_add_pd(rx, _mm_mul_pd(c, x)), _mm_mul_pd(s, y));
+  const __m128d oy = _mm_add_pd(_mm_add_pd(ry, _mm_mul_pd(s, x)), _mm_mul_pd(c, y));
+  _mm_storeu_pd(out[0].p.data(), _mm_unpacklo_pd(ox, oy));
+  _mm_storeu_pd(out[1].p.data(), _mm_unpackhi_pd(ox, oy));
+  for (size_t j = 0; j < 2; ++j) out[j].range = r[j].range, out[j].valid = true;
+}
+#endif
+
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 void placeFourAvx2(const Cursor& cu, const LaserReading* r, const double* lx, const double* ly,
+                                ScanPoint* out) {
+  const __m256d f = _mm256_div_pd(
+      _mm256_set_pd(static_cast<double>(r[3].utime - cu.lo()), static_cast<double>(r[2].utime - cu.lo()),
+                    static_cast<double>(r[1].utime - cu.lo()), static_cast<double>(r[0].utime - cu.lo())),
+      _mm256_set1_pd(cu.den()));
+  const __m256d phi = _mm256_mul_pd(f, _mm256_set1_pd(cu.dtheta()));
+  const __m256d rx = _mm256_add_pd(_mm256_set1_pd(cu.ax()), _mm256_mul_pd(f, _mm256_set1_pd(cu.dx())));
+  const __m256d ry = _mm256_add_pd(_mm256_set1_pd(cu.ay()), _mm256_mul_pd(f, _mm256_set1_pd(cu.dy())));
+  const __m256d q = _mm256_mul_pd(phi, phi);
+  __m256d ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s9), _mm256_mul_pd(q, _mm256_set1_pd(Cursor::s11)));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s7), _mm256_mul_pd(q, ps));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s5), _mm256_mul_pd(q, ps));
+  ps = _mm256_add_pd(_mm256_set1_pd(Cursor::s3), _mm256_mul_pd(q, ps));
+  const __m256d sp = _mm256_add_pd(phi, _mm256_mul_pd(_mm256_mul_pd(phi, q), ps));
+  __m256d pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c8), _mm256_mul_pd(q, _mm256_set1_pd(Cursor::c10)));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c6), _mm256_mul_pd(q, pc));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c4), _mm256_mul_pd(q, pc));
+  pc = _mm256_add_pd(_mm256_set1_pd(Cursor::c2), _mm256_mul_pd(q, pc));
+  const __m256d cp = _mm256_add_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(q, pc));
+  const __m256d ca = _mm256_set1_pd(cu.ca()), sa = _mm256_set1_pd(cu.sa());
+  const __m256d c = _mm256_sub_pd(_mm256_mul_pd(ca, cp), _mm256_mul_pd(sa, sp));
+  const __m256d s = _mm256_add_pd(_mm256_mul_pd(sa, cp), _mm256_mul_pd(ca, sp));
+  const __m256d x = _mm256_loadu_pd(lx), y = _mm256_loadu_pd(ly);
+  const __m256d ox = _mm256_sub_pd(_mm256_add_pd(rx, _mm256_mul_pd(c, x)), _mm256_mul_pd(s, y));
+  const __m256d oy = _mm256_add_pd(_mm256_add_pd(ry, _mm256_mul_pd(s, x)), _mm256_mul_pd(c, y));
+  const __m256d even = _mm256_unpacklo_pd(ox, oy), odd = _mm256_unpackhi_pd(ox, oy);  // (x0 y0 x2 y2), (x1 y1 x3 y3)
+  _mm_storeu_pd(out[0].p.data(), _mm256_castpd256_pd128(even));
+  _mm_storeu_pd(out[1].p.data(), _mm256_castpd256_pd128(odd));
+  _mm_storeu_pd(out[2].p.data(), _mm256_extractf128_pd(even, 1));
+  _mm_storeu_pd(out[3].p.data(), _mm256_extractf128_pd(odd, 1));
+  for (size_t j = 0; j < 4; ++j) out[j].range = r[j].range, out[j].valid = true;
+}
+#endif
+}  // namespace
+
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
   // As placeWith, with the robot's rotation from the cursor (angle addition while it turns).
-  std::vector<ScanPoint> out(scan.readings.size());
-  int missing = 0;
-  CachedRotation mount_rot;
+  const size_t n = scan.readings.size();
+  std::vector<ScanPoint> out(n);
+  // First each valid reading in the robot frame (the mount's rotation and the reading's own
+  // direction do not depend on the pose), then each placed with its pose.
   thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
+  thread_local std::vector<double> lx, ly;  // (scratch)
+  lx.resize(n);
+  ly.resize(n);
+  CachedRotation mount_rot;  // (CachedRotation::transform's values, its cos and sin taken once)
+  mount_rot.use(scan.mount.theta);
+  const double mc = mount_rot.c(), ms = mount_rot.s(), mx = scan.mount.x, my = scan.mount.y;
+  const LaserReading* rd = scan.readings.data();
+  const UnitVectors::Entry* u = unit.prepare(rd, n);
+  for (size_t i = 0; i < n; ++i) {
+    // mount_rot.transform(scan.mount, range * u), for valid readings (others: not used)
+    const double x = rd[i].range * u[i].u.x(), y = rd[i].range * u[i].u.y();
+    lx[i] = mx + mc * x - ms * y;
+    ly[i] = my + ms * x + mc * y;
+  }
+  int missing = 0;
   PoseHistory::Cursor cursor(poses);
-  for (size_t i = 0; i < scan.readings.size(); ++i) {
-    const LaserReading& r = scan.readings[i];
-    if (!r.valid) continue;
-    double c = 1, s = 0;
-    const auto robot = cursor.atRotated(r.utime, c, s);
-    if (!robot) {
-      ++missing;
+  const VectorPath path = vectorPath();
+  for (size_t i = 0; i < n;) {
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2 && i + 4 <= n && lanesInInterval(cursor, rd + i, 4)) {
+      placeFourAvx2(cursor, rd + i, lx.data() + i, ly.data() + i, out.data() + i);
+      i += 4;
       continue;
     }
-    const Vec2 l = mount_rot.transform(scan.mount, r.range * unit.at(i, r.angle));
-    out[i] = {Vec2(robot->x + c * l.x() - s * l.y(), robot->y + s * l.x() + c * l.y()), r.range, true};
+#endif
+#if defined(__SSE2__)
+    if (path != VectorPath::Scalar && i + 2 <= n && lanesInInterval(cursor, rd + i, 2)) {
+      placeTwoSse2(cursor, rd + i, lx.data() + i, ly.data() + i, out.data() + i);
+      i += 2;
+      continue;
+    }
+#endif
+    const LaserReading& r = rd[i];
+    if (r.valid) {
+      double c = 1, s = 0;
+      if (const auto robot = cursor.atRotated(r.utime, c, s))
+        out[i] = {Vec2(robot->x + c * lx[i] - s * ly[i], robot->y + s * lx[i] + c * ly[i]), r.range, true};
+      else
+        ++missing;
+    }
+    ++i;
   }
   if (no_pose) *no_pose = missing;
   return out;
@@ -119,6 +288,88 @@ bool isJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
   // (a.p - b.p).norm() > threshold
   return rootGreater((a.p - b.p).squaredNorm(), cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range));
 }
+
+// Point b cannot continue the cluster of point a, its predecessor.
+inline bool breakBetween(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) {
+  return !a.valid || !b.valid || isJump(a, b, cfg);
+}
+
+// The jump test's vector loops: W neighbouring pairs at a time, each lane rootGreater's
+// operations on one pair (d2 = dx * dx + dy * dy, t = jump_abs + jump_rel * min(range), the
+// squares against t * t (1 +- 2^-48)); a lane the squares leave undecided (t outside
+// (1e-150, 1e150), d2 within the band or NaN) and a lane with an invalid point go the scalar
+// way. _mm_min_pd(b, a) is std::min(a, b) (b < a ? b : a) whatever the values.
+#if defined(__SSE2__)
+// brk[k] = breakBetween(p[k - 1], p[k]) for k = 1, 2; returns false (nothing written) if a lane
+// needs the scalar test.
+inline bool twoBreaksSse2(const ScanPoint* p, const RadarMapConfig& cfg, uint8_t* brk) {
+  const __m128d p0 = _mm_loadu_pd(p[0].p.data()), p1 = _mm_loadu_pd(p[1].p.data()), p2 = _mm_loadu_pd(p[2].p.data());
+  const __m128d dx = _mm_sub_pd(_mm_unpacklo_pd(p0, p1), _mm_unpacklo_pd(p1, p2));
+  const __m128d dy = _mm_sub_pd(_mm_unpackhi_pd(p0, p1), _mm_unpackhi_pd(p1, p2));
+  const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+  const __m128d ra = _mm_set_pd(p[1].range, p[0].range), rb = _mm_set_pd(p[2].range, p[1].range);
+  const __m128d t = _mm_add_pd(_mm_set1_pd(cfg.jump_abs), _mm_mul_pd(_mm_set1_pd(cfg.jump_rel), _mm_min_pd(rb, ra)));
+  const __m128d t2 = _mm_mul_pd(t, t);
+  const __m128d above = _mm_cmpgt_pd(d2, _mm_mul_pd(t2, _mm_set1_pd(1.0 + 0x1p-48)));
+  const __m128d below = _mm_cmplt_pd(d2, _mm_mul_pd(t2, _mm_set1_pd(1.0 - 0x1p-48)));
+  const __m128d safe = _mm_and_pd(_mm_cmpgt_pd(t, _mm_set1_pd(1e-150)), _mm_cmplt_pd(t, _mm_set1_pd(1e150)));
+  const int decided = _mm_movemask_pd(_mm_and_pd(safe, _mm_or_pd(above, below)));
+  if (decided != 3 || !(p[0].valid && p[1].valid && p[2].valid)) return false;
+  const int jump = _mm_movemask_pd(above);
+  brk[1] = static_cast<uint8_t>(jump & 1);
+  brk[2] = static_cast<uint8_t>((jump >> 1) & 1);
+  return true;
+}
+#endif
+
+#if LASONIC_AVX2_LOOP
+// brk[k] = breakBetween(p[k - 1], p[k]) for k = 1 .. 4, as twoBreaksSse2.
+LASONIC_AVX2 bool fourBreaksAvx2(const ScanPoint* p, const RadarMapConfig& cfg, uint8_t* brk) {
+  // (x0 y0 x2 y2), (x1 y1 x3 y3), (x2 y2 x4 y4): the x and y of points 0-3 and of points 1-4.
+  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].p.data()), _mm_loadu_pd(p[0].p.data()));
+  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].p.data()), _mm_loadu_pd(p[1].p.data()));
+  const __m256d c = _mm256_set_m128d(_mm_loadu_pd(p[4].p.data()), _mm_loadu_pd(p[2].p.data()));
+  const __m256d dx = _mm256_sub_pd(_mm256_unpacklo_pd(a, b), _mm256_unpacklo_pd(b, c));
+  const __m256d dy = _mm256_sub_pd(_mm256_unpackhi_pd(a, b), _mm256_unpackhi_pd(b, c));
+  const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+  const __m256d ra = _mm256_set_pd(p[3].range, p[2].range, p[1].range, p[0].range);
+  const __m256d rb = _mm256_set_pd(p[4].range, p[3].range, p[2].range, p[1].range);
+  const __m256d t = _mm256_add_pd(_mm256_set1_pd(cfg.jump_abs),
+                                  _mm256_mul_pd(_mm256_set1_pd(cfg.jump_rel), _mm256_min_pd(rb, ra)));
+  const __m256d t2 = _mm256_mul_pd(t, t);
+  const __m256d above = _mm256_cmp_pd(d2, _mm256_mul_pd(t2, _mm256_set1_pd(1.0 + 0x1p-48)), _CMP_GT_OS);
+  const __m256d below = _mm256_cmp_pd(d2, _mm256_mul_pd(t2, _mm256_set1_pd(1.0 - 0x1p-48)), _CMP_LT_OS);
+  const __m256d safe = _mm256_and_pd(_mm256_cmp_pd(t, _mm256_set1_pd(1e-150), _CMP_GT_OS),
+                                     _mm256_cmp_pd(t, _mm256_set1_pd(1e150), _CMP_LT_OS));
+  const int decided = _mm256_movemask_pd(_mm256_and_pd(safe, _mm256_or_pd(above, below)));
+  if (decided != 15 || !(p[0].valid && p[1].valid && p[2].valid && p[3].valid && p[4].valid)) return false;
+  const int jump = _mm256_movemask_pd(above);
+  for (int k = 0; k < 4; ++k) brk[k + 1] = static_cast<uint8_t>((jump >> k) & 1);
+  return true;
+}
+#endif
+
+// brk[i] = breakBetween(points[i - 1], points[i]) for 1 <= i < n.
+void jumpBreaks(const ScanPoint* points, size_t n, const RadarMapConfig& cfg, uint8_t* brk) {
+  const VectorPath path = vectorPath();
+  size_t i = 1;  // the next pair (i - 1, i)
+  while (i < n) {
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2 && i + 4 <= n && fourBreaksAvx2(points + i - 1, cfg, brk + i - 1)) {
+      i += 4;
+      continue;
+    }
+#endif
+#if defined(__SSE2__)
+    if (path != VectorPath::Scalar && i + 2 <= n && twoBreaksSse2(points + i - 1, cfg, brk + i - 1)) {
+      i += 2;
+      continue;
+    }
+#endif
+    brk[i] = breakBetween(points[i - 1], points[i], cfg);
+    ++i;
+  }
+}
 }  // namespace
 
 std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
@@ -126,17 +377,15 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
   const size_t n = points.size();
   std::vector<Cluster> clusters;
   if (n == 0) return clusters;
-  // breakBefore(i): point i cannot continue the cluster of point i-1.
-  auto breakBefore = [&](size_t i) {
-    if (i == 0 && !full_circle) return true;
-    const ScanPoint& prev = points[i == 0 ? n - 1 : i - 1];
-    const ScanPoint& cur = points[i];
-    return !prev.valid || !cur.valid || isJump(prev, cur, cfg);
-  };
+  // brk[i]: point i cannot continue the cluster of point i-1 (of the last point for i = 0).
+  thread_local std::vector<uint8_t> brk;  // (scratch)
+  brk.resize(n);
+  brk[0] = !full_circle || breakBetween(points[n - 1], points[0], cfg);
+  jumpBreaks(points.data(), n, cfg, brk.data());
   // Start at a break so that a cluster spanning the end of a full circle stays whole.
   std::optional<size_t> start;
   for (size_t i = 0; i < n && !start; ++i)
-    if (breakBefore(i)) start = i;
+    if (brk[i]) start = i;
   if (!start) {  // a full circle without a single break
     Cluster all;
     all.points.reserve(n);
@@ -145,20 +394,22 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
     clusters.push_back(std::move(all));
     return clusters;
   }
-  // Each cluster's points are gathered in one buffer and copied out once, at their number.
-  std::vector<geom::Vec2> cur;
-  cur.reserve(n);
-  const auto close = [&] {
-    if (cur.empty()) return;
-    clusters.emplace_back();
-    clusters.back().points.assign(cur.begin(), cur.end());
-    cur.clear();
-  };
-  for (size_t k = 0, i = *start; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {  // i = (start + k) % n
-    if (k > 0 && breakBefore(i)) close();
-    if (points[i].valid) cur.push_back(points[i].p);
+  // Each run from a break to the next (the last one on round the end to the first break) is a
+  // cluster: a point without a break before it is valid and so is its predecessor, so a run's
+  // points are all valid -- but for a run of one invalid point, which gives no cluster.
+  size_t s = *start;
+  while (true) {
+    const void* hit = s + 1 < n ? std::memchr(brk.data() + s + 1, 1, n - s - 1) : nullptr;
+    const size_t e = hit ? static_cast<size_t>(static_cast<const uint8_t*>(hit) - brk.data()) : n;
+    const size_t len = e - s + (e == n ? *start : 0);
+    if (points[s].valid) {
+      std::vector<geom::Vec2>& out = clusters.emplace_back().points;
+      out.resize(len);
+      for (size_t k = 0, i = s; k < len; ++k, i = i + 1 == n ? 0 : i + 1) out[k] = points[i].p;
+    }
+    if (e == n) break;
+    s = e;
   }
-  close();
   return clusters;
 }
 
@@ -175,6 +426,11 @@ class ChordDistance {
     const Vec2 closest = a_ + u * e_;
     return (closest - p).squaredNorm();
   }
+  // out[k] = squared(p[k]) for k < count.
+  void squaredMany(const Vec2* p, size_t count, double* out) const;
+  // The end-point fit's choice over p[0 .. count-1] in order, from the leader (m2, at): a point
+  // takes over when its square is larger and so is its root (takeOver).
+  void farthest(const Vec2* p, size_t count, double& m2, size_t& at) const;
 
  private:
   Vec2 a_, e_;
@@ -187,20 +443,109 @@ inline bool rootOfLarger(double d2, double m2) {
   return d2 > m2 * (1.0 + 0x1p-48) || std::sqrt(d2) > std::sqrt(m2);
 }
 
+// Point k, at squared distance d2, becomes the leader (m2, at): the first point farthest from the
+// chord, a later one only if its distance (the root) is larger. m2 < 0: none yet; NaN never.
+inline void takeOver(double d2, size_t k, double& m2, size_t& at) {
+  if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {
+    m2 = d2;
+    at = k;
+  }
+}
+
+// squared()'s vector loops, each lane its operations on one point in the same order: w = p - a,
+// u = clamp((w.x e.x + w.y e.y) / l2, 0, 1) (_mm_max_pd(0, v) is std::max(v, 0) and
+// _mm_min_pd(1, t) std::min(t, 1), whatever the values), c = a + u e, (c.x - p.x)^2 + (c.y - p.y)^2.
+// Only for l2 > 0 or NaN (the other branch goes the scalar way). The choice goes on lane by lane
+// in order where a lane's square is larger than the leader's; none is, none can take over.
+#if defined(__SSE2__)
+inline __m128d chordSquaresSse2(__m128d x, __m128d y, const double* k) {  // k: ax ay ex ey l2
+  const __m128d ax = _mm_set1_pd(k[0]), ay = _mm_set1_pd(k[1]), ex = _mm_set1_pd(k[2]), ey = _mm_set1_pd(k[3]);
+  const __m128d dot = _mm_add_pd(_mm_mul_pd(_mm_sub_pd(x, ax), ex), _mm_mul_pd(_mm_sub_pd(y, ay), ey));
+  const __m128d u = _mm_min_pd(_mm_set1_pd(1.0), _mm_max_pd(_mm_setzero_pd(), _mm_div_pd(dot, _mm_set1_pd(k[4]))));
+  const __m128d cx = _mm_sub_pd(_mm_add_pd(ax, _mm_mul_pd(u, ex)), x);
+  const __m128d cy = _mm_sub_pd(_mm_add_pd(ay, _mm_mul_pd(u, ey)), y);
+  return _mm_add_pd(_mm_mul_pd(cx, cx), _mm_mul_pd(cy, cy));
+}
+inline __m128d chordSquaresSse2(const Vec2* p, const double* k) {  // p[0], p[1]
+  const __m128d a = _mm_loadu_pd(p[0].data()), b = _mm_loadu_pd(p[1].data());
+  return chordSquaresSse2(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b), k);
+}
+#endif
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k) {  // p[0 .. 3]
+  const __m256d ax = _mm256_set1_pd(k[0]), ay = _mm256_set1_pd(k[1]), ex = _mm256_set1_pd(k[2]),
+                ey = _mm256_set1_pd(k[3]);
+  // (x0 y0 x2 y2), (x1 y1 x3 y3) -> (x0 x1 x2 x3), (y0 y1 y2 y3)
+  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].data()), _mm_loadu_pd(p[0].data()));
+  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].data()), _mm_loadu_pd(p[1].data()));
+  const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
+  const __m256d dot = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
+  const __m256d u =
+      _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_div_pd(dot, _mm256_set1_pd(k[4]))));
+  const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
+  const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
+  return _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy));
+}
+LASONIC_AVX2 size_t chordSquaresAvx2(const Vec2* p, size_t count, const double* k, double* out) {
+  size_t i = 0;
+  for (; i + 4 <= count; i += 4) _mm256_storeu_pd(out + i, chordSquaresAvx2(p + i, k));
+  return i;
+}
+LASONIC_AVX2 size_t farthestAvx2(const Vec2* p, size_t count, const double* k, double& m2, size_t& at) {
+  size_t i = 0;
+  for (; i + 4 <= count; i += 4) {
+    const __m256d d2 = chordSquaresAvx2(p + i, k);
+    if (_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_set1_pd(m2), _CMP_GT_OQ)) == 0) continue;
+    alignas(32) double v[4];
+    _mm256_store_pd(v, d2);
+    for (size_t l = 0; l < 4; ++l) takeOver(v[l], i + l, m2, at);
+  }
+  return i;
+}
+#endif
+
+void ChordDistance::squaredMany(const Vec2* p, size_t count, double* out) const {
+  size_t i = 0;
+  if (!(l2_ <= 0.0)) {
+    const double k[5] = {a_.x(), a_.y(), e_.x(), e_.y(), l2_};
+    const VectorPath path = vectorPath();
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2) i = chordSquaresAvx2(p, count, k, out);
+#endif
+#if defined(__SSE2__)
+    for (; path != VectorPath::Scalar && i + 2 <= count; i += 2) _mm_storeu_pd(out + i, chordSquaresSse2(p + i, k));
+#endif
+  }
+  for (; i < count; ++i) out[i] = squared(p[i]);
+}
+
+void ChordDistance::farthest(const Vec2* p, size_t count, double& m2, size_t& at) const {
+  size_t i = 0;
+  if (!(l2_ <= 0.0)) {
+    const double k[5] = {a_.x(), a_.y(), e_.x(), e_.y(), l2_};
+    const VectorPath path = vectorPath();
+#if LASONIC_AVX2_LOOP
+    if (path == VectorPath::Avx2) i = farthestAvx2(p, count, k, m2, at);
+#endif
+#if defined(__SSE2__)
+    for (; path != VectorPath::Scalar && i + 2 <= count; i += 2) {
+      const __m128d d2 = chordSquaresSse2(p + i, k);
+      if (_mm_movemask_pd(_mm_cmpgt_pd(d2, _mm_set1_pd(m2))) == 0) continue;
+      takeOver(_mm_cvtsd_f64(d2), i, m2, at);
+      takeOver(_mm_cvtsd_f64(_mm_unpackhi_pd(d2, d2)), i + 1, m2, at);
+    }
+#endif
+  }
+  for (; i < count; ++i) takeOver(squared(p[i]), i, m2, at);
+}
+
 void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double threshold,
                     std::vector<IndexRange>& out) {
-  // The first point farthest from the chord: a point takes over only if its distance (the root
-  // of its square) is larger, so ties keep the first. m2: the leader's square, -1 for none.
+  // The first point farthest from the chord (takeOver). m2: the leader's square, -1 for none.
   double m2 = -1;
-  size_t kmax = i;
-  const ChordDistance distance(geom::Segment{pts[i], pts[j]});
-  for (size_t k = i + 1; k < j; ++k) {
-    const double d2 = distance.squared(pts[k]);
-    if (d2 > m2 && (m2 < 0 || rootOfLarger(d2, m2))) {  // (NaN never takes over)
-      m2 = d2;
-      kmax = k;
-    }
-  }
+  size_t kmax = 0;  // (offset from i + 1)
+  if (j > i + 1) ChordDistance(geom::Segment{pts[i], pts[j]}).farthest(pts.data() + i + 1, j - i - 1, m2, kmax);
+  kmax = m2 < 0 ? i : i + 1 + kmax;
   const double dmax = m2 < 0 ? -1.0 : std::sqrt(m2);
   if (dmax < threshold) {
     out.push_back({i, j});
@@ -210,6 +555,10 @@ void splitRecursive(const std::vector<Vec2>& pts, size_t i, size_t j, double thr
   splitRecursive(pts, kmax, j, threshold, out);
 }
 }  // namespace
+
+void chordSquaredDistances(const geom::Segment& chord, const Vec2* points, size_t count, double* out) {
+  ChordDistance(chord).squaredMany(points, count, out);
+}
 
 std::vector<IndexRange> iterativeEndPointFit(const std::vector<Vec2>& points, IndexRange r,
                                              double threshold) {

@@ -111,6 +111,14 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
 // The same with the poses of an odometry history (PoseHistory::at), found interval by interval.
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
 
+// The widest vector loop placeReadings (from a PoseHistory) and splitClusters may use; all give
+// the same values, bit for bit. By default the widest the CPU has (AVX2 where there, else SSE2);
+// tests set a narrower one to compare them. Process-wide; a path the CPU lacks is narrowed to
+// one it has.
+enum class VectorPath { Scalar, Sse2, Avx2 };
+void setVectorPath(VectorPath widest);
+VectorPath vectorPath();
+
 // Runs of valid consecutive points without a jump. For a full-circle scan a run that crosses
 // the end of the list continues at its start; if nothing breaks the circle at all (a closed room
 // seen without a gap) the one cluster is `closed`.
@@ -125,6 +133,10 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
 // A closed cluster is first cut at one of its corners, so no wall is split at the scan's seam,
 // and its last and first segments are joined like every other corner.
 std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg);
+
+// out[k] = the square of geom::distance(chord, points[k]) for k < count, bit for bit (the
+// squared norm of closestPoint(chord, p) - p): the end-point fit's distances.
+void chordSquaredDistances(const geom::Segment& chord, const geom::Vec2* points, size_t count, double* out);
 
 // Iterative end-point fit of points[r]: split at the point farthest from the chord until every
 // point lies within `threshold` of it. The split point belongs to both halves (a corner).

@@ -44,6 +44,7 @@ const std::optional<LaserScan>& SharedPlacement::scanFrom(const laser_scan_t& m,
   if (!have_msg_ || !sameMessage(m, msg_)) {
     msg_problems_.clear();
     scan_from_msg_ = laserScanFromMessage(m, msg_problems_);
+    ++msg_generation_;
     msg_ = m;
     have_msg_ = true;
   }
@@ -52,13 +53,23 @@ const std::optional<LaserScan>& SharedPlacement::scanFrom(const laser_scan_t& m,
 }
 
 const std::vector<ScanPoint>& SharedPlacement::place(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
-  if (have_ && sameScan(scan, scan_) && poses.sameAs(poses_)) {
+  // The scan scanFrom returned (the stages pass it on) is the one the result was computed from
+  // if no other was computed since; any other scan is compared with a copy.
+  const bool from_message = scan_from_msg_ && &scan == &*scan_from_msg_;
+  const bool same_scan = from_message ? from_ == From::Message && from_generation_ == msg_generation_
+                                      : from_ == From::Copy && sameScan(scan, scan_);
+  if (same_scan && poses.sameAs(poses_)) {
     ++reused_;
   } else {
     points_ = placeReadings(scan, poses, &no_pose_);
-    scan_ = scan;
+    if (from_message) {
+      from_ = From::Message;
+      from_generation_ = msg_generation_;
+    } else {
+      from_ = From::Copy;
+      scan_ = scan;
+    }
     poses_ = poses;
-    have_ = true;
     ++computed_;
   }
   if (no_pose) *no_pose = no_pose_;

@@ -35,8 +35,12 @@ class SharedPlacement {
   laser_scan_t msg_;  // what scan_from_msg_ was made from
   std::optional<LaserScan> scan_from_msg_;
   std::vector<InputProblem> msg_problems_;
-  bool have_ = false;
-  LaserScan scan_;     // what the stored result was computed from
+  uint64_t msg_generation_ = 0;  // counts the scans scanFrom computed
+  // What the stored result was computed from: scanFrom's scan of one generation (known equal to
+  // it as long as no other was computed since, without a copy or a comparison), or a copy.
+  enum class From { Nothing, Message, Copy } from_ = From::Nothing;
+  uint64_t from_generation_ = 0;
+  LaserScan scan_;     // (From::Copy)
   PoseHistory poses_;
   std::vector<ScanPoint> points_;
   int no_pose_ = 0;

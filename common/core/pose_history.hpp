@@ -40,6 +40,10 @@ class PoseHistory {
       return geom::Pose2{a_.x + s * dx_, a_.y + s * dy_, geom::normalizeAngle(a_.theta + s * dtheta_)};
     }
 
+    // atRotated's series. sin: phi - phi^3/3! + ... - phi^11/11!, cos: 1 - phi^2/2! + ... - phi^10/10!.
+    static constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880, s11 = -1.0 / 39916800;
+    static constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320, c10 = -1.0 / 3628800;
+
     // at(utime), and the cos and sin of its heading. Inside an interval that turns by at most
     // 0.1 rad (a robot at 5 rad/s with 50 Hz odometry) they come by angle addition from the
     // interval's first heading, whose cos and sin are taken once, and a Taylor series of the
@@ -59,15 +63,32 @@ class PoseHistory {
         return p;
       }
       const double q = phi * phi;
-      // sin: phi - phi^3/3! + ... - phi^11/11!, cos: 1 - phi^2/2! + ... - phi^10/10!.
-      constexpr double s3 = -1.0 / 6, s5 = 1.0 / 120, s7 = -1.0 / 5040, s9 = 1.0 / 362880, s11 = -1.0 / 39916800;
-      constexpr double c2 = -0.5, c4 = 1.0 / 24, c6 = -1.0 / 720, c8 = 1.0 / 40320, c10 = -1.0 / 3628800;
       const double sp = phi + phi * q * (s3 + q * (s5 + q * (s7 + q * (s9 + q * s11))));
       const double cp = 1.0 + q * (c2 + q * (c4 + q * (c6 + q * (c8 + q * c10))));
       c = ca_ * cp - sa_ * sp;
       s = sa_ * cp + ca_ * sp;
       return p;
     }
+
+    // For loops that do atRotated's arithmetic for several times at once (placeReadings' vector
+    // loops): true when atRotated(utime) interpolates in an interval by the series, entering the
+    // interval holding utime if needed. Its values are then, with f = double(utime - lo()) / den()
+    // and phi = f * dtheta(): x = ax() + f * dx(), y = ay() + f * dy(), and c and s from the series
+    // of phi, ca() and sa() as atRotated computes them. The interval holds the times lo() < t <= hi().
+    bool seriesAt(int64_t utime) {
+      if (!(lo_ < utime && utime <= hi_) && !enter(utime)) return false;
+      return small_turn_;
+    }
+    int64_t lo() const { return lo_; }
+    int64_t hi() const { return hi_; }
+    double ax() const { return a_.x; }
+    double ay() const { return a_.y; }
+    double dx() const { return dx_; }
+    double dy() const { return dy_; }
+    double dtheta() const { return dtheta_; }
+    double den() const { return den_; }
+    double ca() const { return ca_; }
+    double sa() const { return sa_; }
 
    private:
     bool enter(int64_t utime);  // the interval holding utime, if at() interpolates there

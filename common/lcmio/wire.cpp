@@ -54,6 +54,18 @@ int gridMapHeadSize() {
   return size;
 }
 
+// A sector map without sectors: its fields up to nsectors, then laser_stale .. sonar_age_s
+// (10 bytes), then remembered_stale and remembered_age_s (5 bytes).
+int sectorMapEmptySize() {
+  static const int size = sector_map_t{}.getEncodedSize();
+  return size;
+}
+
+int laserScanHeadSize() {
+  static const int size = laser_scan_t{}.getEncodedSize();
+  return size;
+}
+
 }  // namespace
 
 int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
@@ -89,6 +101,56 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   return static_cast<int>(size);
 }
 
+int fastEncode(const sector_map_t& m, void* buf, int maxlen) {
+  const int32_t n = m.nsectors;
+  const auto count = static_cast<size_t>(n);
+  // What the generated encode would not do the same way here (a short buffer, arrays shorter
+  // than nsectors): left to it.
+  if (n < 0 || m.distance.size() < count || m.source.size() < count || m.laser_distance.size() < count ||
+      m.sonar_distance.size() < count || m.remembered_distance.size() < count)
+    return m.encode(buf, 0, maxlen);
+  const int empty_size = sectorMapEmptySize();
+  const int64_t size = int64_t{empty_size} + int64_t{n} * 17;
+  if (size > maxlen) return m.encode(buf, 0, maxlen);
+  // The scalar fields by the generated code, from the map without sectors (nsectors 0,
+  // patched), then spliced around the arrays.
+  sector_map_t head;
+  head.utime = m.utime;
+  head.robot_pose = m.robot_pose;
+  head.robot_radius = m.robot_radius;
+  head.max_range = m.max_range;
+  head.nsectors = 0;
+  head.laser_stale = m.laser_stale;
+  head.sonar_stale = m.sonar_stale;
+  head.laser_age_s = m.laser_age_s;
+  head.sonar_age_s = m.sonar_age_s;
+  head.remembered_stale = m.remembered_stale;
+  head.remembered_age_s = m.remembered_age_s;
+  uint8_t fields[128];
+  if (static_cast<size_t>(empty_size) > sizeof fields || head.encode(fields, 0, empty_size) != empty_size)
+    return m.encode(buf, 0, maxlen);
+  const auto first = static_cast<size_t>(empty_size - 15);  // through nsectors
+  auto* out = static_cast<uint8_t*>(buf);
+  std::memcpy(out, fields, first);
+  const uint32_t be_n = __builtin_bswap32(static_cast<uint32_t>(n));
+  std::memcpy(out + first - 4, &be_n, 4);
+  out += first;
+  swap32(out, m.distance.data(), count);
+  out += 4 * count;
+  if (count > 0) std::memcpy(out, m.source.data(), count);  // (no sectors: source.data() may be null)
+  out += count;
+  swap32(out, m.laser_distance.data(), count);
+  out += 4 * count;
+  swap32(out, m.sonar_distance.data(), count);
+  out += 4 * count;
+  std::memcpy(out, fields + first, 10);
+  out += 10;
+  swap32(out, m.remembered_distance.data(), count);
+  out += 4 * count;
+  std::memcpy(out, fields + first + 10, 5);
+  return static_cast<int>(size);
+}
+
 int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   const int head_size = gridMapHeadSize();
   if (maxlen < head_size) return m.decode(buf, 0, maxlen);
@@ -116,6 +178,34 @@ int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   swap16(m.h.data(), in + 2 * cells, cells);
   swap32(m.gp.data(), in + 4 * cells, cells);
   return head_size + n * 8;
+}
+
+int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {
+  // As fastDecode(grid_map_t&): the fields before the readings by the generated code (whose
+  // encoding ends with nranges), the three arrays a whole element at a time; anything else (no
+  // readings, a negative count, too few bytes) left to the generated decode.
+  const int head_size = laserScanHeadSize();
+  if (maxlen < head_size) return m.decode(buf, 0, maxlen);
+  const auto* in = static_cast<const uint8_t*>(buf);
+  uint32_t be_n;
+  std::memcpy(&be_n, in + head_size - 4, 4);
+  const auto n = static_cast<int32_t>(__builtin_bswap32(be_n));
+  if (n <= 0 || int64_t{head_size} + int64_t{n} * 9 > int64_t{maxlen}) return m.decode(buf, 0, maxlen);
+  uint8_t head[128];
+  if (static_cast<size_t>(head_size) > sizeof head) return m.decode(buf, 0, maxlen);
+  std::memcpy(head, in, static_cast<size_t>(head_size));
+  std::memset(head + head_size - 4, 0, 4);
+  if (m.decode(head, 0, head_size) != head_size) return m.decode(buf, 0, maxlen);
+  m.nranges = n;
+  const auto count = static_cast<size_t>(n);
+  m.ranges.resize(count);
+  m.flags.resize(count);
+  m.offset_us.resize(count);
+  in += head_size;
+  swap32(m.ranges.data(), in, count);
+  std::memcpy(m.flags.data(), in + 4 * count, count);
+  swap32(m.offset_us.data(), in + 5 * count, count);
+  return head_size + n * 9;
 }
 
 }  // namespace lasonic

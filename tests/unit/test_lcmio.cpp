@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/process_status_t.hpp>
 #include <lasonic/grid_map_t.hpp>
+#include <lasonic/sector_map_t.hpp>
 
 using namespace lasonic;
 
@@ -227,6 +229,14 @@ TEST(TimeReset, PerChannelJumpsOfMoreThanASecond) {
   EXPECT_FALSE(plausibleUtime(kMaxUtime + 1));
 }
 
+namespace {
+// T::decode, out of line (inlined into a test, GCC warns about the generated decode's fingerprint).
+template <typename T>
+[[gnu::noinline]] int generatedDecode(T& m, const uint8_t* bytes, int len) {
+  return m.decode(bytes, 0, len);
+}
+}  // namespace
+
 // The fast encode of grid maps (lcmio/wire.hpp) must give exactly the generated code's bytes:
 // any cell count (the SSE2 blocks and the scalar tail), every value range, odd header values.
 TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
@@ -268,7 +278,7 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
     // whole grid map (cut short, a wrong fingerprint, a count the bytes do not hold, negative).
     const auto sameDecode = [](const std::vector<uint8_t>& bytes, int len, const char* what) {
       grid_map_t a{}, b{};
-      const int ra = a.decode(bytes.data(), 0, len);
+      const int ra = generatedDecode(a, bytes.data(), len);
       const int rb = wireDecode(b, bytes.data(), len);
       EXPECT_EQ(rb, ra) << what;
       if (ra < 0) return;
@@ -290,8 +300,124 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
     sameDecode(bad, size, "count + 1");
     bad[count_at] = 0xFF;  // negative: the generated decode throws (Node checks the count first)
     grid_map_t a{}, b{};
-    EXPECT_ANY_THROW(a.decode(bad.data(), 0, size));
+    EXPECT_ANY_THROW(generatedDecode(a, bad.data(), size));
     EXPECT_ANY_THROW(wireDecode(b, bad.data(), size));
+  }
+}
+
+// The laser scan's fast decode: the generated decode's message and return value for whole
+// scans of 0..1000 readings (NaN, infinite and negative ranges, every flag byte, negative
+// offsets) and for bytes that are not a whole scan (cut short anywhere, a wrong fingerprint, a
+// count the bytes do not hold, a negative count).
+TEST(Wire, LaserScanFastDecodeIsTheGeneratedDecode) {
+  uint64_t state = 0x2545F4914F6CDD1Dull;
+  const auto next = [&state]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  const auto same = [](const laser_scan_t& a, const laser_scan_t& b) {
+    const auto bytes = [](const laser_scan_t& m) {
+      std::vector<uint8_t> v(static_cast<size_t>(m.getEncodedSize()));
+      m.encode(v.data(), 0, static_cast<int>(v.size()));
+      return v;
+    };
+    return a.nranges == b.nranges && a.ranges.size() == b.ranges.size() && a.flags.size() == b.flags.size() &&
+           a.offset_us.size() == b.offset_us.size() && bytes(a) == bytes(b);
+  };
+  for (const int n : {0, 1, 3, 4, 5, 7, 8, 9, 15, 16, 17, 360, 720, 1000}) {
+    laser_scan_t m{};
+    m.utime = static_cast<int64_t>(next());
+    m.seq = static_cast<int32_t>(next());
+    m.mount = {0.2, -0.0, std::numeric_limits<double>::quiet_NaN()};
+    m.angle_min = -2.35;
+    m.angle_increment = 0.0065;
+    m.range_min = 0.02f;
+    m.range_max = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < n; ++i) {
+      const uint64_t r = next();
+      uint32_t bits = static_cast<uint32_t>(r);
+      float f;
+      std::memcpy(&f, &bits, 4);  // any float: NaN payloads, infinities, negative, subnormal
+      m.ranges.push_back(f);
+      m.flags.push_back(static_cast<int8_t>(r >> 32));
+      m.offset_us.push_back(static_cast<int32_t>(r >> 40) - (1 << 22));
+    }
+    setLengths(m);
+    const int size = m.getEncodedSize();
+    std::vector<uint8_t> bytes(static_cast<size_t>(size));
+    ASSERT_EQ(m.encode(bytes.data(), 0, size), size);
+    const auto sameDecode = [&](const std::vector<uint8_t>& b, int len, const std::string& what) {
+      laser_scan_t x{}, y{};
+      const int rx = generatedDecode(x, b.data(), len);
+      const int ry = wireDecode(y, b.data(), len);
+      ASSERT_EQ(ry, rx) << what << ", " << n << " readings";
+      if (rx >= 0) {
+        EXPECT_TRUE(same(x, y)) << what << ", " << n << " readings";
+      }
+    };
+    sameDecode(bytes, size, "whole");
+    for (int cut = 1; cut <= 9; ++cut) sameDecode(bytes, size - cut, "cut by " + std::to_string(cut));
+    sameDecode(bytes, 40, "cut in the fields");
+    std::vector<uint8_t> bad = bytes;
+    bad[3] ^= 1;
+    sameDecode(bad, size, "fingerprint");
+    bad = bytes;
+    const size_t count_at = static_cast<size_t>(size) - 9 * static_cast<size_t>(n) - 4;
+    bad[count_at + 3] += 1;  // one reading more than the bytes hold
+    sameDecode(bad, size, "count + 1");
+    bad[count_at] = 0xFF;  // negative: the generated decode throws (Node checks the count first)
+    laser_scan_t a{}, b{};
+    EXPECT_ANY_THROW(generatedDecode(a, bad.data(), size));
+    EXPECT_ANY_THROW(wireDecode(b, bad.data(), size));
+  }
+}
+
+// The sector map's fast encode: the generated encode's bytes and return value for 0..3600
+// sectors with any float bits (NaN payloads, -0, infinities), every source byte, the scalar
+// fields at extreme values; for a buffer one byte short, the generated encode's answer.
+TEST(Wire, SectorMapFastEncodeIsTheGeneratedEncodeByteForByte) {
+  uint64_t state = 0x853C49E6748FEA9Bull;
+  const auto next = [&state]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  const auto anyFloat = [&next]() {
+    const auto bits = static_cast<uint32_t>(next());
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  };
+  for (const int n : {0, 1, 3, 4, 5, 7, 8, 9, 48, 360, 3600}) {
+    sector_map_t m{};
+    m.utime = static_cast<int64_t>(next());
+    m.robot_pose = {-1.25, 3.5e10, std::numeric_limits<double>::quiet_NaN()};
+    m.robot_radius = anyFloat();
+    m.max_range = -0.0f;
+    m.laser_stale = static_cast<int8_t>(next());
+    m.sonar_stale = -128;
+    m.laser_age_s = anyFloat();
+    m.sonar_age_s = std::numeric_limits<float>::infinity();
+    m.remembered_stale = 127;
+    m.remembered_age_s = anyFloat();
+    for (int i = 0; i < n; ++i) {
+      m.distance.push_back(anyFloat());
+      m.source.push_back(static_cast<int8_t>(next()));
+      m.laser_distance.push_back(anyFloat());
+      m.sonar_distance.push_back(anyFloat());
+      m.remembered_distance.push_back(anyFloat());
+    }
+    setLengths(m);
+    const int size = m.getEncodedSize();
+    std::vector<uint8_t> want(static_cast<size_t>(size)), got(static_cast<size_t>(size), 0xAB);
+    ASSERT_EQ(m.encode(want.data(), 0, size), size);
+    ASSERT_EQ(wireEncode(m, got.data(), size), size) << n << " sectors";
+    EXPECT_EQ(got, want) << n << " sectors";
+    // A buffer too short: the generated encode's answer.
+    EXPECT_EQ(wireEncode(m, got.data(), size - 1), m.encode(want.data(), 0, size - 1)) << n << " sectors";
   }
 }
 

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <iostream>
+#include <limits>
 #include <random>
 
 #include "complement/messages.hpp"
@@ -397,4 +399,421 @@ TEST(SharedPlacement, ScanFromTheSameMessageOnly) {
   n.nranges = 49;  // inconsistent: no scan
   sameScanAndProblems(shared, n);
   sameScanAndProblems(shared, m);
+}
+
+namespace {
+// Restores the widest vector path when a test ends (also when an assertion returns early).
+struct RestoreVectorPath {
+  VectorPath path = vectorPath();
+  ~RestoreVectorPath() { setVectorPath(path); }
+};
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool samePoints(const std::vector<ScanPoint>& a, const std::vector<ScanPoint>& b, size_t& at) {
+  if (a.size() != b.size()) return at = 0, false;
+  for (at = 0; at < a.size(); ++at)
+    if (a[at].valid != b[at].valid || !sameBits(a[at].p.x(), b[at].p.x()) || !sameBits(a[at].p.y(), b[at].p.y()) ||
+        !sameBits(a[at].range, b[at].range))
+      return false;
+  return true;
+}
+
+// The placement's definition, reading by reading: the cursor's pose and rotation (atRotated) at
+// the reading's time, the reading in the robot frame through the mount (Pose2::transform's
+// operations), the point (x + c lx - s ly, y + s lx + c ly).
+std::vector<ScanPoint> placedOneByOne(const LaserScan& scan, const PoseHistory& h, int& missing) {
+  std::vector<ScanPoint> out(scan.readings.size());
+  PoseHistory::Cursor cursor(h);
+  const double mc = std::cos(scan.mount.theta), ms = std::sin(scan.mount.theta);
+  missing = 0;
+  for (size_t i = 0; i < scan.readings.size(); ++i) {
+    const LaserReading& r = scan.readings[i];
+    if (!r.valid) continue;
+    double c = 1, s = 0;
+    const auto robot = cursor.atRotated(r.utime, c, s);
+    if (!robot) {
+      ++missing;
+      continue;
+    }
+    const double x = r.range * std::cos(r.angle), y = r.range * std::sin(r.angle);
+    const double lx = scan.mount.x + mc * x - ms * y, ly = scan.mount.y + ms * x + mc * y;
+    out[i] = {Vec2(robot->x + c * lx - s * ly, robot->y + s * lx + c * ly), r.range, true};
+  }
+  return out;
+}
+}  // namespace
+
+// placeReadings' vector loops (AVX2 where the CPU has it, SSE2, none) against the definition
+// one reading at a time, bit for bit: random scans of 0..60 readings (none, fewer than a
+// register's lanes, a tail) over random odometry histories (small and large turns, intervals of
+// a few microseconds, readings on interval ends, before and after the history, out of time
+// order, invalid, NaN, infinite and huge ranges, turns across +-pi, far-off positions).
+TEST(RadarMap, PlacementVectorPathsEqualTheDefinitionBitForBit) {
+  RestoreVectorPath restore;
+  if (vectorPath() != VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: SSE2 against scalar only)\n";
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> coin(0.0, 1.0), pos(-50.0, 50.0), ang(-geom::kPi, geom::kPi);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int vector_lanes = 0, missing_total = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    // The history: every 2..40 ms, heading steps up to 0.05 rad (small turns) or up to 2 rad.
+    PoseHistory h(5'000'000, trial % 3 == 0 ? 0 : 200'000);
+    const int64_t t0 = 1'000'000 + static_cast<int64_t>(coin(rng) * 1e6);
+    const bool big_turns = trial % 4 == 1;
+    geom::Pose2 p{pos(rng), pos(rng), ang(rng)};
+    int64_t t = t0;
+    const int entries = 1 + static_cast<int>(coin(rng) * 12);
+    for (int k = 0; k < entries; ++k) {
+      h.add(t, p);
+      t += trial % 7 == 0 ? 1 + static_cast<int64_t>(coin(rng) * 5) : 2'000 + static_cast<int64_t>(coin(rng) * 38'000);
+      p.x += 0.05 * (coin(rng) - 0.5);
+      p.y += 0.05 * (coin(rng) - 0.5);
+      p.theta = geom::normalizeAngle(p.theta + (big_turns ? 4.0 : 0.1) * (coin(rng) - 0.5));
+    }
+    const int64_t t_end = t;
+    LaserScan scan;
+    scan.mount = {coin(rng) < 0.3 ? 0.0 : 0.3 * (coin(rng) - 0.5), 0.1 * (coin(rng) - 0.5),
+                  trial % 5 == 0 ? 0.0 : ang(rng)};
+    const int n = trial % 61;
+    scan.utime = t0 - 30'000 + static_cast<int64_t>(coin(rng) * 60'000);
+    int64_t rt = scan.utime;
+    for (int i = 0; i < n; ++i) {
+      LaserReading r;
+      const double pick = coin(rng);
+      rt += static_cast<int64_t>(coin(rng) * static_cast<double>(t_end - t0 + 60'000) / std::max(n, 1) * 2);
+      r.utime = pick < 0.05 ? t0 - 300'000 + static_cast<int64_t>(coin(rng) * static_cast<double>(t_end - t0 + 600'000))  // anywhere
+                            : rt;
+      r.angle = -geom::kPi + 2 * geom::kPi * i / std::max(n, 1);
+      r.range = 0.1 + 10 * coin(rng);
+      r.valid = coin(rng) > 0.05;
+      if (pick > 0.97) r.range = coin(rng) < 0.5 ? nan : (coin(rng) < 0.5 ? inf : 1e300);
+      scan.readings.push_back(r);
+    }
+    // Some readings exactly on the history's entries (an interval's end, and just after its start).
+    for (auto& r : scan.readings)
+      if (coin(rng) < 0.1) r.utime = t0 + (coin(rng) < 0.5 ? 0 : 1);
+    int missing_def = 0;
+    const std::vector<ScanPoint> def = placedOneByOne(scan, h, missing_def);
+    missing_total += missing_def;
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      int missing = -1;
+      const std::vector<ScanPoint> got = placeReadings(scan, h, &missing);
+      size_t at = 0;
+      ASSERT_TRUE(samePoints(got, def, at)) << "trial " << trial << ", path " << static_cast<int>(vectorPath())
+                                            << ", reading " << at << " of " << n;
+      ASSERT_EQ(missing, missing_def) << "trial " << trial;
+    }
+    PoseHistory::Cursor cursor(h);
+    for (size_t i = 0; i + 2 <= scan.readings.size(); i += 2)
+      vector_lanes += scan.readings[i].valid && scan.readings[i + 1].valid && cursor.seriesAt(scan.readings[i].utime) &&
+                      cursor.seriesAt(scan.readings[i + 1].utime);
+  }
+  EXPECT_GT(vector_lanes, 5000);  // the vector loops were exercised
+  EXPECT_GT(missing_total, 100);  // and readings without a pose
+}
+
+namespace {
+// splitClusters' definition, pair by pair: point i continues the cluster of point i-1 when both
+// are valid and (p_i - p_{i-1}).norm() <= jump_abs + jump_rel * min(range_{i-1}, range_i); a full
+// circle starts at a break, or is one closed cluster.
+std::vector<Cluster> clustersByDefinition(const std::vector<ScanPoint>& pts, bool full_circle, const RadarMapConfig& cfg) {
+  const size_t n = pts.size();
+  std::vector<Cluster> out;
+  if (n == 0) return out;
+  const auto brk = [&](size_t i) {
+    if (i == 0 && !full_circle) return true;
+    const ScanPoint& a = pts[i == 0 ? n - 1 : i - 1];
+    const ScanPoint& b = pts[i];
+    return !a.valid || !b.valid || (a.p - b.p).norm() > cfg.jump_abs + cfg.jump_rel * std::min(a.range, b.range);
+  };
+  size_t start = n;
+  for (size_t i = 0; i < n && start == n; ++i)
+    if (brk(i)) start = i;
+  if (start == n) {
+    Cluster all;
+    for (const auto& p : pts) all.points.push_back(p.p);
+    all.closed = true;
+    out.push_back(all);
+    return out;
+  }
+  Cluster cur;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = (start + k) % n;
+    if (k > 0 && brk(i) && !cur.points.empty()) out.push_back(cur), cur.points.clear();
+    if (pts[i].valid) cur.points.push_back(pts[i].p);
+  }
+  if (!cur.points.empty()) out.push_back(cur);
+  return out;
+}
+
+bool sameClusters(const std::vector<Cluster>& a, const std::vector<Cluster>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t c = 0; c < a.size(); ++c) {
+    if (a[c].closed != b[c].closed || a[c].points.size() != b[c].points.size()) return false;
+    for (size_t k = 0; k < a[c].points.size(); ++k)
+      if (!sameBits(a[c].points[k].x(), b[c].points[k].x()) || !sameBits(a[c].points[k].y(), b[c].points[k].y()))
+        return false;
+  }
+  return true;
+}
+}  // namespace
+
+// splitClusters' jump test in vector loops (AVX2 where the CPU has it, SSE2, none) against the
+// definition with the root (norm()): random point lists of 0..50 points, with neighbours at the
+// threshold and one or two ulps either side of it, equal ranges of both signs of zero, invalid
+// points, NaN and infinite coordinates and ranges, thresholds of zero, tiny and huge, full
+// circles with and without a break.
+TEST(RadarMap, ClusterVectorPathsEqualTheDefinition) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(32);
+  std::uniform_real_distribution<double> coin(0.0, 1.0), pos(-20.0, 20.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int near_threshold = 0, clusters = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    RadarMapConfig cfg;
+    const int kind = trial % 10;
+    if (kind == 1) cfg.jump_abs = 0, cfg.jump_rel = 0;  // t = 0: outside the squares' range
+    if (kind == 2) cfg.jump_abs = 1e-160, cfg.jump_rel = 0;
+    if (kind == 3) cfg.jump_abs = 1e200;
+    if (kind == 4) cfg.jump_rel = -0.5;  // t may be negative
+    if (kind == 5) cfg.jump_abs = 0.5 * coin(rng), cfg.jump_rel = 0.2 * coin(rng);
+    const bool full_circle = trial % 3 == 0;
+    const int n = trial % 51;
+    std::vector<ScanPoint> pts;
+    Vec2 p(pos(rng), pos(rng));
+    for (int i = 0; i < n; ++i) {
+      ScanPoint sp;
+      sp.range = 0.1 + 8 * coin(rng);
+      if (coin(rng) < 0.1 && !pts.empty()) sp.range = pts.back().range;  // a tie in min()
+      if (coin(rng) < 0.03) sp.range = coin(rng) < 0.5 ? 0.0 : -0.0;
+      const double pick = coin(rng);
+      if (pick < 0.45 && !pts.empty()) {  // at the threshold from the previous point, or an ulp or two beside it
+        const double t = cfg.jump_abs + cfg.jump_rel * std::min(pts.back().range, sp.range);
+        const Vec2 dir = coin(rng) < 0.5 ? Vec2(1, 0) : geom::unitVector(2 * geom::kPi * coin(rng));
+        p = pts.back().p + dir * t;
+        const int ulps = static_cast<int>(coin(rng) * 5) - 2;
+        for (int u = 0; u < std::abs(ulps); ++u) p.x() = std::nextafter(p.x(), ulps > 0 ? inf : -inf);
+        ++near_threshold;
+      } else if (pick < 0.8) {
+        p += Vec2(0.3 * (coin(rng) - 0.5), 0.3 * (coin(rng) - 0.5));
+      } else if (pick < 0.83) {
+        p = Vec2(coin(rng) < 0.5 ? nan : inf, pos(rng));
+      } else if (pick < 0.85) {
+        sp.range = coin(rng) < 0.5 ? nan : inf;
+      } else {
+        p = Vec2(pos(rng), pos(rng));
+      }
+      sp.p = p;
+      sp.valid = coin(rng) > 0.06;
+      pts.push_back(sp);
+    }
+    const std::vector<Cluster> def = clustersByDefinition(pts, full_circle, cfg);
+    clusters += static_cast<int>(def.size());
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      ASSERT_TRUE(sameClusters(splitClusters(pts, full_circle, cfg), def))
+          << "trial " << trial << ", path " << static_cast<int>(vectorPath()) << ", " << n << " points";
+    }
+  }
+  EXPECT_GT(near_threshold, 20000);
+  EXPECT_GT(clusters, 20000);
+}
+
+// The scan scanFrom returns, passed on to place() (as both stages do in lasonic-replay), is
+// known by its generation rather than compared: the stored placement is taken for the same
+// message's scan and an equal history, and computed afresh for the next message's scan (in the
+// same object), for an equal copy of a scan, and after a copy was placed.
+TEST(SharedPlacement, TheScanFromAMessageIsKnownWithoutAComparison) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const laser_scan_t m1 = fixture::simulateScan(rectangleRoom(), traj, t0, dur);
+  laser_scan_t m2 = m1;
+  m2.ranges[100] = std::nextafter(m2.ranges[100], 100.0f);  // one bit in one reading
+  PoseHistory a(5'000'000, 30'000), b(5'000'000, 30'000);
+  for (int64_t t = t0 - 100'000; t <= t0 + 250'000; t += 20'000) a.add(t, traj(t)), b.add(t, traj(t));
+  SharedPlacement shared;
+  std::vector<InputProblem> p;
+  const LaserScan s1 = *laserScanFromMessage(m1, p), s2 = *laserScanFromMessage(m2, p);
+  const std::vector<ScanPoint> want1 = placeReadings(s1, a), want2 = placeReadings(s2, a);
+  ASSERT_FALSE(samePlacement(want1, want2));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), a), want1));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), b), want1));  // the other stage
+  EXPECT_EQ(shared.computed(), 1);
+  EXPECT_EQ(shared.reused(), 1);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), a), want2));  // the next message
+  EXPECT_EQ(shared.computed(), 2);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), b), want2));
+  EXPECT_EQ(shared.reused(), 2);
+  EXPECT_TRUE(samePlacement(shared.place(s2, b), want2));  // an equal copy: placed afresh
+  EXPECT_EQ(shared.computed(), 3);
+  EXPECT_TRUE(samePlacement(shared.place(s2, a), want2));  // the copy again: compared and taken
+  EXPECT_EQ(shared.reused(), 3);
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m2, p), a), want2));  // after a copy: afresh
+  EXPECT_EQ(shared.computed(), 4);
+  EXPECT_TRUE(samePlacement(shared.place(s1, a), want1));
+  EXPECT_TRUE(samePlacement(shared.place(*shared.scanFrom(m1, p), a), want1));
+  EXPECT_EQ(shared.computed(), 6);
+  EXPECT_EQ(shared.reused(), 3);
+}
+
+// The end-point fit's distances in vector loops (AVX2 where the CPU has it, SSE2, none) split
+// where the definition does (roots, the first of equal roots): polylines with exact and
+// near ties, points beyond the chord's ends (u clamped, -0 included), chords of zero length
+// (equal ends), NaN and infinite points, thresholds at the distances.
+TEST(IterativeEndPointFit, VectorPathsSplitWhereTheDefinitionSplits) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int splits = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::vector<Vec2> pts;
+    const int n = 2 + trial % 70;
+    for (int k = 0; k < n; ++k) {
+      const double x = trial % 5 == 3 ? 0.05 * k - 0.5 * coin(rng) : 0.05 * k;  // some beyond the ends
+      double y = 0.02 * u(rng) + (k > n / 2 ? 0.3 * (x - 0.025 * n) : 0.0);
+      if (trial % 3 == 0) y = (k % 4 == 1 || k % 4 == 2) ? 0.07 : 0.0;  // exact ties
+      if (trial % 3 == 1 && k % 5 == 2) y = std::nextafter(0.07, trial % 2 ? 1.0 : 0.0);  // near ties
+      if (trial % 6 == 4) {  // from a level chord, distances a few ulp apart, rising (or falling) along it
+        y = 0.0;
+        if (k > 0 && k + 1 < n) {
+          y = 0.07;
+          for (int step = 0; step < (trial % 12 == 4 ? k : n - k) / 2; ++step) y = std::nextafter(y, 1.0);
+        }
+      }
+      pts.emplace_back(x, y);
+      if (coin(rng) < 0.02 && trial % 6 != 4) pts.back() = Vec2(coin(rng) < 0.5 ? nan : inf, y);
+    }
+    if (trial % 7 == 0) pts.back() = pts.front();  // a chord of zero length
+    if (trial % 11 == 0) pts.back() = Vec2(-0.0, 0.0), pts.front() = Vec2(0.0, -0.0);
+    const double thr = trial % 3 == 2 ? 0.03 : 0.07;  // 0.07: distances at the threshold
+    std::vector<IndexRange> expected;
+    referenceFit(pts, 0, pts.size() - 1, thr, expected);
+    splits += static_cast<int>(expected.size()) - 1;
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
+      ASSERT_EQ(got.size(), expected.size()) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      for (size_t k = 0; k < got.size(); ++k) {
+        ASSERT_EQ(got[k].first, expected[k].first) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+        ASSERT_EQ(got[k].last, expected[k].last) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      }
+    }
+  }
+  EXPECT_GT(splits, 3000);
+}
+
+// The end-point fit's squared distances in each vector path, bit for bit the squared norm of
+// closestPoint(chord, p) - p: random chords (and chords of zero length, tiny and huge ones),
+// points before, on and beyond the chord's ends, on the chord's line, NaN and infinite, counts
+// 0..40 (a register's lanes and a tail).
+TEST(IterativeEndPointFit, ChordDistancesOfEveryVectorPathAreTheDefinitionBitForBit) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(34);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (int trial = 0; trial < 4000; ++trial) {
+    Segment chord{{u(rng), u(rng)}, {u(rng), u(rng)}};
+    if (trial % 13 == 0) chord.b = chord.a;
+    if (trial % 17 == 0) chord.b = chord.a + Vec2(1e-160, -1e-160);
+    if (trial % 19 == 0) chord.b = chord.a * 1e200;
+    if (trial % 23 == 0) chord.a.x() = nan;
+    std::vector<Vec2> pts;
+    const int n = trial % 41;
+    for (int k = 0; k < n; ++k) {
+      const double pick = coin(rng);
+      const double t = 1.4 * coin(rng) - 0.2;  // before, on and beyond the ends
+      if (pick < 0.5) pts.push_back(chord.a + t * (chord.b - chord.a) + Vec2(0.1 * u(rng), 0.1 * u(rng)));
+      else if (pick < 0.7) pts.push_back(chord.a + t * (chord.b - chord.a));  // on the line
+      else if (pick < 0.75) pts.push_back(k % 2 ? chord.a : chord.b);
+      else if (pick < 0.8) pts.emplace_back(coin(rng) < 0.5 ? nan : inf, u(rng));
+      else pts.emplace_back(u(rng), u(rng));
+    }
+    std::vector<double> want(pts.size());
+    for (size_t k = 0; k < pts.size(); ++k) want[k] = (geom::closestPoint(chord, pts[k]) - pts[k]).squaredNorm();
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+      setVectorPath(path);
+      std::vector<double> got(pts.size() + 1, -7.0);
+      chordSquaredDistances(chord, pts.data(), pts.size(), got.data());
+      for (size_t k = 0; k < pts.size(); ++k)
+        ASSERT_TRUE(sameBits(got[k], want[k])) << "trial " << trial << ", path " << static_cast<int>(vectorPath())
+                                               << ", point " << k << ": " << got[k] << " vs " << want[k];
+      ASSERT_EQ(got[pts.size()], -7.0);  // nothing written beyond count
+    }
+  }
+}
+
+// laserScanFromMessage four readings at a time (AVX2 where the CPU has it) against the
+// reading-by-reading loop: the same scan (every field of every reading) and the same problems,
+// for random messages of 1..60 readings with returns at range_min and range_max and one ulp
+// either side, zero of both signs, negative, NaN and infinite ranges, no-return and unknown
+// flags, negative offsets.
+TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
+  RestoreVectorPath restore;
+  if (vectorPath() != VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: the scalar loop only)\n";
+  std::mt19937 rng(35);
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
+  const float nanf = std::numeric_limits<float>::quiet_NaN(), inff = std::numeric_limits<float>::infinity();
+  int vector_groups = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    laser_scan_t m{};
+    m.utime = 1'000'000 + static_cast<int64_t>(coin(rng) * 1e9);
+    m.angle_min = -2.0 + coin(rng);
+    m.angle_increment = 0.001 + 0.02 * coin(rng);
+    m.range_min = static_cast<float>(0.5 * coin(rng));
+    m.range_max = static_cast<float>(1.0 + 20 * coin(rng));
+    const int n = 1 + trial % 60;
+    const double clean = coin(rng);  // some messages nearly all common readings
+    for (int i = 0; i < n; ++i) {
+      float r = static_cast<float>(25 * coin(rng));
+      int8_t flag = laser_scan_t::FLAG_OK;
+      int32_t off = i * 100;
+      if (coin(rng) > clean) {
+        const double pick = coin(rng);
+        if (pick < 0.15) r = m.range_min;
+        else if (pick < 0.3) r = m.range_max;
+        else if (pick < 0.4) r = std::nextafter(m.range_max, inff);
+        else if (pick < 0.5) r = std::nextafter(m.range_min, -inff);
+        else if (pick < 0.55) r = coin(rng) < 0.5 ? 0.0f : -0.0f;
+        else if (pick < 0.6) r = -1.0f;
+        else if (pick < 0.65) r = nanf;
+        else if (pick < 0.7) r = coin(rng) < 0.5 ? inff : -inff;
+        else if (pick < 0.8) flag = laser_scan_t::FLAG_NO_RETURN;
+        else if (pick < 0.85) flag = static_cast<int8_t>(2 + static_cast<int>(coin(rng) * 100));
+        else if (pick < 0.9) off = -1 - static_cast<int32_t>(coin(rng) * 1000);
+      }
+      m.ranges.push_back(r);
+      m.flags.push_back(flag);
+      m.offset_us.push_back(off);
+    }
+    m.nranges = n;
+    std::vector<InputProblem> want_p, got_p;
+    setVectorPath(VectorPath::Scalar);
+    const std::optional<LaserScan> want = laserScanFromMessage(m, want_p);
+    setVectorPath(VectorPath::Avx2);
+    const std::optional<LaserScan> got = laserScanFromMessage(m, got_p);
+    ASSERT_TRUE(want && got) << "trial " << trial;
+    ASSERT_EQ(got->readings.size(), want->readings.size());
+    for (size_t i = 0; i < want->readings.size(); ++i) {
+      const LaserReading& a = got->readings[i];
+      const LaserReading& b = want->readings[i];
+      ASSERT_TRUE(a.utime == b.utime && sameBits(a.angle, b.angle) && sameBits(a.range, b.range) && a.valid == b.valid)
+          << "trial " << trial << ", reading " << i;
+    }
+    ASSERT_TRUE(sameScan(*got, *want)) << "trial " << trial;
+    ASSERT_EQ(got_p.size(), want_p.size()) << "trial " << trial;
+    for (size_t i = 0; i < want_p.size(); ++i) {
+      ASSERT_EQ(got_p[i].counter, want_p[i].counter) << "trial " << trial;
+      ASSERT_EQ(got_p[i].message, want_p[i].message) << "trial " << trial;
+    }
+    for (int i = 0; i + 4 <= n; i += 4) {  // groups the vector loop can take
+      bool common = true;
+      for (int k = i; k < i + 4; ++k)
+        common = common && m.flags[k] == laser_scan_t::FLAG_OK && m.offset_us[k] >= 0 && m.ranges[k] >= 0 &&
+                 m.ranges[k] <= m.range_max;
+      vector_groups += common;
+    }
+  }
+  EXPECT_GT(vector_groups, 1500);  // (the vector loop was exercised)
 }
