@@ -194,6 +194,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
+  // A full-circle scanner sees everywhere: nothing to remember (LaserMemory would keep nothing).
+  const bool remember = laser_memory_.enabled() && !scan->full_circle && !scan->readings.empty();
+  if (!remember) laser_memory_.clear();
 
   int no_pose = 0;
   std::vector<complement::ScanPoint> own;
@@ -222,7 +225,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     for (size_t i = 0; i < timed.size(); ++i) {
       if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
       else points.push_back(timed[i].p);
-      if (laser_memory_.enabled() && movers_.still()[i]) still.push_back(timed[i].p);
+      if (remember && movers_.still()[i]) still.push_back(timed[i].p);
     }
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   }
@@ -235,7 +238,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   }
   // The view as the Radar Map takes it: the scanner's pose at the scan's last reading. Without
   // that pose nothing tells what the scan covered: nothing is remembered or recalled.
-  if (const auto robot = poses_.at(newest); laser_memory_.enabled() && robot) {
+  if (const auto robot = poses_.at(newest); remember && robot) {
     const complement::LaserView view = complement::laserViewOf(*scan, *robot);
     laser_memory_.update(newest, robot->position(), cfg_.predict_movers ? still : points, moving,
                          [&view](const geom::Vec2& p) { return view.covers(p); });
