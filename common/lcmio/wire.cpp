@@ -151,29 +151,38 @@ int fastEncode(const sector_map_t& m, void* buf, int maxlen) {
   return static_cast<int>(size);
 }
 
-int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
-  const int head_size = gridMapHeadSize();
-  if (maxlen < head_size) return m.decode(buf, 0, maxlen);
+namespace {
+// The fields before a message's one array count (the last 4 bytes of its head_size-byte head) by
+// the generated code (the fingerprint checked there), from a copy whose count reads 0. Returns
+// the count, or 0 when the generated decode must do all: no elements, a negative count, fewer
+// bytes than n elements of element_bytes, or a head the generated code does not accept.
+template <typename Msg>
+int32_t decodeHead(Msg& m, const void* buf, int maxlen, int head_size, int element_bytes) {
+  if (maxlen < head_size) return 0;
   const auto* in = static_cast<const uint8_t*>(buf);
   uint32_t be_n;
   std::memcpy(&be_n, in + head_size - 4, 4);
   const auto n = static_cast<int32_t>(__builtin_bswap32(be_n));
-  // Anything but cells that the bytes hold (no cells, a negative count, too few bytes): left to
-  // the generated decode.
-  if (n <= 0 || int64_t{head_size} + int64_t{n} * 8 > int64_t{maxlen}) return m.decode(buf, 0, maxlen);
-  // The fields before the cells by the generated code (the fingerprint checked there), from a
-  // copy whose ncells reads 0; then the cells.
+  if (n <= 0 || int64_t{head_size} + int64_t{n} * element_bytes > int64_t{maxlen}) return 0;
   uint8_t head[128];
-  if (static_cast<size_t>(head_size) > sizeof head) return m.decode(buf, 0, maxlen);
+  if (static_cast<size_t>(head_size) > sizeof head) return 0;
   std::memcpy(head, in, static_cast<size_t>(head_size));
   std::memset(head + head_size - 4, 0, 4);
-  if (m.decode(head, 0, head_size) != head_size) return m.decode(buf, 0, maxlen);
+  if (m.decode(head, 0, head_size) != head_size) return 0;
+  return n;
+}
+}  // namespace
+
+int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
+  const int head_size = gridMapHeadSize();
+  const int32_t n = decodeHead(m, buf, maxlen, head_size, 8);
+  if (n <= 0) return m.decode(buf, 0, maxlen);
   m.ncells = n;
   const auto cells = static_cast<size_t>(n);
   m.g.resize(cells);
   m.h.resize(cells);
   m.gp.resize(cells);
-  in += head_size;
+  const auto* in = static_cast<const uint8_t*>(buf) + head_size;
   swap16(m.g.data(), in, cells);
   swap16(m.h.data(), in + 2 * cells, cells);
   swap32(m.gp.data(), in + 4 * cells, cells);
@@ -181,27 +190,17 @@ int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
 }
 
 int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {
-  // As fastDecode(grid_map_t&): the fields before the readings by the generated code (whose
-  // encoding ends with nranges), the three arrays a whole element at a time; anything else (no
-  // readings, a negative count, too few bytes) left to the generated decode.
+  // As fastDecode(grid_map_t&): the generated encoding ends its head with nranges; the three
+  // arrays a whole element at a time.
   const int head_size = laserScanHeadSize();
-  if (maxlen < head_size) return m.decode(buf, 0, maxlen);
-  const auto* in = static_cast<const uint8_t*>(buf);
-  uint32_t be_n;
-  std::memcpy(&be_n, in + head_size - 4, 4);
-  const auto n = static_cast<int32_t>(__builtin_bswap32(be_n));
-  if (n <= 0 || int64_t{head_size} + int64_t{n} * 9 > int64_t{maxlen}) return m.decode(buf, 0, maxlen);
-  uint8_t head[128];
-  if (static_cast<size_t>(head_size) > sizeof head) return m.decode(buf, 0, maxlen);
-  std::memcpy(head, in, static_cast<size_t>(head_size));
-  std::memset(head + head_size - 4, 0, 4);
-  if (m.decode(head, 0, head_size) != head_size) return m.decode(buf, 0, maxlen);
+  const int32_t n = decodeHead(m, buf, maxlen, head_size, 9);
+  if (n <= 0) return m.decode(buf, 0, maxlen);
   m.nranges = n;
   const auto count = static_cast<size_t>(n);
   m.ranges.resize(count);
   m.flags.resize(count);
   m.offset_us.resize(count);
-  in += head_size;
+  const auto* in = static_cast<const uint8_t*>(buf) + head_size;
   swap32(m.ranges.data(), in, count);
   std::memcpy(m.flags.data(), in + 4 * count, count);
   swap32(m.offset_us.data(), in + 5 * count, count);
