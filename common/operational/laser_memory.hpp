@@ -98,14 +98,7 @@ class LaserMemory {
   const std::vector<SectorMap::MovingPoint>& coastingMovers() const { return coasting_points_; }
 
   // Forgets everything (a scanner that sees everywhere leaves nothing to remember).
-  void clear() {
-    remembered_.clear();
-    points_.clear();
-    last_.clear();
-    coasting_.clear();
-    coasting_points_.clear();
-    last_movers_.clear();
-  }
+  void clear() { *this = LaserMemory(p_); }
 
   // Earlier scans' returns outside the newest scan's view (global frame), oldest scans first.
   const std::vector<geom::Vec2>& points() const { return points_; }
