@@ -8,7 +8,7 @@ namespace lasonic {
 namespace {
 constexpr uint32_t kSync = 0xEDA1DA01u;  // LCM's event-log sync word
 constexpr size_t kReadChunk = 1 << 20;
-constexpr size_t kWriteChunk = 1 << 16;
+constexpr size_t kWriteChunk = 1 << 20;
 
 uint32_t be32(const uint8_t* p) {
   return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
@@ -91,6 +91,7 @@ LogWriter::LogWriter(const std::string& path) : path_(path) {
   if (!f_) throw LogError(path + ": cannot open LCM log for writing");
   std::setvbuf(f_, nullptr, _IONBF, 0);  // buffered here
   buf_.reserve(2 * kWriteChunk);
+  writer_ = std::thread([this] { writerLoop(); });
 }
 
 LogWriter::~LogWriter() {
@@ -99,15 +100,46 @@ LogWriter::~LogWriter() {
   } catch (const LogError& e) {
     std::cerr << e.what() << "\n";
   }
+  {
+    const std::lock_guard<std::mutex> lock(m_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  writer_.join();
   if (std::fclose(f_) != 0) std::cerr << path_ << ": closing the LCM log failed\n";
 }
 
-void LogWriter::flush() {
+void LogWriter::writerLoop() {
+  std::unique_lock<std::mutex> lock(m_);
+  for (;;) {
+    cv_.wait(lock, [this] { return pending_ || stop_; });
+    if (!pending_) return;  // stop_, nothing left to write
+    lock.unlock();
+    const bool ok = std::fwrite(writing_.data(), 1, writing_.size(), f_) == writing_.size();
+    writing_.clear();
+    lock.lock();
+    failed_ = failed_ || !ok;
+    pending_ = false;
+    cv_.notify_all();
+  }
+}
+
+void LogWriter::handOver() {
+  std::unique_lock<std::mutex> lock(m_);
+  cv_.wait(lock, [this] { return !pending_; });
+  if (failed_) throw LogError(path_ + ": write failed");
   if (buf_.empty()) return;
-  const size_t n = buf_.size();
-  const size_t written = std::fwrite(buf_.data(), 1, n, f_);
-  buf_.clear();
-  if (written != n) throw LogError(path_ + ": write failed");
+  std::swap(buf_, writing_);  // buf_ is now the written (cleared) buffer, its capacity kept
+  pending_ = true;
+  lock.unlock();
+  cv_.notify_all();
+}
+
+void LogWriter::flush() {
+  handOver();
+  std::unique_lock<std::mutex> lock(m_);
+  cv_.wait(lock, [this] { return !pending_; });
+  if (failed_) throw LogError(path_ + ": write failed");
 }
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {
@@ -126,13 +158,8 @@ void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const ui
   buf_.insert(buf_.end(), header, header + sizeof header);
   buf_.insert(buf_.end(), channel.begin(), channel.end());
   ++events_;
-  if (size >= kWriteChunk) {  // a large event (a grid map): its data written from where it is, not copied
-    flush();
-    if (size > 0 && std::fwrite(data, 1, size, f_) != size) throw LogError(path_ + ": write failed");
-    return;
-  }
   buf_.insert(buf_.end(), data, data + size);
-  if (buf_.size() >= kWriteChunk) flush();
+  if (buf_.size() >= kWriteChunk) handOver();
 }
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const std::vector<uint8_t>& data) {
