@@ -223,3 +223,18 @@ TEST(ReplayIo, MeterPrintsAtMostEveryTenthAndSecond) {
   EXPECT_NE(slow.summary(t0 + std::chrono::seconds(100)).find("real-time factor 1,"), std::string::npos)
       << slow.summary(t0 + std::chrono::seconds(100));
 }
+
+// The writer thread's failures reach the caller: a full device makes flush() throw, naming the
+// file, and the destructor after it neither throws nor hangs.
+TEST(ReplayIo, LogWriterReportsAFailedWrite) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  LogWriter w("/dev/full");
+  const std::vector<uint8_t> data(4096, 7);
+  try {
+    for (int i = 0; i < 1000; ++i) w.writeRaw("CH", i, data);  // 4 MB: buffers handed over on the way
+    w.flush();
+    FAIL() << "no error writing to /dev/full";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+  }
+}
