@@ -4,18 +4,31 @@
 
 namespace lasonic {
 
-void LocalBus::subscribe(const std::string& pattern, Handler handler) {
-  subs_.push_back({std::regex(pattern), std::move(handler)});
-  by_channel_.clear();
+size_t LocalBus::subscribe(const std::string& pattern, Handler handler) {
+  subs_.push_back({pattern, std::regex(pattern), std::move(handler), {}});
+  ++generation_;
+  return subs_.size() - 1;
 }
 
-const std::vector<size_t>& LocalBus::subscribersOf(const std::string& channel) {
-  auto it = by_channel_.find(channel);
-  if (it != by_channel_.end()) return it->second;
-  std::vector<size_t> idx;
-  for (size_t i = 0; i < subs_.size(); ++i)
-    if (std::regex_match(channel, subs_[i].pattern)) idx.push_back(i);
-  return by_channel_.emplace(channel, std::move(idx)).first->second;
+void LocalBus::capture(size_t subscription, Capture capture) { subs_.at(subscription).capture = std::move(capture); }
+
+LocalBus::Channel* LocalBus::channelOf(const std::string& name) {
+  auto it = channels_.find(name);
+  if (it == channels_.end()) {
+    it = channels_.emplace(name, Channel{}).first;
+    it->second.name = &it->first;
+  }
+  return &it->second;
+}
+
+const std::vector<size_t>& LocalBus::subscribersOf(Channel* c) {
+  if (c->generation != generation_) {
+    c->subs.clear();
+    for (size_t i = 0; i < subs_.size(); ++i)
+      if (std::regex_match(*c->name, subs_[i].pattern)) c->subs.push_back(i);
+    c->generation = generation_;
+  }
+  return c->subs;
 }
 
 LocalBus::Bytes LocalBus::takeBuffer() {
@@ -36,7 +49,7 @@ int LocalBus::publish(const std::string& channel, const void* data, size_t size)
 }
 
 int LocalBus::publish(const std::string& channel, Bytes&& bytes) {
-  queue_.push_back({channel, std::move(bytes)});
+  queue_.push_back({channelOf(channel), std::move(bytes)});
   return 0;
 }
 
@@ -48,11 +61,23 @@ int LocalBus::handleOne() {
   rbuf.data = m.data.data();
   rbuf.data_size = static_cast<uint32_t>(m.data.size());
   rbuf.recv_utime = 0;
-  // By index: a handler may subscribe (which clears the cache), as with LCM the new
+  // A copy: a handler may subscribe (which changes the channel's list); as with LCM, the new
   // subscription sees the next message.
-  const std::vector<size_t> subs = subscribersOf(m.channel);
-  for (const size_t i : subs) subs_[i].handler(&rbuf, m.channel);
-  spare_.push_back(std::move(m.data));
+  const std::string& name = m.name();
+  const std::vector<size_t>& current = subscribersOf(m.channel);
+  subs_scratch_.assign(current.begin(), current.end());
+  for (const size_t i : subs_scratch_) {
+    if (!subs_[i].capture) {
+      subs_[i].handler(&rbuf, name);
+      continue;
+    }
+    const size_t first = queue_.size();
+    subs_[i].handler(&rbuf, name);
+    subs_[i].capture(i, name, queue_, first);
+  }
+  // Kept for reuse, up to a bound: buffers published from elsewhere (another thread's copies)
+  // would otherwise pile up here.
+  if (spare_.size() < kMaxSpare) spare_.push_back(std::move(m.data));
   return 1;
 }
 
