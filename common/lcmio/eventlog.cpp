@@ -1,5 +1,7 @@
 #include "lcmio/eventlog.hpp"
 
+#include <pthread.h>
+
 #include <cstring>
 #include <iostream>
 
@@ -44,6 +46,16 @@ bool LogReader::fill(size_t need) {
 }
 
 std::optional<LogRecord> LogReader::next() {
+  const std::optional<LogRecordView> v = nextView();
+  if (!v) return std::nullopt;
+  LogRecord r;
+  r.timestamp = v->timestamp;
+  r.channel.assign(v->channel);
+  r.data.assign(v->data, v->data + v->size);
+  return r;
+}
+
+std::optional<LogRecordView> LogReader::nextView() {
   // The sync word, byte by byte (skipping anything before it), as LCM does.
   uint32_t magic = 0;
   do {
@@ -52,7 +64,7 @@ std::optional<LogRecord> LogReader::next() {
   } while (magic != kSync);
   if (!fill(24)) return std::nullopt;
   const uint8_t* h = buf_.data() + pos_;
-  LogRecord r;
+  LogRecordView r;
   r.timestamp = static_cast<int64_t>(be64(h + 8));
   const auto channellen = static_cast<int32_t>(be32(h + 16));
   const auto datalen = static_cast<int32_t>(be32(h + 20));
@@ -67,11 +79,15 @@ std::optional<LogRecord> LogReader::next() {
   }
   const size_t body = static_cast<size_t>(channellen) + static_cast<size_t>(datalen);
   if (!fill(body)) return std::nullopt;
-  r.channel.assign(reinterpret_cast<const char*>(buf_.data() + pos_), static_cast<size_t>(channellen));
-  r.data.assign(buf_.data() + pos_ + channellen, buf_.data() + pos_ + body);
+  // The next event's sync word buffered too (if there is one) before pointing into the buffer,
+  // which fill() may move.
+  const bool more = fill(body + 4);
+  r.channel = std::string_view(reinterpret_cast<const char*>(buf_.data() + pos_), static_cast<size_t>(channellen));
+  r.data = buf_.data() + pos_ + channellen;
+  r.size = static_cast<size_t>(datalen);
   pos_ += body;
   // After the data: the next event's sync word or the end of the file; anything else ends the log.
-  if (fill(4) && be32(buf_.data() + pos_) != kSync) {
+  if (more && be32(buf_.data() + pos_) != kSync) {
     std::cerr << "Invalid header after log data\n";
     pos_ = end_;
     return std::nullopt;
@@ -91,7 +107,10 @@ LogWriter::LogWriter(const std::string& path) : path_(path) {
   if (!f_) throw LogError(path + ": cannot open LCM log for writing");
   std::setvbuf(f_, nullptr, _IONBF, 0);  // buffered here
   buf_.reserve(2 * kWriteChunk);
-  writer_ = std::thread([this] { writerLoop(); });
+  writer_ = std::thread([this] {
+    pthread_setname_np(pthread_self(), "log-writer");  // for top -H, perf
+    writerLoop();
+  });
 }
 
 LogWriter::~LogWriter() {

@@ -18,6 +18,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -29,6 +30,14 @@ namespace lasonic {
 class LogError : public std::runtime_error {
  public:
   explicit LogError(const std::string& w) : std::runtime_error(w) {}
+};
+
+// An event as it lies in LogReader's buffer: valid until the reader's next call.
+struct LogRecordView {
+  int64_t timestamp = 0;
+  std::string_view channel;
+  const uint8_t* data = nullptr;
+  size_t size = 0;
 };
 
 struct LogRecord {
@@ -70,6 +79,8 @@ class LogReader {
   explicit LogReader(const std::string& path);  // throws LogError
   // Next event, or nullopt at the end of the log.
   std::optional<LogRecord> next();
+  // The same without copying the event out of the reader's buffer.
+  std::optional<LogRecordView> nextView();
   // All events of the log, in order.
   static std::vector<LogRecord> readAll(const std::string& path);
   // Bytes read from the file so far (for progress reports).

@@ -19,7 +19,8 @@ class ReplayMeter {
 
   // After each input event: its log time and the bytes read so far. Returns a progress line
   // when one is due, else an empty string.
-  std::string update(int64_t event_utime, int64_t bytes_read, Clock::time_point now = Clock::now());
+  std::string update(int64_t event_utime, int64_t bytes_read);
+  std::string update(int64_t event_utime, int64_t bytes_read, Clock::time_point now);
 
   // The summary line (call at the end).
   std::string summary(Clock::time_point now = Clock::now()) const;
@@ -29,6 +30,10 @@ class ReplayMeter {
   static double realTimeFactor(double log_s, double wall_s) { return wall_s > 0 ? log_s / wall_s : 0.0; }
 
  private:
+  void note(int64_t event_utime);
+  bool tenthDue(int64_t bytes_read) const;
+  std::string line(int64_t bytes_read, Clock::time_point now);  // the progress line if a second has passed
+
   int64_t total_bytes_;
   Clock::time_point start_, last_line_;
   int64_t events_ = 0, first_utime_ = 0, last_utime_ = 0;
