@@ -1,11 +1,16 @@
 // lasonic-replay --in LOG --out LOG [--config FILE]... [--stages LIST]
 //
 // Runs the pipeline stages (complement, pilot, navigator) in one process over a log's raw channels, deterministically: every
-// stage has its own Node on one shared in-process bus (LocalBus: LCM's memq:// delivery order);
-// each input event is published into it and the queue drained before the next, so the stages see exactly the log's order. A
-// recorder on ".*" writes every message it sees (inputs and outputs) to the output log; an
-// output event carries the timestamp of the input event that caused it. Channels that the
-// stages produce are dropped from the input (they are recomputed), as is PROCESS_STATUS.
+// stage has its own Node on an in-process bus (LocalBus: LCM's memq:// delivery order); each
+// input event is published into it and the queue drained before the next, so the stages see
+// exactly the log's order. A recorder on ".*" writes every message it sees (inputs and outputs)
+// to the output log; an output event carries the timestamp of the input event that caused it.
+// Channels that the stages produce are dropped from the input (they are recomputed), as is
+// PROCESS_STATUS.
+//
+// --threads spreads the stages over threads (StagePipeline: each thread its own bus, with the
+// one bus's delivery order kept exactly), and the log is written by a thread of its own
+// (LogWriter); the output is the same, byte for byte, with any number of threads.
 //
 // --stages runs only some of the stages (comma-separated; default all three); only their
 // outputs are dropped from the input, so the others' outputs in the log are inputs. E.g.
@@ -16,10 +21,12 @@
 
 #include <algorithm>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/config.hpp"
@@ -27,6 +34,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/replay_meter.hpp"
+#include "lcmio/stage_pipeline.hpp"
 #include "stages/complement_stage.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
@@ -56,13 +64,32 @@ struct Recorder {
   }
 };
 
+// The thread of each stage: the chain complement -> navigator -> pilot (the pilot reads the
+// navigator's AGM_TACTICAL, so it runs on the navigator's thread or a later one; StagePipeline
+// checks it), the stages that run spread over at most `threads` threads. With fewer threads than
+// stages the first ones share a thread: the pilot, the most work, keeps one to itself.
+std::map<std::string, int> stageThreads(const std::set<std::string>& stages, int threads) {
+  std::vector<std::string> chain;
+  for (const char* s : {"complement", "navigator", "pilot"})
+    if (stages.count(s)) chain.push_back(s);
+  std::map<std::string, int> out;
+  const int n = std::max(1, std::min(threads, static_cast<int>(chain.size())));
+  const int skip = static_cast<int>(chain.size()) - n;  // stages that share the first thread, beyond one
+  for (size_t i = 0; i < chain.size(); ++i) out[chain[i]] = std::max(0, static_cast<int>(i) - skip);
+  return out;
+}
+
 int replay(const std::string& in_path, const std::string& out_path, const Config& root,
-           const std::set<std::string>& stages, bool print_status) {
-  auto lcm = std::make_shared<LocalBus>();
+           const std::set<std::string>& stages, int threads, bool print_status) {
+  const std::map<std::string, int> thread_of = stageThreads(stages, threads);
+  int nthreads = 1;
+  for (const auto& [name, t] : thread_of) nthreads = std::max(nthreads, t + 1);
+  StagePipeline pipeline(nthreads);
   const Node::Options offline{/*heartbeat=*/false, /*install_signal_handlers=*/false};
 
-  // ---- the stages, in pipeline order. Add a stage here (and to kStages): its Node and its object.
-  // Every configuration is read, so that a bad one fails the same whether its stage runs or not.
+  // ---- the stages, in pipeline order (the order of subscribing on one bus). Add a stage here
+  // (and to kStages, stageThreads): its Node and its object. Every configuration is read, so that
+  // a bad one fails the same whether its stage runs or not.
   const ComplementConfig complement_cfg = complementConfig(root.section("complement"));
   const PilotConfig pilot_cfg = pilotConfig(root.section("pilot"));
   const NavigatorConfig navigator_cfg = navigatorConfig(root.section("navigator"));
@@ -70,58 +97,61 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   std::optional<ComplementStage> complement_stage;
   std::optional<PilotStage> pilot_stage;
   std::optional<NavigatorStage> navigator_stage;
-  if (stages.count("complement")) {
-    nodes.push_back(std::make_unique<Node>("lasonic-complement", lcm, offline));
-    complement_stage.emplace(*nodes.back(), complement_cfg);
-  }
-  if (stages.count("pilot")) {
-    nodes.push_back(std::make_unique<Node>("lasonic-pilot", lcm, offline));
-    pilot_stage.emplace(*nodes.back(), pilot_cfg);
-  }
-  if (stages.count("navigator")) {
-    nodes.push_back(std::make_unique<Node>("lasonic-navigator", lcm, offline));
-    navigator_stage.emplace(*nodes.back(), navigator_cfg);
-  }
+  const auto make = [&](const char* stage, const char* process, auto& object, const auto& cfg) {
+    if (!stages.count(stage)) return;
+    const int t = thread_of.at(stage);
+    pipeline.beginStage(t);
+    nodes.push_back(std::make_unique<Node>(process, pipeline.bus(t), offline));
+    object.emplace(*nodes.back(), cfg);
+    pipeline.endStage();
+  };
+  make("complement", "lasonic-complement", complement_stage, complement_cfg);
+  make("pilot", "lasonic-pilot", pilot_stage, pilot_cfg);
+  make("navigator", "lasonic-navigator", navigator_stage, navigator_cfg);
   // Both stages read each LASER_SCAN and place its readings with their own (equal) odometry
-  // history: once is enough (complement/shared_placement.hpp: used only when the message, the
-  // scan and the history are equal).
+  // history: once is enough when they run on one thread (complement/shared_placement.hpp: used
+  // only when the message, the scan and the history are equal).
   const auto placement = std::make_shared<complement::SharedPlacement>();
-  if (complement_stage && pilot_stage) {
+  if (complement_stage && pilot_stage && thread_of.at("complement") == thread_of.at("pilot")) {
     complement_stage->sharePlacement(placement);
     pilot_stage->sharePlacement(placement);
   }
   // ----
-  std::set<std::string> derived = {channels::PROCESS_STATUS};
+  std::set<std::string, std::less<>> derived = {channels::PROCESS_STATUS};
   for (const StageInfo& s : kStages)
     if (stages.count(s.name)) derived.insert(s.outputs.begin(), s.outputs.end());
 
   LogWriter out(out_path);
   Recorder recorder{&out};
-  lcm->subscribe(".*", [&recorder](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    recorder.handleMessage(rbuf, channel);
-  });
+  pipeline.bus(pipeline.lastThread())
+      ->subscribe(".*", [&recorder](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+        recorder.handleMessage(rbuf, channel);
+      });
 
   LogReader in(in_path);
   ReplayMeter meter(in.fileSize());  // progress and speed on stderr; never in the output log
   int64_t events = 0, dropped = 0;
-  while (auto ev = in.next()) {
-    ++events;
-    if (const std::string line = meter.update(ev->timestamp, in.bytesRead()); !line.empty())
-      std::cerr << "lasonic-replay: " << line << std::endl;
-    if (derived.count(ev->channel)) {
-      ++dropped;
-      continue;
+  // On the first thread: the input events, without the derived channels.
+  const auto next = [&]() -> std::optional<StagePipeline::Input> {
+    while (const auto ev = in.nextView()) {
+      ++events;
+      if (const std::string line = meter.update(ev->timestamp, in.bytesRead()); !line.empty())
+        std::cerr << "lasonic-replay: " << line << std::endl;
+      if (derived.count(ev->channel)) {
+        ++dropped;
+        continue;
+      }
+      return StagePipeline::Input{ev->timestamp, std::string(ev->channel), LocalBus::Bytes(ev->data, ev->data + ev->size)};
     }
-    recorder.timestamp = ev->timestamp;
-    lcm->publish(ev->channel, ev->data.data(), ev->data.size());
-    lcm->handleAll();
-  }
+    return std::nullopt;
+  };
+  pipeline.run(next, [&recorder](const StagePipeline::Input& ev) { recorder.timestamp = ev.timestamp; });
   out.flush();
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
   std::cerr << "lasonic-replay: " << meter.summary() << std::endl;
-  spdlog::info("replay: laser readings placed {} times, shared {} times", placement->computed(),
-               placement->reused());
+  spdlog::info("replay: {} thread(s); laser readings placed {} times, shared {} times", nthreads,
+               placement->computed(), placement->reused());
   for (const auto& n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
   // --status: what each stage would have said in PROCESS_STATUS at the end, one "process key
@@ -142,6 +172,7 @@ int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
   std::string in_path, out_path, stage_list = "complement,pilot,navigator";
   bool print_status = false;
+  int threads = 0;
   std::vector<std::string> config_files;
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
@@ -151,6 +182,11 @@ int main(int argc, char** argv) {
   app.add_option("--stages", stage_list,
                  "stages to run, comma-separated (complement, pilot, navigator); only their outputs are "
                  "recomputed, the others' are taken from the log")
+      ->capture_default_str();
+  app.add_option("--threads", threads,
+                 "threads to spread the stages over (1: all on one; 0: by the machine's cores, README "
+                 "\"Performance\"); the output is the same, byte for byte")
+      ->check(CLI::Range(0, 64))
       ->capture_default_str();
   app.add_flag("--status", print_status,
                "at the end, print every stage's counters and errors (its PROCESS_STATUS) as 'process key value' lines");
@@ -169,7 +205,13 @@ int main(int argc, char** argv) {
   lasonic::setupLogging("lasonic-replay");
   try {
     const lasonic::Config root = lasonic::Config::loadFiles(config_files);
-    return replay(in_path, out_path, root, stages, print_status);
+    // Auto: a thread per stage needs four cores (three stages and the log writer); on two, two
+    // threads were fastest (the third costs more in hand-overs than it gains); on one, one.
+    if (threads == 0) {
+      const unsigned cores = std::thread::hardware_concurrency();
+      threads = cores >= 4 ? 3 : cores >= 2 ? 2 : 1;
+    }
+    return replay(in_path, out_path, root, stages, threads, print_status);
   } catch (const lasonic::ConfigError& e) {
     std::cerr << "lasonic-replay: " << e.what() << "\n";
     return 2;

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <lasonic/complement_t.hpp>
 #include <lasonic/line_map_t.hpp>
@@ -60,14 +62,19 @@ TEST(Replay, DeterministicAndRecomputesDerivedChannels) {
   fs::create_directories(dir);
   const std::string in = (dir / "in.lcmlog").string();
   writeFixtureLog(in);
-  for (const char* out : {"a.lcmlog", "b.lcmlog"}) {
-    const std::string cmd = std::string(LASONIC_REPLAY_BIN) + " --in " + in + " --out " + (dir / out).string() +
+  // Twice with the default threads, then with the stages on one, two and three threads
+  // (StagePipeline): all the same, byte for byte.
+  const std::vector<std::pair<const char*, const char*>> runs = {
+      {"a.lcmlog", ""}, {"b.lcmlog", ""}, {"t1.lcmlog", " --threads 1"}, {"t2.lcmlog", " --threads 2"}, {"t3.lcmlog", " --threads 3"}};
+  for (const auto& [out, opts] : runs) {
+    const std::string cmd = std::string(LASONIC_REPLAY_BIN) + opts + " --in " + in + " --out " + (dir / out).string() +
                             " > " + (dir / "replay.txt").string() + " 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp((dir / "replay.txt").string());
   }
   const std::string a = slurp((dir / "a.lcmlog").string());
   ASSERT_FALSE(a.empty());
-  EXPECT_TRUE(a == slurp((dir / "b.lcmlog").string())) << "replay output differs between runs";
+  for (const auto& [out, opts] : runs)
+    EXPECT_TRUE(a == slurp((dir / out).string())) << "replay output differs between runs: " << out << " (" << opts << ")";
 
   std::set<int64_t> input_times;
   for (const auto& e : LogReader::readAll(in)) input_times.insert(e.timestamp);
