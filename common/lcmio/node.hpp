@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "lcmio/lengths.hpp"
@@ -123,6 +124,11 @@ class Node {
   struct TypedSubscription : SubscriptionBase {
     Node* node;
     std::function<void(const T&)> handler;
+    // For the types lcmio/wire decodes itself (grid maps, laser scans): decoded into again for
+    // every message, its arrays keep their memory, so a message as large as the last one costs no
+    // allocation and no zero-filling. (Not for the others: LCM's generated decode leaves an array
+    // whose count is 0 as it was, the previous message's; fastDecode empties it.)
+    std::conditional_t<HasFastDecode<T>::value, T, char> reused{};
     void dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override;
   };
 
@@ -158,7 +164,11 @@ void Node::TypedSubscription<T>::dispatch(const lcm::ReceiveBuffer* rbuf, const 
       return;
     }
   }
-  T msg;
+  T fresh;
+  T& msg = [&]() -> T& {
+    if constexpr (HasFastDecode<T>::value) return reused;
+    else return fresh;
+  }();
   int decoded = -1;
   try {
     decoded = wireDecode(msg, rbuf->data, static_cast<int>(size));

@@ -176,7 +176,12 @@ int32_t decodeHead(Msg& m, const void* buf, int maxlen, int head_size, int eleme
 int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   const int head_size = gridMapHeadSize();
   const int32_t n = decodeHead(m, buf, maxlen, head_size, 8);
-  if (n <= 0) return m.decode(buf, 0, maxlen);
+  if (n <= 0) {  // the generated decode, into empty arrays (it leaves an array of count 0 as it was)
+    m.g.clear();
+    m.h.clear();
+    m.gp.clear();
+    return m.decode(buf, 0, maxlen);
+  }
   m.ncells = n;
   const auto cells = static_cast<size_t>(n);
   m.g.resize(cells);
@@ -194,7 +199,12 @@ int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {
   // arrays a whole element at a time.
   const int head_size = laserScanHeadSize();
   const int32_t n = decodeHead(m, buf, maxlen, head_size, 9);
-  if (n <= 0) return m.decode(buf, 0, maxlen);
+  if (n <= 0) {  // as for grid_map_t
+    m.ranges.clear();
+    m.flags.clear();
+    m.offset_us.clear();
+    return m.decode(buf, 0, maxlen);
+  }
   m.nranges = n;
   const auto count = static_cast<size_t>(n);
   m.ranges.resize(count);
