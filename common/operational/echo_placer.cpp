@@ -48,11 +48,19 @@ std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEc
   const double step = 0.5 * agm.cellSize() / range;
   const int half = std::max(1, static_cast<int>(std::ceil(halfwidth / step)));
   double best = estimate, best_v = 0, best_off = 1e9;
+  // Samples are half a cell apart: most cells come twice in a row, their votes looked up once.
+  int last_ix = -1, last_iy = -1;
+  double last_v = 0;
   for (int q = -half; q <= half; ++q) {
     const double b = centre + halfwidth * q / half;
     int ix = 0, iy = 0;
     if (!agm.cellAt(e.sensor.position() + range * geom::unitVector(b), ix, iy)) continue;
-    const double v = agm.arcVotes(ix, iy);
+    if (ix != last_ix || iy != last_iy) {
+      last_v = agm.arcVotes(ix, iy);
+      last_ix = ix;
+      last_iy = iy;
+    }
+    const double v = last_v;
     const double off = std::abs(geom::angleDiff(b, estimate));
     if (v > best_v + 1e-9 || (std::abs(v - best_v) <= 1e-9 && v > 0 && off < best_off)) {
       best_v = v;
