@@ -2,7 +2,8 @@
 # fuzz_replay.sh [COUNT [SEED]]: the fuzz of fuzz.sh for the pipeline's channels (default 100000
 # messages), written to a log and run through lasonic-replay (the complement and pilot stages,
 # no network): deterministic, so a fault it finds is reproduced by the same seed. Every output
-# must be valid (lasonic-fuzz check), and two replays must be bit-identical.
+# must be valid (lasonic-fuzz check), and two replays must be bit-identical -- the second with
+# every stage on one thread (--threads 1), its --status counters too.
 # Then the tactical level, COUNT / 2 messages: the same kinds of fuzz on every input channel of the
 # navigator (ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP) through `lasonic-replay --stages navigator`,
 # and on the pilot's with its remembered source on (ODOMETRY, LASER_SCAN, SONAR_COMPLEMENT,
@@ -15,11 +16,14 @@ source "$(dirname "$0")/lib.sh"
 count=${1:-100000}
 seed=${2:-2}
 "$bin/lasonic-fuzz" write "$tmp/fuzz.lcmlog" "$count" "$seed" || die "lasonic-fuzz write failed"
+threads=("" "--threads 1")
 for i in 1 2; do
-  "$bin/lasonic-replay" --in "$tmp/fuzz.lcmlog" --out "$tmp/out$i.lcmlog" --config "$config" 2>"$tmp/replay$i.err" ||
-    die "lasonic-replay failed on the fuzz log"
+  # shellcheck disable=SC2086  # (the option and its value as two words)
+  "$bin/lasonic-replay" ${threads[i - 1]} --status --in "$tmp/fuzz.lcmlog" --out "$tmp/out$i.lcmlog" --config "$config" \
+    >"$tmp/status$i.txt" 2>"$tmp/replay$i.err" || die "lasonic-replay ${threads[i - 1]} failed on the fuzz log"
 done
-cmp -s "$tmp/out1.lcmlog" "$tmp/out2.lcmlog" || die "two replays of the same fuzz log differ"
+cmp -s "$tmp/out1.lcmlog" "$tmp/out2.lcmlog" || die "two replays of the same fuzz log differ (default threads, --threads 1)"
+cmp -s "$tmp/status1.txt" "$tmp/status2.txt" || die "the stages' counters differ between the default threads and --threads 1"
 "$bin/lasonic-fuzz" check "$tmp/out1.lcmlog" >"$tmp/check.out" 2>"$tmp/check.err" || {
   cat "$tmp/check.out"
   die "outputs of the fuzz log: $(head -5 "$tmp/check.err")"
