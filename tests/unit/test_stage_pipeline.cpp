@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -81,6 +82,19 @@ struct Downstream {
   }
 };
 
+// 1000 inputs (several chunks and a partial one), some on a channel no stage takes.
+std::function<std::optional<StagePipeline::Input>()> inputs() {
+  return [i = 0]() mutable -> std::optional<StagePipeline::Input> {
+    if (i == 1000) return std::nullopt;
+    StagePipeline::Input in;
+    in.timestamp = 1000 * i;
+    in.channel = i % 7 == 3 ? "OTHER" : "IN";
+    in.data.assign(static_cast<size_t>(1 + i % 5), static_cast<uint8_t>(i));
+    ++i;
+    return in;
+  };
+}
+
 struct Options {
   std::map<std::string, int> thread_of;  // "up", "down", "mid"
   bool throw_at_100 = false;
@@ -88,8 +102,7 @@ struct Options {
   bool subscribe_outside_stage = false;
 };
 
-// Runs 1000 inputs (several chunks and a partial one) and returns what a recorder on the last
-// thread saw, with the input time of each.
+// Runs inputs() and returns what a recorder on the last thread saw, with the input time of each.
 std::vector<std::pair<int64_t, Record>> runPipeline(const Options& o) {
   int threads = 1;
   for (const auto& [name, t] : o.thread_of) threads = std::max(threads, t + 1);
@@ -114,17 +127,7 @@ std::vector<std::pair<int64_t, Record>> runPipeline(const Options& o) {
     const auto* d = static_cast<const uint8_t*>(rbuf->data);
     seen.push_back({now, {ch, std::vector<uint8_t>(d, d + rbuf->data_size)}});
   });
-  int i = 0;
-  p.run(
-      [&i]() -> std::optional<StagePipeline::Input> {
-        if (i == 1000) return std::nullopt;
-        StagePipeline::Input in;
-        in.timestamp = 1000 * i;
-        in.channel = i % 7 == 3 ? "OTHER" : "IN";  // some inputs no stage takes
-        in.data.assign(static_cast<size_t>(1 + i % 5), static_cast<uint8_t>(i++));
-        return in;
-      },
-      [&now](const StagePipeline::Input& in) { now = in.timestamp; });
+  p.run(inputs(), [&now](const StagePipeline::Input& in) { now = in.timestamp; });
   return seen;
 }
 
@@ -170,17 +173,7 @@ TEST(StagePipeline, TheRecordDependsOnTheOrder) {
     const auto* d = static_cast<const uint8_t*>(rbuf->data);
     seen.push_back({ch, std::vector<uint8_t>(d, d + rbuf->data_size)});
   });
-  int i = 0;
-  q.run(
-      [&i]() -> std::optional<StagePipeline::Input> {
-        if (i == 1000) return std::nullopt;
-        StagePipeline::Input in;
-        in.timestamp = 1000 * i;
-        in.channel = i % 7 == 3 ? "OTHER" : "IN";
-        in.data.assign(static_cast<size_t>(1 + i % 5), static_cast<uint8_t>(i++));
-        return in;
-      },
-      {});
+  q.run(inputs(), {});
   ASSERT_EQ(seen.size(), one.size());
   bool differs = false;
   for (size_t k = 0; k < seen.size(); ++k) differs = differs || seen[k] != one[k].second;
