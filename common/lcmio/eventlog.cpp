@@ -114,10 +114,11 @@ LogWriter::LogWriter(const std::string& path) : path_(path) {
 }
 
 LogWriter::~LogWriter() {
+  const bool told = failure_thrown_;
   try {
     flush();
   } catch (const LogError& e) {
-    std::cerr << e.what() << "\n";
+    if (!told) std::cerr << e.what() << "\n";  // (a failure the caller was told of is not said twice)
   }
   {
     const std::lock_guard<std::mutex> lock(m_);
@@ -146,7 +147,7 @@ void LogWriter::writerLoop() {
 void LogWriter::handOver() {
   std::unique_lock<std::mutex> lock(m_);
   cv_.wait(lock, [this] { return !pending_; });
-  if (failed_) throw LogError(path_ + ": write failed");
+  if (failed_) throwFailed();
   if (buf_.empty()) return;
   std::swap(buf_, writing_);  // buf_ is now the written (cleared) buffer, its capacity kept
   pending_ = true;
@@ -158,7 +159,12 @@ void LogWriter::flush() {
   handOver();
   std::unique_lock<std::mutex> lock(m_);
   cv_.wait(lock, [this] { return !pending_; });
-  if (failed_) throw LogError(path_ + ": write failed");
+  if (failed_) throwFailed();
+}
+
+void LogWriter::throwFailed() {
+  failure_thrown_ = true;
+  throw LogError(path_ + ": write failed");
 }
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {

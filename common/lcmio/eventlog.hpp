@@ -124,6 +124,7 @@ class LogWriter {
  private:
   void handOver();  // buf_ to the writer thread (after it has written the previous buffer)
   void writerLoop();
+  [[noreturn]] void throwFailed();
 
   std::FILE* f_ = nullptr;
   std::string path_;
@@ -133,6 +134,7 @@ class LogWriter {
   std::condition_variable cv_;
   std::vector<uint8_t> writing_;  // being written by the writer thread (while pending_)
   bool pending_ = false, stop_ = false, failed_ = false;
+  bool failure_thrown_ = false;  // a caller has been told (the destructor need not say it again)
   std::thread writer_;
 };
 
