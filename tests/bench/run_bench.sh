@@ -3,7 +3,7 @@
 # table to stdout (and writes it to $OUT_DIR/bench-<UTC time>.md):
 #   1. Google Benchmark per stage (build/bench/bench_*): median [min-max] over repetitions;
 #   2. offline real-time factor of lasonic-replay per shipped scene (log reading and writing
-#      included): median [min-max] over runs;
+#      included; its default threads, and fig7_lab also with --threads 1): median [min-max] over runs;
 #   3. SONAR_RING -> SECTOR_MAP latency across the live processes over LCM, in a private network
 #      namespace (latency.sh): p50 / p99 / max over >= LASONIC_BENCH_GROUPS firing groups;
 #   4. the scale case (scale.yaml): fraction of one core lasonic-replay needs for real time.
@@ -65,6 +65,13 @@ for sc in "$src"/deploy/scenarios/*.yaml; do
   dur=$("$bin/lasonic-replay" --in "$tmp/$name.lcmlog" --out "$tmp/out.lcmlog" --config "$config" 2>&1 >/dev/null |
     sed -n 's/.*: \([0-9.]*\) s of log in.*/\1/p')
   row "offline real-time factor: $name ($dur s)" "$(cat "$tmp/rtf") x" "lasonic-replay, log reading and writing included, $runs runs"
+  if [[ $name == fig7_lab ]]; then  # the same on one thread (the stages' threads' share of the factor)
+    for ((i = 0; i < runs; i++)); do
+      "$bin/lasonic-replay" --threads 1 --in "$tmp/$name.lcmlog" --out "$tmp/out.lcmlog" --config "$config" 2>&1 >/dev/null |
+        sed -n 's/.*s of log in .* real-time factor \([0-9.]*\),.*/\1/p'
+    done | stats '%.0f' >"$tmp/rtf1"
+    row "offline real-time factor: $name ($dur s), --threads 1" "$(cat "$tmp/rtf1") x" "as above, every stage on one thread (the log writer on its own)"
+  fi
 done
 
 # ---- 3. live latency
