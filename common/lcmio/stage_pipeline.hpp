@@ -7,8 +7,8 @@
 // How. The threads form a chain, each with its own LocalBus. Stages are made in the one bus's
 // order, each on the bus of its thread; for every subscription of a stage on thread t, a proxy
 // subscription with the same pattern is made on every later thread's bus at that point of the
-// order. For each input event, every thread publishes the event on its bus and delivers until the
-// queue is empty (as the one bus would). On thread t, what each of its stages' handlers published
+// order. For each input event, every thread publishes the event on its bus (unless nothing there
+// takes it) and delivers until the queue is empty (as the one bus would). On thread t, what each of its stages' handlers published
 // during each delivery is recorded with the event, which then goes down the chain; on a later
 // thread the proxy publishes the recorded messages when the same delivery reaches it -- where the
 // stage's own handler would have published them on the one bus.
@@ -71,8 +71,8 @@ class StagePipeline {
   void run(const std::function<std::optional<Input>()>& next, const std::function<void(const Input&)>& on_last);
 
  private:
-  // A chunk of input events with what the stages of the threads it has passed published, all in
-  // a few flat arrays (no allocation per event or message once they have grown).
+  // A chunk of input events with what the stages of the threads it has passed published, in a
+  // few flat arrays (allocations per chunk, not per event or message).
   struct Chunk {
     struct Out {  // one published message: channel name in `bytes`, data in `bytes` or `owned`
       size_t channel_at, channel_len, data_at, data_len;
