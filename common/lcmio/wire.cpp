@@ -171,17 +171,20 @@ int32_t decodeHead(Msg& m, const void* buf, int maxlen, int head_size, int eleme
   if (m.decode(head, 0, head_size) != head_size) return 0;
   return n;
 }
+
+// The generated decode, into emptied arrays: it leaves an array whose count is 0 as it was (the
+// previous message's, where Node decodes into the same message each time).
+template <typename Msg, typename... Arrays>
+int generatedDecodeEmptied(Msg& m, const void* buf, int maxlen, Arrays&... arrays) {
+  (arrays.clear(), ...);
+  return m.decode(buf, 0, maxlen);
+}
 }  // namespace
 
 int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   const int head_size = gridMapHeadSize();
   const int32_t n = decodeHead(m, buf, maxlen, head_size, 8);
-  if (n <= 0) {  // the generated decode, into empty arrays (it leaves an array of count 0 as it was)
-    m.g.clear();
-    m.h.clear();
-    m.gp.clear();
-    return m.decode(buf, 0, maxlen);
-  }
+  if (n <= 0) return generatedDecodeEmptied(m, buf, maxlen, m.g, m.h, m.gp);
   m.ncells = n;
   const auto cells = static_cast<size_t>(n);
   m.g.resize(cells);
@@ -199,12 +202,7 @@ int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {
   // arrays a whole element at a time.
   const int head_size = laserScanHeadSize();
   const int32_t n = decodeHead(m, buf, maxlen, head_size, 9);
-  if (n <= 0) {  // as for grid_map_t
-    m.ranges.clear();
-    m.flags.clear();
-    m.offset_us.clear();
-    return m.decode(buf, 0, maxlen);
-  }
+  if (n <= 0) return generatedDecodeEmptied(m, buf, maxlen, m.ranges, m.flags, m.offset_us);
   m.nranges = n;
   const auto count = static_cast<size_t>(n);
   m.ranges.resize(count);
