@@ -502,6 +502,64 @@ LASONIC_AVX2 size_t farthestAvx2(const Vec2* p, size_t count, const double* k, d
   }
   return i;
 }
+
+// chordSquaresAvx2 with u = dot * (1 / l2) for dot / l2: no division (the loop's bottleneck),
+// and a square only a few units in the last place away from the exact one (screenedFarthestAvx2).
+LASONIC_AVX2 inline __m256d approxChordSquaresAvx2(const Vec2* p, const double* k, __m256d inv_l2) {
+  const __m256d ax = _mm256_set1_pd(k[0]), ay = _mm256_set1_pd(k[1]), ex = _mm256_set1_pd(k[2]),
+                ey = _mm256_set1_pd(k[3]);
+  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].data()), _mm_loadu_pd(p[0].data()));
+  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].data()), _mm_loadu_pd(p[1].data()));
+  const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
+  const __m256d dot = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
+  const __m256d u = _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_mul_pd(dot, inv_l2)));
+  const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
+  const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
+  return _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy));
+}
+
+// farthest() over p[0 .. count-1] in two passes, with the same choice. The first pass takes the
+// approximate squares (approxChordSquaresAvx2) and their largest, M. An approximate root differs
+// from the exact one by less than E = 2^-40 (|a| + |e| + sqrt M) (max norms; the bound is about
+// 2^-46 times that: the quotient is within 2^-50 of the exact one after clamping to [0, 1], and
+// the steps after it round alike), so every point of the largest exact root has an approximate
+// root of at least sqrt M - 2 E. The second pass takes the exact squares of only those points
+// (a few), in order, as farthest() does. Returns false, having changed nothing, where the bound
+// is not known to hold: a chord far outside 1e-100 .. 1e100, or a square NaN or beyond 1e200.
+LASONIC_AVX2 bool screenedFarthestAvx2(const ChordDistance& chord, const Vec2* p, size_t count, const double* k,
+                                       double& m2, size_t& at) {
+  const double l2 = k[4];
+  const double a_max = std::max(std::abs(k[0]), std::abs(k[1])), e_max = std::max(std::abs(k[2]), std::abs(k[3]));
+  if (!(l2 > 1e-100 && l2 < 1e100 && a_max < 1e100)) return false;
+  thread_local std::vector<double> approx;  // (scratch)
+  approx.resize(count);
+  const __m256d inv_l2 = _mm256_set1_pd(1.0 / l2);
+  __m256d top = _mm256_setzero_pd(), odd = _mm256_setzero_pd();  // odd: a NaN lane
+  size_t i = 0;
+  for (; i + 4 <= count; i += 4) {
+    const __m256d d2 = approxChordSquaresAvx2(p + i, k, inv_l2);
+    _mm256_storeu_pd(approx.data() + i, d2);
+    top = _mm256_max_pd(top, d2);
+    odd = _mm256_or_pd(odd, _mm256_cmp_pd(d2, d2, _CMP_UNORD_Q));
+  }
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, top);
+  double top2 = std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
+  bool nan = _mm256_movemask_pd(odd) != 0;
+  for (; i < count; ++i) {  // the tail: the exact square (within the bound too)
+    approx[i] = chord.squared(p[i]);
+    nan = nan || std::isnan(approx[i]);
+    top2 = std::max(top2, approx[i]);
+  }
+  if (nan || !(top2 < 1e200)) return false;  // (and low * low below stays finite)
+  const double root = std::sqrt(top2);
+  const double bound = 0x1p-40 * (a_max + e_max + root);
+  const double low = root - 4 * bound;  // (2 E with a margin)
+  const double low2 = low > 0 ? low * low * (1 - 0x1p-40) : -1.0;  // at most low^2
+  for (size_t j = 0; j < count; ++j)
+    if (approx[j] >= low2) takeOver(chord.squared(p[j]), j, m2, at);
+  return true;
+}
 #endif
 
 void ChordDistance::squaredMany(const Vec2* p, size_t count, double* out) const {
@@ -525,6 +583,8 @@ void ChordDistance::farthest(const Vec2* p, size_t count, double& m2, size_t& at
     const double k[5] = {a_.x(), a_.y(), e_.x(), e_.y(), l2_};
     const VectorPath path = vectorPath();
 #if LASONIC_AVX2_LOOP
+    // (Long runs screened first: the exact loop's division is its bottleneck.)
+    if (path == VectorPath::Avx2 && count >= 16 && screenedFarthestAvx2(*this, p, count, k, m2, at)) return;
     if (path == VectorPath::Avx2) i = farthestAvx2(p, count, k, m2, at);
 #endif
 #if defined(__SSE2__)

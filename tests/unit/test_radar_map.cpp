@@ -704,6 +704,51 @@ TEST(IterativeEndPointFit, VectorPathsSplitWhereTheDefinitionSplits) {
   EXPECT_GT(splits, 3000);
 }
 
+// Long runs (16 points and more) are screened with approximate distances before the exact ones
+// are taken (AVX2): they split where the definition does, also where the largest distances are
+// exact ties or a few ulp apart, far from the origin (odometry after a long run: the
+// approximation's error grows with the coordinates), with chords of all lengths.
+TEST(IterativeEndPointFit, ScreenedLongRunsSplitWhereTheDefinitionSplits) {
+  RestoreVectorPath restore;
+  std::mt19937 rng(36);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), coin(0.0, 1.0);
+  const double offsets[] = {0.0, 37.5, -1.3e3, 2.2e5, -4.1e7};
+  int splits = 0, ties = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 16 + trial % 300;
+    const double off = offsets[trial % 5], scale = trial % 7 == 0 ? 1e-3 : (trial % 7 == 1 ? 40.0 : 1.0);
+    const double angle = 0.3 * (trial % 11);
+    const Vec2 dir(std::cos(angle), std::sin(angle)), nrm(-dir.y(), dir.x());
+    std::vector<Vec2> pts;
+    for (int k = 0; k < n; ++k) {
+      const double along = scale * 0.05 * k;
+      double across = scale * 0.01 * u(rng);
+      if (trial % 4 == 0 && k % 9 == 4) across = scale * 0.07;  // exact ties of the largest
+      if (trial % 4 == 1 && k % 9 == 4) {  // largest a few ulp apart
+        across = scale * 0.07;
+        for (int step = 0; step < static_cast<int>(coin(rng) * 4); ++step) across = std::nextafter(across, 1.0);
+      }
+      pts.push_back(Vec2(off, -off) + along * dir + across * nrm);
+    }
+    const double thr = scale * (trial % 3 == 0 ? 0.03 : 0.07);
+    std::vector<IndexRange> expected;
+    referenceFit(pts, 0, pts.size() - 1, thr, expected);
+    splits += static_cast<int>(expected.size()) - 1;
+    ties += trial % 4 < 2;
+    for (const VectorPath path : {VectorPath::Scalar, VectorPath::Avx2}) {
+      setVectorPath(path);
+      const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
+      ASSERT_EQ(got.size(), expected.size()) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      for (size_t k = 0; k < got.size(); ++k) {
+        ASSERT_EQ(got[k].first, expected[k].first) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+        ASSERT_EQ(got[k].last, expected[k].last) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
+      }
+    }
+  }
+  EXPECT_GT(splits, 2000);
+  EXPECT_GT(ties, 900);
+}
+
 // The end-point fit's squared distances in each vector path, bit for bit the squared norm of
 // closestPoint(chord, p) - p: random chords (and chords of zero length, tiny and huge ones),
 // points before, on and beyond the chord's ends, on the chord's line, NaN and infinite, counts
