@@ -372,11 +372,25 @@ void jumpBreaks(const ScanPoint* points, size_t n, const RadarMapConfig& cfg, ui
 }
 }  // namespace
 
-std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
-                                   const RadarMapConfig& cfg) {
+namespace {
+// The clusters of splitClusters, flat: cluster k is flat[starts[k] .. starts[k + 1]) (no vector
+// per cluster: a scan has dozens). `closed`: the one cluster of a full circle without a break.
+struct FlatClusters {
+  std::vector<Vec2> flat;
+  std::vector<size_t> starts;  // one per cluster, and the end
+  bool closed = false;
+  size_t size() const { return starts.empty() ? 0 : starts.size() - 1; }
+  size_t first(size_t k) const { return starts[k]; }
+  size_t count(size_t k) const { return starts[k + 1] - starts[k]; }
+};
+
+void splitClustersFlat(const std::vector<ScanPoint>& points, bool full_circle, const RadarMapConfig& cfg,
+                       FlatClusters& out) {
   const size_t n = points.size();
-  std::vector<Cluster> clusters;
-  if (n == 0) return clusters;
+  out.flat.clear();
+  out.starts.clear();
+  out.closed = false;
+  if (n == 0) return;
   // brk[i]: point i cannot continue the cluster of point i-1 (of the last point for i = 0).
   thread_local std::vector<uint8_t> brk;  // (scratch)
   brk.resize(n);
@@ -386,13 +400,13 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
   std::optional<size_t> start;
   for (size_t i = 0; i < n && !start; ++i)
     if (brk[i]) start = i;
+  out.flat.reserve(n);
+  out.starts.push_back(0);
   if (!start) {  // a full circle without a single break
-    Cluster all;
-    all.points.reserve(n);
-    for (const ScanPoint& p : points) all.points.push_back(p.p);
-    all.closed = true;
-    clusters.push_back(std::move(all));
-    return clusters;
+    for (const ScanPoint& p : points) out.flat.push_back(p.p);
+    out.starts.push_back(n);
+    out.closed = true;
+    return;
   }
   // Each run from a break to the next (the last one on round the end to the first break) is a
   // cluster: a point without a break before it is valid and so is its predecessor, so a run's
@@ -403,12 +417,24 @@ std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool fu
     const size_t e = hit ? static_cast<size_t>(static_cast<const uint8_t*>(hit) - brk.data()) : n;
     const size_t len = e - s + (e == n ? *start : 0);
     if (points[s].valid) {
-      std::vector<geom::Vec2>& out = clusters.emplace_back().points;
-      out.resize(len);
-      for (size_t k = 0, i = s; k < len; ++k, i = i + 1 == n ? 0 : i + 1) out[k] = points[i].p;
+      for (size_t k = 0, i = s; k < len; ++k, i = i + 1 == n ? 0 : i + 1) out.flat.push_back(points[i].p);
+      out.starts.push_back(out.flat.size());
     }
     if (e == n) break;
     s = e;
+  }
+}
+}  // namespace
+
+std::vector<Cluster> splitClusters(const std::vector<ScanPoint>& points, bool full_circle,
+                                   const RadarMapConfig& cfg) {
+  FlatClusters fc;
+  splitClustersFlat(points, full_circle, cfg, fc);
+  std::vector<Cluster> clusters(fc.size());
+  for (size_t k = 0; k < fc.size(); ++k) {
+    const auto* b = fc.flat.data() + fc.first(k);
+    clusters[k].points.assign(b, b + fc.count(k));
+    clusters[k].closed = fc.closed;
   }
   return clusters;
 }
@@ -668,29 +694,46 @@ void joinCorner(RmSegment& a, RmSegment& b, double max_shift) {
   b.seg.a = x;
 }
 
-std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg) {
-  std::vector<RmSegment> out;
+namespace {
+// clusterSegments of the cluster points[first .. first + count), appended to out; returns how many.
+size_t appendClusterSegments(const std::vector<Vec2>& points, size_t first, size_t count, bool closed,
+                             const RadarMapConfig& cfg, std::vector<RmSegment>& out) {
   const size_t min_points = static_cast<size_t>(std::max(2, cfg.min_points));
-  if (cluster.points.size() < min_points) return out;
+  if (count < min_points) return 0;
+  thread_local std::vector<IndexRange> ranges;  // (scratch)
+  ranges.clear();
   // An open cluster is fitted in place; a closed one is first cut at a breakpoint of a first
   // pass (a corner) and closed there, in a copy.
   std::vector<Vec2> loop;
-  if (cluster.closed) {
-    loop = cluster.points;
-    const auto first = iterativeEndPointFit(loop, {0, loop.size() - 1}, cfg.split_threshold);
-    const size_t corner = first.size() > 1 ? first.front().last : 0;
+  if (closed) {
+    loop.assign(points.begin() + static_cast<std::ptrdiff_t>(first),
+                points.begin() + static_cast<std::ptrdiff_t>(first + count));
+    splitRecursive(loop, 0, loop.size() - 1, cfg.split_threshold, ranges);
+    const size_t corner = ranges.size() > 1 ? ranges.front().last : 0;
     std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(corner), loop.end());
     loop.push_back(loop.front());
+    ranges.clear();
+    first = 0;
+    count = loop.size();
   }
-  const std::vector<Vec2>& pts = cluster.closed ? loop : cluster.points;
-  for (const IndexRange& r : iterativeEndPointFit(pts, {0, pts.size() - 1}, cfg.split_threshold)) {
+  const std::vector<Vec2>& pts = closed ? loop : points;
+  splitRecursive(pts, first, first + count - 1, cfg.split_threshold, ranges);
+  const size_t before = out.size();
+  for (const IndexRange& r : ranges) {
     if (r.size() < min_points) continue;
     RmSegment s = fitLine(pts, r);
     if (s.seg.length() < cfg.min_length) continue;
-    if (!out.empty()) joinCorner(out.back(), s, cfg.jump_abs);
+    if (out.size() > before) joinCorner(out.back(), s, cfg.jump_abs);
     out.push_back(s);
   }
-  if (cluster.closed && out.size() > 2) joinCorner(out.back(), out.front(), cfg.jump_abs);
+  if (closed && out.size() - before > 2) joinCorner(out.back(), out[before], cfg.jump_abs);
+  return out.size() - before;
+}
+}  // namespace
+
+std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapConfig& cfg) {
+  std::vector<RmSegment> out;
+  appendClusterSegments(cluster.points, 0, cluster.points.size(), cluster.closed, cfg, out);
   return out;
 }
 
@@ -722,11 +765,14 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
   rm.robot_pose = pose.value_or(geom::Pose2{});
   rm.view = laserViewOf(scan, rm.robot_pose);
-  for (Cluster& cl : splitClusters(points, scan.full_circle, cfg)) {
-    const std::vector<RmSegment> segs = clusterSegments(cl, cfg);
-    rm.segments.insert(rm.segments.end(), segs.begin(), segs.end());
-    if (segs.empty() && cfg.pole_min_points > 0 && cl.points.size() >= static_cast<size_t>(cfg.pole_min_points))
-      rm.pole_candidates.push_back(std::move(cl.points));  // the cluster is not needed after this
+  thread_local FlatClusters clusters;  // (scratch)
+  splitClustersFlat(points, scan.full_circle, cfg, clusters);
+  for (size_t k = 0; k < clusters.size(); ++k) {
+    const size_t first = clusters.first(k), count = clusters.count(k);
+    if (appendClusterSegments(clusters.flat, first, count, clusters.closed, cfg, rm.segments) == 0 &&
+        cfg.pole_min_points > 0 && count >= static_cast<size_t>(cfg.pole_min_points))
+      rm.pole_candidates.emplace_back(clusters.flat.begin() + static_cast<std::ptrdiff_t>(first),
+                                      clusters.flat.begin() + static_cast<std::ptrdiff_t>(first + count));
   }
   return rm;
 }
