@@ -215,6 +215,25 @@ LASONIC_AVX2 void placeFourAvx2(const Cursor& cu, const LaserReading* r, const d
   _mm_storeu_pd(out[3].p.data(), _mm256_extractf128_pd(odd, 1));
   for (size_t j = 0; j < 4; ++j) out[j].range = r[j].range, out[j].valid = true;
 }
+
+// placeReadings' first loop, four readings at a time: each lane the scalar operations on one
+// reading (x = range * ux, y = range * uy, lx = mx + mc * x - ms * y, ly = my + ms * x + mc * y,
+// left to right); returns how many readings it did (a multiple of four).
+template <typename Entry>
+LASONIC_AVX2 size_t robotFrameAvx2(const LaserReading* rd, const Entry* u, size_t n, double mc, double ms, double mx,
+                                   double my, double* lx, double* ly) {
+  const __m256d vmc = _mm256_set1_pd(mc), vms = _mm256_set1_pd(ms), vmx = _mm256_set1_pd(mx), vmy = _mm256_set1_pd(my);
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d r = _mm256_set_pd(rd[i + 3].range, rd[i + 2].range, rd[i + 1].range, rd[i].range);
+    const __m256d ux = _mm256_set_pd(u[i + 3].u.x(), u[i + 2].u.x(), u[i + 1].u.x(), u[i].u.x());
+    const __m256d uy = _mm256_set_pd(u[i + 3].u.y(), u[i + 2].u.y(), u[i + 1].u.y(), u[i].u.y());
+    const __m256d x = _mm256_mul_pd(r, ux), y = _mm256_mul_pd(r, uy);
+    _mm256_storeu_pd(lx + i, _mm256_sub_pd(_mm256_add_pd(vmx, _mm256_mul_pd(vmc, x)), _mm256_mul_pd(vms, y)));
+    _mm256_storeu_pd(ly + i, _mm256_add_pd(_mm256_add_pd(vmy, _mm256_mul_pd(vms, x)), _mm256_mul_pd(vmc, y)));
+  }
+  return i;
+}
 #endif
 }  // namespace
 
@@ -233,7 +252,11 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& p
   const double mc = mount_rot.c(), ms = mount_rot.s(), mx = scan.mount.x, my = scan.mount.y;
   const LaserReading* rd = scan.readings.data();
   const UnitVectors::Entry* u = unit.prepare(rd, n);
-  for (size_t i = 0; i < n; ++i) {
+  size_t i0 = 0;
+#if LASONIC_AVX2_LOOP
+  if (vectorPath() == VectorPath::Avx2) i0 = robotFrameAvx2(rd, u, n, mc, ms, mx, my, lx.data(), ly.data());
+#endif
+  for (size_t i = i0; i < n; ++i) {
     // mount_rot.transform(scan.mount, range * u), for valid readings (others: not used)
     const double x = rd[i].range * u[i].u.x(), y = rd[i].range * u[i].u.y();
     lx[i] = mx + mc * x - ms * y;
