@@ -181,12 +181,34 @@ int64_t cellIndexOf(double x, double cell) {
   return static_cast<int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15));
 }
 #if LASONIC_AVX2_LOOP
+// Four at a time, first without the division: q' = v * (1 / cell) is within 2^-51 |q| of the
+// quotient q = v / cell (both rounded), so where no integer lies within 2^-40 max(1, |q'|) of q'
+// (then |q'| < 2^39, well inside the clamp) none lies between q' and q, and floor(q') = floor(q).
+// Four such lanes are floored and converted in the vector (an integer f, |f| < 2^51, is the low
+// bits of f + 1.5 * 2^52); otherwise the four go the defining way below: a cell edge within a
+// few ulp, NaN, huge values, or a cell outside 1e-150 .. 1e150 (where 1 / cell may lose bits).
 LASONIC_AVX2 size_t cellIndicesAvx2(const double* v, size_t n, double cell, int64_t* out) {
   const __m256d c = _mm256_set1_pd(cell), lo = _mm256_set1_pd(-1e15), hi = _mm256_set1_pd(1e15);
   const __m256d big = _mm256_set1_pd(6755399441055744.0), unit = _mm256_set1_pd(1.0);
+  const bool screen = cell > 1e-150 && cell < 1e150;
+  const __m256d inv = _mm256_set1_pd(screen ? 1.0 / cell : 0.0), band = _mm256_set1_pd(0x1p-40);
+  const __m256d sign = _mm256_set1_pd(-0.0);
   size_t i = 0;
   for (; i + 4 <= n; i += 4) {
-    const __m256d q = _mm256_div_pd(_mm256_loadu_pd(v + i), c);
+    const __m256d x = _mm256_loadu_pd(v + i);
+    if (screen) {
+      const __m256d q = _mm256_mul_pd(x, inv);
+      const __m256d r = _mm256_sub_pd(_mm256_add_pd(q, big), big);  // q rounded to an integer (|q| < 2^51)
+      const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(q, r));
+      const __m256d room = _mm256_mul_pd(_mm256_max_pd(_mm256_andnot_pd(sign, q), unit), band);
+      if (_mm256_movemask_pd(_mm256_cmp_pd(off, room, _CMP_GT_OQ)) == 15) {  // (NaN: not greater)
+        const __m256d f = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(r, q, _CMP_GT_OS), unit));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + i),
+                            _mm256_sub_epi64(_mm256_castpd_si256(_mm256_add_pd(f, big)), _mm256_castpd_si256(big)));
+        continue;
+      }
+    }
+    const __m256d q = _mm256_div_pd(x, c);
     // A NaN quotient goes the scalar way (the vector min and max would not keep it).
     if (_mm256_movemask_pd(_mm256_cmp_pd(q, q, _CMP_UNORD_Q)) != 0) {
       for (size_t j = i; j < i + 4; ++j) out[j] = cellIndexOf(v[j], cell);
@@ -232,6 +254,52 @@ void cellIndices(const double* v, size_t n, double cell, int64_t* out) {
 #endif
   for (; i < n; ++i) out[i] = cellIndexOf(v[i], cell);
 }
+
+namespace {
+// The smallest and largest of v[0 .. n-1] (n >= 1).
+#if LASONIC_AVX2_LOOP
+LASONIC_AVX2 void minMaxAvx2(const int64_t* v, size_t n, int64_t& lo, int64_t& hi) {
+  size_t i = 0;
+  if (n >= 4) {
+    __m256i l = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v)), h = l;
+    for (i = 4; i + 4 <= n; i += 4) {
+      const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i));
+      l = _mm256_blendv_epi8(l, x, _mm256_cmpgt_epi64(l, x));
+      h = _mm256_blendv_epi8(h, x, _mm256_cmpgt_epi64(x, h));
+    }
+    alignas(32) int64_t ls[4], hs[4];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(ls), l);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(hs), h);
+    for (size_t k = 0; k < 4; ++k) lo = std::min(lo, ls[k]), hi = std::max(hi, hs[k]);
+  }
+  for (; i < n; ++i) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+}
+
+// out[i] = ((gy[i] - y0) >> shift) * w + ((gx[i] - x0) >> shift) as uint32, four at a time, for
+// differences in [0, 2^31) and w < 2^31 (the bucket box); returns how many it did.
+LASONIC_AVX2 size_t bucketIdsAvx2(const int64_t* gx, const int64_t* gy, size_t n, int64_t x0, int64_t y0,
+                                  int shift, int64_t w, uint32_t* out) {
+  const __m256i vx0 = _mm256_set1_epi64x(x0), vy0 = _mm256_set1_epi64x(y0), vw = _mm256_set1_epi64x(w);
+  const __m128i sh = _mm_cvtsi32_si128(shift);
+  const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256i bx = _mm256_srl_epi64(_mm256_sub_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(gx + i)), vx0), sh);
+    const __m256i by = _mm256_srl_epi64(_mm256_sub_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(gy + i)), vy0), sh);
+    const __m256i b = _mm256_add_epi64(_mm256_mul_epu32(by, vw), bx);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i),
+                     _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(b, low_halves)));
+  }
+  return i;
+}
+#endif
+void minMax(const int64_t* v, size_t n, int64_t& lo, int64_t& hi) {
+#if LASONIC_AVX2_LOOP
+  if (SectorMap::vectorPath() == SectorMap::VectorPath::Avx2) return minMaxAvx2(v, n, lo, hi);
+#endif
+  for (size_t i = 0; i < n; ++i) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+}
+}  // namespace
 
 // The explained cells: cell (x, y) is explained when a point p of the newest scan has
 // (x, y) in its candidate box (within +-span cells of p's own cell, narrowed to the cells whose
@@ -287,13 +355,10 @@ void SectorMap::rebuildExplained(double c) {
   point_gy_.resize(laser_points_.size());
   cellIndices(laser_x_.data(), laser_points_.size(), c, point_gx_.data());  // explainedGlobal of each
   cellIndices(laser_y_.data(), laser_points_.size(), c, point_gy_.data());
-  for (size_t i = 0; i < laser_points_.size(); ++i) {
-    const int64_t gx = point_gx_[i], gy = point_gy_[i];
-    x0 = std::min(x0, gx - span);
-    x1 = std::max(x1, gx + span);
-    y0 = std::min(y0, gy - span);
-    y1 = std::max(y1, gy + span);
-  }
+  // (Each point's candidate box is its cell +- span: the box of all is the cells' extremes +- span.)
+  minMax(point_gx_.data(), point_gx_.size(), x0, x1);
+  minMax(point_gy_.data(), point_gy_.size(), y0, y1);
+  x0 -= span, x1 += span, y0 -= span, y1 += span;
   constexpr int64_t kMaxBits = int64_t{1} << 26;  // 8 MB: a 400 m square at 5 cm
   const bool box_ok = x1 - x0 < (int64_t{1} << 31) && y1 - y0 < (int64_t{1} << 31) &&
                       (x1 - x0 + 1) <= kMaxBits / (y1 - y0 + 1);
@@ -324,11 +389,16 @@ void SectorMap::rebuildExplained(double c) {
     uint32_t* pb = point_bucket_.data();
     uint32_t* count = bucket_start_.data() + 1;
     const int64_t shift = bucket_shift_, w = bucket_w_;
+    size_t i0 = 0;
+#if LASONIC_AVX2_LOOP
+    if (vectorPath() == VectorPath::Avx2) i0 = bucketIdsAvx2(gxs, gys, np, x0, y0, static_cast<int>(shift), w, pb);
+#endif
+    for (size_t i = i0; i < np; ++i)
+      pb[i] = static_cast<uint32_t>(((gys[i] - y0) >> shift) * w + ((gxs[i] - x0) >> shift));
     for (size_t i = 0; i < np;) {
-      const auto b = static_cast<uint32_t>(((gys[i] - y0) >> shift) * w + ((gxs[i] - x0) >> shift));
-      size_t j = i;
-      do pb[j++] = b;
-      while (j < np && static_cast<uint32_t>(((gys[j] - y0) >> shift) * w + ((gxs[j] - x0) >> shift)) == b);
+      const uint32_t b = pb[i];
+      size_t j = i + 1;
+      while (j < np && pb[j] == b) ++j;
       count[b] += static_cast<uint32_t>(j - i);
       i = j;
     }
