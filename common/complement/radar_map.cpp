@@ -238,9 +238,15 @@ LASONIC_AVX2 size_t robotFrameAvx2(const LaserReading* rd, const Entry* u, size_
 }  // namespace
 
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose) {
+  std::vector<ScanPoint> out;
+  placeReadingsInto(scan, poses, out, no_pose);
+  return out;
+}
+
+void placeReadingsInto(const LaserScan& scan, const PoseHistory& poses, std::vector<ScanPoint>& out, int* no_pose) {
   // As placeWith, with the robot's rotation from the cursor (angle addition while it turns).
   const size_t n = scan.readings.size();
-  std::vector<ScanPoint> out(n);
+  out.resize(n);  // (every element is written below: what an earlier call left does not matter)
   // First each valid reading in the robot frame (the mount's rotation and the reading's own
   // direction do not depend on the pose), then each placed with its pose.
   thread_local UnitVectors unit;  // a memo only: the result depends on the arguments alone
@@ -281,6 +287,7 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& p
     }
 #endif
     const LaserReading& r = rd[i];
+    out[i] = ScanPoint{};
     if (r.valid) {
       double c = 1, s = 0;
       if (const auto robot = cursor.atRotated(r.utime, c, s))
@@ -291,7 +298,6 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& p
     ++i;
   }
   if (no_pose) *no_pose = missing;
-  return out;
 }
 
 namespace {
@@ -812,7 +818,9 @@ RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const
 
 RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg, int* no_pose) {
   const auto pose = poses.at(lastReadingTime(scan));
-  return radarMapOf(scan, placeReadings(scan, poses, no_pose), pose, cfg);
+  thread_local std::vector<ScanPoint> placed;  // (scratch: its storage, scan after scan)
+  placeReadingsInto(scan, poses, placed, no_pose);
+  return radarMapOf(scan, placed, pose, cfg);
 }
 
 RadarMap radarMapFromPlaced(const LaserScan& scan, const std::vector<ScanPoint>& placed, const PoseHistory& poses,

@@ -110,6 +110,9 @@ std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseLookup& po
                                      int* no_pose = nullptr);
 // The same with the poses of an odometry history (PoseHistory::at), found interval by interval.
 std::vector<ScanPoint> placeReadings(const LaserScan& scan, const PoseHistory& poses, int* no_pose = nullptr);
+// The same into `out`, whose storage is reused (a scan's worth of points, scan after scan).
+void placeReadingsInto(const LaserScan& scan, const PoseHistory& poses, std::vector<ScanPoint>& out,
+                       int* no_pose = nullptr);
 
 // The widest vector loop placeReadings (from a PoseHistory) and splitClusters may use; all give
 // the same values, bit for bit. By default the widest the CPU has (AVX2 where there, else SSE2);

@@ -61,7 +61,7 @@ const std::vector<ScanPoint>& SharedPlacement::place(const LaserScan& scan, cons
   if (same_scan && poses.sameAs(poses_)) {
     ++reused_;
   } else {
-    points_ = placeReadings(scan, poses, &no_pose_);
+    placeReadingsInto(scan, poses, points_, &no_pose_);
     if (from_message) {
       from_ = From::Message;
       from_generation_ = msg_generation_;

@@ -199,9 +199,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (!remember) laser_memory_.clear();
 
   int no_pose = 0;
-  std::vector<complement::ScanPoint> own;
-  const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose)
-                                                                 : (own = complement::placeReadings(*scan, poses_, &no_pose));
+  if (!placement_) complement::placeReadingsInto(*scan, poses_, own_placed_, &no_pose);
+  const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose) : own_placed_;
   std::vector<geom::Vec2> points;
   points.reserve(placed.size());
   int64_t newest = m.utime;
