@@ -46,6 +46,14 @@ std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector
 
 std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& scan, const geom::Vec2& robot) {
   std::vector<geom::Vec2> v(scan.size(), geom::Vec2::Zero());
+  for (const MovingRun& r : track(scan, robot))
+    for (size_t j = r.first; j <= r.last; ++j) v[j] = r.vel;
+  return v;
+}
+
+const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std::vector<TimedPoint>& scan,
+                                                                       const geom::Vec2& robot) {
+  runs_.clear();
   std::vector<Blob> now = candidates(scan);
   movers_ = 0;
   still_.assign(scan.size(), 1);
@@ -84,11 +92,11 @@ std::vector<geom::Vec2> MoverPrediction::update(const std::vector<TimedPoint>& s
     if (!prev_[b].paired) continue;
     if (!((vel - prev_[b].vel).norm() <= std::max(p_.agree_speed, 0.5 * speed))) continue;
     ++movers_;
-    for (size_t j = now[a].first; j <= now[a].last; ++j) v[j] = vel;
+    runs_.push_back({now[a].first, now[a].last, vel});
   }
   prev_ = std::move(now);
   prev_robot_ = robot;
-  return v;
+  return runs_;
 }
 
 }  // namespace lasonic

@@ -59,6 +59,14 @@ class MoverPrediction {
   // A scan not later than the previous one pairs with nothing (and replaces it).
   // `robot`: the robot's (odometry) position at the middle of the scan.
   std::vector<geom::Vec2> update(const std::vector<TimedPoint>& scan, const geom::Vec2& robot);
+  // The same work, the result as runs instead of one velocity per return: scan[first..last]
+  // moves at vel (a mover's returns; runs in scan order, apart), every other return's velocity
+  // is zero. The reference is valid until the next call.
+  struct MovingRun {
+    size_t first = 0, last = 0;
+    geom::Vec2 vel = geom::Vec2::Zero();
+  };
+  const std::vector<MovingRun>& track(const std::vector<TimedPoint>& scan, const geom::Vec2& robot);
   // Candidates paired and found moving in the last update.
   int movers() const { return movers_; }
   // Per return of the last update's scan: known to stand still -- it belongs to no candidate (a
@@ -84,6 +92,7 @@ class MoverPrediction {
   geom::Vec2 prev_robot_ = geom::Vec2::Zero();
   int movers_ = 0;
   std::vector<uint8_t> still_;
+  std::vector<MovingRun> runs_;
 };
 
 }  // namespace lasonic

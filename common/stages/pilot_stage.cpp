@@ -201,16 +201,17 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   int no_pose = 0;
   if (!placement_) complement::placeReadingsInto(*scan, poses_, own_placed_, &no_pose);
   const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose) : own_placed_;
+  // The valid returns, in scan order (points[k] is timed_[k].p).
   std::vector<geom::Vec2> points;
   points.reserve(placed.size());
   int64_t newest = m.utime;
-  std::vector<TimedPoint> timed;
-  if (cfg_.predict_movers) timed.reserve(placed.size());
+  timed_.clear();
+  if (cfg_.predict_movers) timed_.reserve(placed.size());
   for (size_t i = 0; i < placed.size(); ++i) {
     newest = std::max(newest, scan->readings[i].utime);
     if (!placed[i].valid) continue;
-    if (cfg_.predict_movers) timed.push_back({placed[i].p, scan->readings[i].utime});
-    else points.push_back(placed[i].p);
+    points.push_back(placed[i].p);
+    if (cfg_.predict_movers) timed_.push_back({placed[i].p, scan->readings[i].utime});
   }
   std::vector<SectorMap::MovingPoint> moving;
   // What the laser memory may keep: returns known to stand still (all of them without the
@@ -219,12 +220,26 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (cfg_.predict_movers) {
     // The robot at the middle of the scan (its readings span one revolution).
     const int64_t mid = m.utime + (newest - m.utime) / 2;
-    const std::vector<geom::Vec2> v =
-        movers_.update(timed, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
-    for (size_t i = 0; i < timed.size(); ++i) {
-      if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
-      else points.push_back(timed[i].p);
-      if (remember && movers_.still()[i]) still.push_back(timed[i].p);
+    const std::vector<MoverPrediction::MovingRun>& runs =
+        movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+    if (remember)
+      for (size_t i = 0; i < timed_.size(); ++i)
+        if (movers_.still()[i]) still.push_back(timed_[i].p);
+    // A mover's returns go to `moving` with its velocity, the others stay in `points`, in order
+    // (a velocity of zero is none).
+    size_t kept = 0, next = 0;
+    for (const MoverPrediction::MovingRun& r : runs) {
+      if (r.vel.x() == 0 && r.vel.y() == 0) continue;
+      std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.begin() + static_cast<std::ptrdiff_t>(r.first),
+                points.begin() + static_cast<std::ptrdiff_t>(kept));
+      kept += r.first - next;
+      for (size_t j = r.first; j <= r.last; ++j) moving.push_back({timed_[j].p, r.vel, timed_[j].utime});
+      next = r.last + 1;
+    }
+    if (next > 0) {
+      std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.end(),
+                points.begin() + static_cast<std::ptrdiff_t>(kept));
+      points.resize(kept + (points.size() - next));
     }
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   }

@@ -20,6 +20,7 @@
 // published: the benchmark measures the pipeline's work, not an approximation of it.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -168,23 +169,33 @@ class Replayer {
       std::vector<geom::Vec2> points;
       points.reserve(placed.size());
       int64_t newest = ls->utime;
-      std::vector<TimedPoint> timed;
-      if (pcfg_.predict_movers) timed.reserve(placed.size());  // (as PilotStage::onLaserScan)
+      timed_.clear();
+      if (pcfg_.predict_movers) timed_.reserve(placed.size());  // (as PilotStage::onLaserScan)
       for (size_t i = 0; i < placed.size(); ++i) {
         newest = std::max(newest, scan->readings[i].utime);
         if (!placed[i].valid) continue;
-        if (pcfg_.predict_movers) timed.push_back({placed[i].p, scan->readings[i].utime});
-        else points.push_back(placed[i].p);
+        points.push_back(placed[i].p);
+        if (pcfg_.predict_movers) timed_.push_back({placed[i].p, scan->readings[i].utime});
       }
       // pilot.predict_movers: returns of small clusters moving scan to scan (PilotStage::onLaserScan).
       std::vector<SectorMap::MovingPoint> moving;
       if (pcfg_.predict_movers) {
         const int64_t mid = ls->utime + (newest - ls->utime) / 2;
-        const std::vector<geom::Vec2> v =
-            movers_.update(timed, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
-        for (size_t i = 0; i < timed.size(); ++i) {
-          if (v[i].x() != 0 || v[i].y() != 0) moving.push_back({timed[i].p, v[i], timed[i].utime});
-          else points.push_back(timed[i].p);
+        const std::vector<MoverPrediction::MovingRun>& runs =
+            movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+        size_t kept = 0, next = 0;
+        for (const MoverPrediction::MovingRun& r : runs) {
+          if (r.vel.x() == 0 && r.vel.y() == 0) continue;
+          std::copy(points.begin() + static_cast<std::ptrdiff_t>(next),
+                    points.begin() + static_cast<std::ptrdiff_t>(r.first), points.begin() + static_cast<std::ptrdiff_t>(kept));
+          kept += r.first - next;
+          for (size_t j = r.first; j <= r.last; ++j) moving.push_back({timed_[j].p, r.vel, timed_[j].utime});
+          next = r.last + 1;
+        }
+        if (next > 0) {
+          std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.end(),
+                    points.begin() + static_cast<std::ptrdiff_t>(kept));
+          points.resize(kept + (points.size() - next));
         }
       }
       sector_map_.setLaserPoints(newest, std::move(points));
@@ -254,6 +265,7 @@ class Replayer {
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;
   std::vector<cp::InputProblem> problems_;
+  std::vector<TimedPoint> timed_;
 };
 
 // One pass that checks the replayer against the real stages (and prepares the group readings),
