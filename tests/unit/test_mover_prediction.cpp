@@ -177,6 +177,40 @@ TEST(MoverPrediction, TwoPeoplePassingArePairedEachWithTheirOwn) {
   EXPECT_EQ(mp.movers(), 2);
 }
 
+// track(): the same result as runs -- one per mover, in scan order, each exactly that person's
+// returns with their velocity (the wall between them in no run); update() gives each return its
+// run's velocity and zero outside the runs.
+TEST(MoverPrediction, TrackGivesEachMoversReturnsAsOneRun) {
+  const auto scan = [](int i) {
+    std::vector<TimedPoint> s;
+    person(s, {2.0, -1.24 + 0.24 * i}, i * kScanUs);  // +1.2 m/s
+    wall(s, {3, -0.5}, {3, 0.5}, i * kScanUs);       // 51 returns
+    person(s, {2.0, 1.2 - 0.2 * i}, i * kScanUs);     // -1.0 m/s
+    return s;
+  };
+  MoverPrediction by_runs, by_return;
+  std::vector<MoverPrediction::MovingRun> runs;
+  std::vector<Vec2> v;
+  for (int i = 0; i < 3; ++i) {
+    runs = by_runs.track(scan(i), Vec2::Zero());
+    v = by_return.update(scan(i), Vec2::Zero());
+  }
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].first, 0u);
+  EXPECT_EQ(runs[0].last, 12u);
+  EXPECT_EQ(runs[1].first, 13u + 51u);
+  EXPECT_EQ(runs[1].last, 25u + 51u);
+  EXPECT_NEAR(runs[0].vel.y(), 1.2, 0.2);
+  EXPECT_NEAR(runs[1].vel.y(), -1.0, 0.2);
+  ASSERT_EQ(v.size(), 26u + 51u);
+  for (size_t j = 0; j < v.size(); ++j) {
+    const MoverPrediction::MovingRun* in = nullptr;
+    for (const auto& r : runs)
+      if (r.first <= j && j <= r.last) in = &r;
+    EXPECT_EQ(v[j], in ? in->vel : Vec2::Zero()) << j;
+  }
+}
+
 TEST(MoverPrediction, BadParametersAreRejected) {
   MoverPredictionParams p;
   p.max_speed = p.min_speed;
