@@ -164,6 +164,12 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
 }
 
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems) {
+  LaserScan s;
+  if (!laserScanFromMessageInto(m, problems, s)) return std::nullopt;
+  return s;
+}
+
+bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& s) {
   const auto n = static_cast<size_t>(std::max(0, m.nranges));
   if (m.ranges.size() != n || m.flags.size() != n || m.offset_us.size() != n) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN: nranges = " + std::to_string(m.nranges) +
@@ -171,23 +177,23 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
                                                    std::to_string(m.ranges.size()) + "/" +
                                                    std::to_string(m.flags.size()) + "/" +
                                                    std::to_string(m.offset_us.size())});
-    return std::nullopt;
+    return false;
   }
   if (!(std::isfinite(m.angle_increment) && m.angle_increment > 0) || !std::isfinite(m.angle_min)) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_increment = " + num(m.angle_increment) +
                                                    ", angle_min = " + num(m.angle_min) +
                                                    ": need a finite angle_min and angle_increment > 0"});
-    return std::nullopt;
+    return false;
   }
   if (!plausiblePose(m.mount)) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.mount is not finite (or beyond " + num(kMaxCoordinate) + " m)"});
-    return std::nullopt;
+    return false;
   }
   // A scan without readings says nothing; accepted, it would read as "everything is free"
   // (an empty Radar Map makes every sonar echo complementary; the pilot's laser sectors clear).
   if (n == 0) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.nranges = 0: a scan without readings"});
-    return std::nullopt;
+    return false;
   }
   // Every reading is checked against range_max: a NaN or infinite one would accept any range.
   if (!(std::isfinite(m.range_min) && std::isfinite(m.range_max) && m.range_min >= 0 &&
@@ -195,7 +201,7 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.range_min = " + num(m.range_min) + ", range_max = " +
                                                    num(m.range_max) + ": need 0 <= range_min < range_max <= " +
                                                    num(kMaxLaserRange) + " m"});
-    return std::nullopt;
+    return false;
   }
   // The readings span at most one turn (a finite but huge increment overflowed the angles to
   // infinity, and the Radar Map's points to NaN: found by fuzzing).
@@ -204,13 +210,12 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
     problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_min = " + num(m.angle_min) + ", angle_increment = " +
                                                    num(m.angle_increment) + " with " + std::to_string(n) +
                                                    " readings: more than one turn, or angle_min beyond +-4 pi"});
-    return std::nullopt;
+    return false;
   }
-  LaserScan s;
   s.utime = m.utime;
   s.mount = {m.mount.x, m.mount.y, m.mount.theta};
   s.full_circle = static_cast<double>(n) * m.angle_increment >= 2.0 * geom::kPi - 1.5 * m.angle_increment;
-  s.readings.resize(n);
+  s.readings.resize(n);  // (every reading is written below: what an earlier scan left does not matter)
   // The arrays through local pointers: a problem appended below cannot make the compiler
   // reload them (or the scalars) per reading.
   const int64_t utime = m.utime;
@@ -236,6 +241,7 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
     r.utime = utime + offset_us[i];
     r.angle = angle_min + static_cast<double>(static_cast<int64_t>(i)) * angle_increment;  // (the same double: i < 2^31)
     r.range = ranges[i];
+    r.valid = false;
     // The common case first: a return within [range_min, range_max] (or below range_min).
     if (offset_us[i] >= 0 && flags[i] == laser_scan_t::FLAG_OK && ranges[i] >= 0 && ranges[i] <= range_max) {
       r.valid = ranges[i] >= range_min;
@@ -260,7 +266,7 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
     }
     r.valid = rr >= m.range_min;  // below range_min: not a valid return (the sensor's own blind zone)
   }
-  return s;
+  return true;
 }
 
 SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems) {

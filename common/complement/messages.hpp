@@ -73,6 +73,9 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
 // nullopt when the scan as a whole is unusable (arrays of different length, no readings, bad
 // angles, range limits or mount).
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems);
+// The same into `out` (its readings' storage reused, scan after scan); false where
+// laserScanFromMessage gives nothing (then `out` holds nothing of use).
+bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& out);
 SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems);
 
 line_map_t radarMapToMessage(const RadarMap& rm);

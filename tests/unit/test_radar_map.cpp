@@ -801,6 +801,7 @@ TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
   std::uniform_real_distribution<double> coin(0.0, 1.0);
   const float nanf = std::numeric_limits<float>::quiet_NaN(), inff = std::numeric_limits<float>::infinity();
   int vector_groups = 0;
+  LaserScan reused;  // laserScanFromMessageInto, message after message into the same scan
   for (int trial = 0; trial < 4000; ++trial) {
     laser_scan_t m{};
     m.utime = 1'000'000 + static_cast<int64_t>(coin(rng) * 1e9);
@@ -847,6 +848,10 @@ TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
           << "trial " << trial << ", reading " << i;
     }
     ASSERT_TRUE(sameScan(*got, *want)) << "trial " << trial;
+    std::vector<InputProblem> into_p;
+    ASSERT_TRUE(laserScanFromMessageInto(m, into_p, reused)) << "trial " << trial;
+    ASSERT_TRUE(sameScan(reused, *want)) << "trial " << trial << ": what the previous message left shows";
+    ASSERT_EQ(into_p.size(), want_p.size()) << "trial " << trial;
     ASSERT_EQ(got_p.size(), want_p.size()) << "trial " << trial;
     for (size_t i = 0; i < want_p.size(); ++i) {
       ASSERT_EQ(got_p[i].counter, want_p[i].counter) << "trial " << trial;
