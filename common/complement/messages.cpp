@@ -169,6 +169,13 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
   return s;
 }
 
+const std::optional<LaserScan>& laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems,
+                                                         std::optional<LaserScan>& slot) {
+  if (!slot) slot.emplace();
+  if (!laserScanFromMessageInto(m, problems, *slot)) slot.reset();
+  return slot;
+}
+
 bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& s) {
   const auto n = static_cast<size_t>(std::max(0, m.nranges));
   if (m.ranges.size() != n || m.flags.size() != n || m.offset_us.size() != n) {

@@ -76,6 +76,10 @@ std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector
 // The same into `out` (its readings' storage reused, scan after scan); false where
 // laserScanFromMessage gives nothing (then `out` holds nothing of use).
 bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& out);
+// laserScanFromMessage(m, problems) into `slot` (a LaserScan kept from message to message, its
+// storage reused; empty where the message gives nothing); returns `slot`.
+const std::optional<LaserScan>& laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems,
+                                                         std::optional<LaserScan>& slot);
 SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems);
 
 line_map_t radarMapToMessage(const RadarMap& rm);

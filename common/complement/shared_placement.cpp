@@ -43,8 +43,7 @@ bool sameMessage(const laser_scan_t& a, const laser_scan_t& b) {
 const std::optional<LaserScan>& SharedPlacement::scanFrom(const laser_scan_t& m, std::vector<InputProblem>& problems) {
   if (!have_msg_ || !sameMessage(m, msg_)) {
     msg_problems_.clear();
-    if (!scan_from_msg_) scan_from_msg_.emplace();  // (kept from scan to scan: its storage is reused)
-    if (!laserScanFromMessageInto(m, msg_problems_, *scan_from_msg_)) scan_from_msg_.reset();
+    laserScanFromMessageInto(m, msg_problems_, scan_from_msg_);
     ++msg_generation_;
     msg_ = m;
     have_msg_ = true;

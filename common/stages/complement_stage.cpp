@@ -37,9 +37,8 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<cp::InputProblem> problems;
-  std::optional<cp::LaserScan> own;
   const std::optional<cp::LaserScan>& scan =
-      placement_ ? placement_->scanFrom(m, problems) : (own = cp::laserScanFromMessage(m, problems));
+      placement_ ? placement_->scanFrom(m, problems) : cp::laserScanFromMessageInto(m, problems, own_scan_);
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;

@@ -65,6 +65,7 @@ class ComplementStage {
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
+  std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
 };
 
 }  // namespace lasonic

@@ -188,9 +188,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
   std::vector<complement::InputProblem> problems;
-  std::optional<complement::LaserScan> own_scan;
   const std::optional<complement::LaserScan>& scan =
-      placement_ ? placement_->scanFrom(m, problems) : (own_scan = complement::laserScanFromMessage(m, problems));
+      placement_ ? placement_->scanFrom(m, problems) : complement::laserScanFromMessageInto(m, problems, own_scan_);
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;

@@ -123,6 +123,7 @@ class PilotStage {
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
+  std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
 };

@@ -154,18 +154,16 @@ class Replayer {
     if (const auto* ls = std::get_if<laser_scan_t>(&ev)) {
       // In one process both stages take the scan from SharedPlacement::scanFrom (decoded once,
       // and known to place() without a comparison), as ComplementStage and PilotStage do there.
-      std::optional<cp::LaserScan> own_scan;
       const std::optional<cp::LaserScan>& scan =
-          one_process_ ? shared_.scanFrom(*ls, problems_) : (own_scan = cp::laserScanFromMessage(*ls, problems_));
+          one_process_ ? shared_.scanFrom(*ls, problems_) : cp::laserScanFromMessageInto(*ls, problems_, own_scan_);
       // Complement stage: the Radar Map.
       rm_ = one_process_ ? cp::radarMapFromPlaced(*scan, shared_.place(*scan, poses_), poses_, ccfg_.radar_map)
                          : cp::extractRadarMap(*scan, poses_, ccfg_.radar_map);
       rm_->poles = poles_.update(rm_->utime, rm_->robot_pose.position(), rm_->pole_candidates);
       // Pilot stage: the scan's points, then the first sector map after it.
       if (one_process_) shared_.scanFrom(*ls, problems_);  // (the pilot's own call: the same message)
-      std::vector<cp::ScanPoint> own;
-      const std::vector<cp::ScanPoint>& placed =
-          one_process_ ? shared_.place(*scan, pilot_poses_) : (own = cp::placeReadings(*scan, poses_));
+      if (!one_process_) cp::placeReadingsInto(*scan, poses_, own_placed_);  // (as PilotStage: storage reused)
+      const std::vector<cp::ScanPoint>& placed = one_process_ ? shared_.place(*scan, pilot_poses_) : own_placed_;
       std::vector<geom::Vec2> points;
       points.reserve(placed.size());
       int64_t newest = ls->utime;
@@ -266,6 +264,8 @@ class Replayer {
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;
   std::vector<cp::InputProblem> problems_;
   std::vector<TimedPoint> timed_;
+  std::optional<cp::LaserScan> own_scan_;  // (as the stages without SharedPlacement: storage reused)
+  std::vector<cp::ScanPoint> own_placed_;
 };
 
 // One pass that checks the replayer against the real stages (and prepares the group readings),
