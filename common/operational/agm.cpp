@@ -254,6 +254,49 @@ bool AccumulativeGridMap::cellAt(const geom::Vec2& p, int& ix, int& iy) const {
   return true;
 }
 
+AccumulativeGridMap::ArcCells::ArcCells(const AccumulativeGridMap& agm, const geom::Vec2& centre, double range,
+                                        double step)
+    : agm_(agm), centre_(centre), range_(range), step_(step), inv_cell_(1.0 / agm.p_.cell_size) {
+  turn_ = std::isfinite(centre.x()) && std::isfinite(centre.y()) && std::abs(centre.x()) < 1e9 &&
+          std::abs(centre.y()) < 1e9 && range > 0 && range < 1e6 && std::abs(step) < 1.0 && std::isfinite(inv_cell_);
+  if (turn_) {
+    const geom::Vec2 r = geom::unitVector(step);
+    c_ = r.x(), s_ = r.y();
+  }
+}
+
+bool AccumulativeGridMap::ArcCells::cellAt(double b, int& ix, int& iy) {
+  if (turn_ && seeded_ && std::isfinite(b)) {
+    const double nx = c_ * ux_ - s_ * uy_, ny = s_ * ux_ + c_ * uy_;
+    ux_ = nx, uy_ = ny;
+    ++k_;
+    // |u - unitVector(b)|: each turn adds at most ~1e-15 (the step's cos and sin, three
+    // roundings), and b may differ from seed + k step by the caller's rounding.
+    const double drift = std::abs(b - (seed_ + static_cast<double>(k_) * step_));
+    const double err_u = static_cast<double>(k_ + 1) * 4e-15 + 2 * drift + 1e-14 * (1 + std::abs(b));
+    const double x = centre_.x() + range_ * ux_, y = centre_.y() + range_ * uy_;
+    // The point's distance from the defining one (with both roundings), in cells, and the
+    // quotient's own rounding.
+    const double err_cells = (range_ * err_u + 1e-13 * (std::abs(centre_.x()) + std::abs(centre_.y()) + range_ + 1)) *
+                             inv_cell_ * 1.001;
+    const double qx = x * inv_cell_, qy = y * inv_cell_;
+    const double tol_x = err_cells + 1e-12 * (1 + std::abs(qx)), tol_y = err_cells + 1e-12 * (1 + std::abs(qy));
+    const double fx = std::floor(qx), fy = std::floor(qy);
+    if (err_u < 1e-6 && std::abs(qx) < 1e12 && std::abs(qy) < 1e12 && qx - fx > tol_x && fx + 1 - qx > tol_x &&
+        qy - fy > tol_y && fy + 1 - qy > tol_y) {
+      const auto gx = static_cast<int64_t>(fx), gy = static_cast<int64_t>(fy);
+      if (!agm_.inWindow(gx, gy)) return false;
+      ix = static_cast<int>(gx - agm_.ox_);
+      iy = static_cast<int>(gy - agm_.oy_);
+      return true;
+    }
+  }
+  const geom::Vec2 u = geom::unitVector(b);
+  ux_ = u.x(), uy_ = u.y(), seed_ = b, k_ = 0;
+  seeded_ = true;
+  return agm_.cellAt(centre_ + range_ * u, ix, iy);
+}
+
 geom::Vec2 AccumulativeGridMap::cellCorner(int ix, int iy) const {
   return {static_cast<double>(ox_ + ix) * p_.cell_size, static_cast<double>(oy_ + iy) * p_.cell_size};
 }
@@ -286,12 +329,12 @@ void AccumulativeGridMap::addArcVotes(const geom::Vec2& centre, double range, do
   const int steps = std::max(1, static_cast<int>(std::ceil(range * (hi - lo) / (0.5 * p_.cell_size))));
   size_t last = static_cast<size_t>(-1);
   std::vector<size_t> voted;
+  ArcCells arc(*this, centre, range, (hi - lo) / steps);
   for (int q = 0; q <= steps; ++q) {
     const double b = lo + (hi - lo) * q / steps;
-    const geom::Vec2 p = centre + range * geom::unitVector(b);
-    const int64_t gx = globalCell(p.x()), gy = globalCell(p.y());
-    if (!inWindow(gx, gy)) continue;
-    const size_t s = slotGlobal(gx, gy);
+    int ix = 0, iy = 0;
+    if (!arc.cellAt(b, ix, iy)) continue;  // (the cell of centre + range * geom::unitVector(b))
+    const size_t s = slot(ix, iy);
     if (s == last || std::find(voted.begin(), voted.end(), s) != voted.end()) continue;
     last = s;
     voted.push_back(s);

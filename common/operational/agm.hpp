@@ -109,6 +109,27 @@ class AccumulativeGridMap {
 
   // Window cell of a global point; false if outside the window.
   bool cellAt(const geom::Vec2& p, int& ix, int& iy) const;
+
+  // cellAt(centre + range * geom::unitVector(b)) for the bearings b of an arc, taken one after
+  // the other `step` apart (b = b0 + q * step as the caller rounds it): the same cells, mostly
+  // without a sin and cos and a division per sample. The previous sample's unit vector is turned
+  // by the step, and the cell of its point taken where that point lies farther from the cell's
+  // edges than the turns' rounding could have moved it (a bound about a thousand times the
+  // error); otherwise, and for the first sample, the defining computation.
+  class ArcCells {
+   public:
+    ArcCells(const AccumulativeGridMap& agm, const geom::Vec2& centre, double range, double step);
+    bool cellAt(double b, int& ix, int& iy);
+
+   private:
+    const AccumulativeGridMap& agm_;
+    geom::Vec2 centre_;
+    double range_, step_, c_ = 1, s_ = 0, inv_cell_;
+    bool turn_;            // the turn may be used (finite, moderate values)
+    bool seeded_ = false;  // u_ is the unit vector of seed_ turned k_ times
+    double ux_ = 0, uy_ = 0, seed_ = 0;
+    int64_t k_ = 0;
+  };
   // Global position of window cell (ix, iy)'s lower-left corner.
   geom::Vec2 cellCorner(int ix, int iy) const;
 

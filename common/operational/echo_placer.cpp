@@ -51,10 +51,11 @@ std::optional<double> votedBearing(const AccumulativeGridMap& agm, const SonarEc
   // Samples are half a cell apart: most cells come twice in a row, their votes looked up once.
   int last_ix = -1, last_iy = -1;
   double last_v = 0;
+  AccumulativeGridMap::ArcCells arc(agm, e.sensor.position(), range, halfwidth / half);
   for (int q = -half; q <= half; ++q) {
     const double b = centre + halfwidth * q / half;
     int ix = 0, iy = 0;
-    if (!agm.cellAt(e.sensor.position() + range * geom::unitVector(b), ix, iy)) continue;
+    if (!arc.cellAt(b, ix, iy)) continue;  // (agm.cellAt(e.sensor.position() + range * geom::unitVector(b)))
     if (ix != last_ix || iy != last_iy) {
       last_v = agm.arcVotes(ix, iy);
       last_ix = ix;

@@ -569,3 +569,57 @@ TEST(Agm, WeightedCellsAreExactlyTheCellsWithWeight) {
   }
   EXPECT_GT(walked_queue, 100);
 }
+
+// ArcCells (the arc's unit vectors turned step by step, the cell taken where the point is clearly
+// inside it) gives the cell of the defining computation, cellAt(centre + range *
+// unitVector(b)), for every sample: random arcs of 1-400 samples with both signs of step, the
+// window moved far from the origin, samples constructed to land on cell edges (centre on a cell
+// corner, range a multiple of the cell, bearings through the axes and the diagonals), arcs
+// leaving the window, and a centre or range that is NaN, infinite or huge (the defining way).
+TEST(Agm, ArcCellsAreTheCellsOfTheDefiningPoints) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), coin(0.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  int64_t samples = 0, on_edges = 0;
+  for (const double cell : {0.1, 0.05, 0.07}) {
+    AgmParams p;
+    p.size = 100;
+    p.cell_size = cell;
+    AccumulativeGridMap agm(p);
+    for (int trial = 0; trial < 3000; ++trial) {
+      if (trial % 500 == 0) agm.centreOn(Vec2(2000 * u(rng), 2000 * u(rng)));  // a window far out
+      const Vec2 mid = agm.originMetres() + Vec2(0.5, 0.5) * (p.size * cell);
+      Vec2 centre = mid + Vec2(3 * u(rng), 3 * u(rng));
+      double range = 0.2 + 4 * coin(rng);
+      double b0 = 3.2 * u(rng);
+      if (trial % 4 == 0) {  // on a cell corner, the range a whole number of cells, through the axes
+        centre = Vec2(std::round(centre.x() / cell) * cell, std::round(centre.y() / cell) * cell);
+        range = cell * std::round(range / cell);
+        b0 = -geom::kPi / 4 * std::round(4 * coin(rng));
+      }
+      if (trial % 97 == 0) centre.x() = trial % 2 ? nan : inf;
+      if (trial % 89 == 0) range = trial % 2 ? 1e7 : nan;
+      const int n = 1 + trial % 400;
+      const double span = (coin(rng) < 0.5 ? -1 : 1) * (trial % 5 == 0 ? 2 * geom::kPi : 0.6 * coin(rng));
+      const double step = span / n;
+      AccumulativeGridMap::ArcCells arc(agm, centre, range, step);
+      for (int q = 0; q <= n; ++q) {
+        const double b = b0 + span * q / n;  // (as the callers round it)
+        int ix = -1, iy = -1, jx = -1, jy = -1;
+        const bool got = arc.cellAt(b, ix, iy);
+        const Vec2 point = centre + range * geom::unitVector(b);
+        const bool want = agm.cellAt(point, jx, jy);
+        ASSERT_EQ(got, want) << "cell " << cell << " trial " << trial << " sample " << q;
+        if (want) {
+          ASSERT_EQ(ix, jx) << "cell " << cell << " trial " << trial << " sample " << q;
+          ASSERT_EQ(iy, jy) << "cell " << cell << " trial " << trial << " sample " << q;
+        }
+        ++samples;
+        const double fx = point.x() / cell, fy = point.y() / cell;
+        on_edges += std::isfinite(fx) && (fx == std::floor(fx) || fy == std::floor(fy));
+      }
+    }
+  }
+  EXPECT_GT(samples, 1'000'000);
+  EXPECT_GT(on_edges, 1000);  // (points exactly on an edge were among them)
+}
