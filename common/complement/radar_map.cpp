@@ -527,7 +527,10 @@ inline __m128d chordSquaresSse2(const Vec2* p, const double* k) {  // p[0], p[1]
 }
 #endif
 #if LASONIC_AVX2_LOOP
-LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k) {  // p[0 .. 3]
+// kExact: u = dot / l2 as squared() takes it; otherwise u = dot * inv_l2 (no division: the
+// loop's bottleneck), a square only a few units in the last place away (screenedFarthestAvx2).
+template <bool kExact>
+LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k, __m256d inv_l2) {  // p[0 .. 3]
   const __m256d ax = _mm256_set1_pd(k[0]), ay = _mm256_set1_pd(k[1]), ex = _mm256_set1_pd(k[2]),
                 ey = _mm256_set1_pd(k[3]);
   // (x0 y0 x2 y2), (x1 y1 x3 y3) -> (x0 x1 x2 x3), (y0 y1 y2 y3)
@@ -535,11 +538,14 @@ LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k) {  
   const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].data()), _mm_loadu_pd(p[1].data()));
   const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
   const __m256d dot = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
-  const __m256d u =
-      _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_div_pd(dot, _mm256_set1_pd(k[4]))));
+  const __m256d t = kExact ? _mm256_div_pd(dot, _mm256_set1_pd(k[4])) : _mm256_mul_pd(dot, inv_l2);
+  const __m256d u = _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), t));
   const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
   const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
   return _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy));
+}
+LASONIC_AVX2 inline __m256d chordSquaresAvx2(const Vec2* p, const double* k) {
+  return chordSquaresAvx2<true>(p, k, _mm256_setzero_pd());
 }
 LASONIC_AVX2 size_t chordSquaresAvx2(const Vec2* p, size_t count, const double* k, double* out) {
   size_t i = 0;
@@ -558,23 +564,8 @@ LASONIC_AVX2 size_t farthestAvx2(const Vec2* p, size_t count, const double* k, d
   return i;
 }
 
-// chordSquaresAvx2 with u = dot * (1 / l2) for dot / l2: no division (the loop's bottleneck),
-// and a square only a few units in the last place away from the exact one (screenedFarthestAvx2).
-LASONIC_AVX2 inline __m256d approxChordSquaresAvx2(const Vec2* p, const double* k, __m256d inv_l2) {
-  const __m256d ax = _mm256_set1_pd(k[0]), ay = _mm256_set1_pd(k[1]), ex = _mm256_set1_pd(k[2]),
-                ey = _mm256_set1_pd(k[3]);
-  const __m256d a = _mm256_set_m128d(_mm_loadu_pd(p[2].data()), _mm_loadu_pd(p[0].data()));
-  const __m256d b = _mm256_set_m128d(_mm_loadu_pd(p[3].data()), _mm_loadu_pd(p[1].data()));
-  const __m256d x = _mm256_unpacklo_pd(a, b), y = _mm256_unpackhi_pd(a, b);
-  const __m256d dot = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(x, ax), ex), _mm256_mul_pd(_mm256_sub_pd(y, ay), ey));
-  const __m256d u = _mm256_min_pd(_mm256_set1_pd(1.0), _mm256_max_pd(_mm256_setzero_pd(), _mm256_mul_pd(dot, inv_l2)));
-  const __m256d cx = _mm256_sub_pd(_mm256_add_pd(ax, _mm256_mul_pd(u, ex)), x);
-  const __m256d cy = _mm256_sub_pd(_mm256_add_pd(ay, _mm256_mul_pd(u, ey)), y);
-  return _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy));
-}
-
 // farthest() over p[0 .. count-1] in two passes, with the same choice. The first pass takes the
-// approximate squares (approxChordSquaresAvx2) and their largest, M. An approximate root differs
+// approximate squares (chordSquaresAvx2<false>) and their largest, M. An approximate root differs
 // from the exact one by less than E = 2^-40 (|a| + |e| + sqrt M) (max norms; the bound is about
 // 2^-46 times that: the quotient is within 2^-50 of the exact one after clamping to [0, 1], and
 // the steps after it round alike), so every point of the largest exact root has an approximate
@@ -592,7 +583,7 @@ LASONIC_AVX2 bool screenedFarthestAvx2(const ChordDistance& chord, const Vec2* p
   __m256d top = _mm256_setzero_pd(), odd = _mm256_setzero_pd();  // odd: a NaN lane
   size_t i = 0;
   for (; i + 4 <= count; i += 4) {
-    const __m256d d2 = approxChordSquaresAvx2(p + i, k, inv_l2);
+    const __m256d d2 = chordSquaresAvx2<false>(p + i, k, inv_l2);
     _mm256_storeu_pd(approx.data() + i, d2);
     top = _mm256_max_pd(top, d2);
     odd = _mm256_or_pd(odd, _mm256_cmp_pd(d2, d2, _CMP_UNORD_Q));

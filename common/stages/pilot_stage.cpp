@@ -183,6 +183,22 @@ void PilotStage::onOdometry(const odometry_t& m) {
   }
 }
 
+void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
+                   std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving) {
+  size_t kept = 0, next = 0;  // points[0 .. kept) are final; points[next ..] not looked at yet
+  for (const MoverPrediction::MovingRun& r : runs) {
+    if (r.vel.x() == 0 && r.vel.y() == 0) continue;
+    std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.begin() + static_cast<std::ptrdiff_t>(r.first),
+              points.begin() + static_cast<std::ptrdiff_t>(kept));
+    kept += r.first - next;
+    for (size_t j = r.first; j <= r.last; ++j) moving.push_back({scan[j].p, r.vel, scan[j].utime});
+    next = r.last + 1;
+  }
+  if (next == 0) return;  // nothing taken out
+  std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.end(), points.begin() + static_cast<std::ptrdiff_t>(kept));
+  points.resize(kept + (points.size() - next));
+}
+
 void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
@@ -224,22 +240,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     if (remember)
       for (size_t i = 0; i < timed_.size(); ++i)
         if (movers_.still()[i]) still.push_back(timed_[i].p);
-    // A mover's returns go to `moving` with its velocity, the others stay in `points`, in order
-    // (a velocity of zero is none).
-    size_t kept = 0, next = 0;
-    for (const MoverPrediction::MovingRun& r : runs) {
-      if (r.vel.x() == 0 && r.vel.y() == 0) continue;
-      std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.begin() + static_cast<std::ptrdiff_t>(r.first),
-                points.begin() + static_cast<std::ptrdiff_t>(kept));
-      kept += r.first - next;
-      for (size_t j = r.first; j <= r.last; ++j) moving.push_back({timed_[j].p, r.vel, timed_[j].utime});
-      next = r.last + 1;
-    }
-    if (next > 0) {
-      std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.end(),
-                points.begin() + static_cast<std::ptrdiff_t>(kept));
-      points.resize(kept + (points.size() - next));
-    }
+    takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   }
   if (no_pose > 0) {

@@ -93,6 +93,12 @@ struct PilotConfig {
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
 
+// The pilot's split of a scan's valid returns (points[k] is scan[k].p): the returns of the runs
+// with a velocity go to `moving` with it and their times, the others stay in `points`, in order
+// (a velocity of zero is none).
+void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
+                   std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving);
+
 class PilotStage {
  public:
   PilotStage(Node& node, const PilotConfig& cfg);

@@ -181,20 +181,7 @@ class Replayer {
         const int64_t mid = ls->utime + (newest - ls->utime) / 2;
         const std::vector<MoverPrediction::MovingRun>& runs =
             movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
-        size_t kept = 0, next = 0;
-        for (const MoverPrediction::MovingRun& r : runs) {
-          if (r.vel.x() == 0 && r.vel.y() == 0) continue;
-          std::copy(points.begin() + static_cast<std::ptrdiff_t>(next),
-                    points.begin() + static_cast<std::ptrdiff_t>(r.first), points.begin() + static_cast<std::ptrdiff_t>(kept));
-          kept += r.first - next;
-          for (size_t j = r.first; j <= r.last; ++j) moving.push_back({timed_[j].p, r.vel, timed_[j].utime});
-          next = r.last + 1;
-        }
-        if (next > 0) {
-          std::copy(points.begin() + static_cast<std::ptrdiff_t>(next), points.end(),
-                    points.begin() + static_cast<std::ptrdiff_t>(kept));
-          points.resize(kept + (points.size() - next));
-        }
+        takeOutMovers(timed_, runs, points, moving);
       }
       sector_map_.setLaserPoints(newest, std::move(points));
       sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);

@@ -460,3 +460,36 @@ TEST(PilotLaserMemory, APersonSizedClusterSeenOnceIsNotRemembered) {
   EXPECT_EQ(m.source[0], kNone);
   EXPECT_EQ(remembered, 0);
 }
+
+// takeOutMovers: the runs with a velocity leave `points` for `moving` (with their velocity and
+// times), a run of velocity zero stays, and what stays keeps its order.
+TEST(PilotStage, TakeOutMoversKeepsTheOthersInOrder) {
+  std::vector<TimedPoint> scan;
+  std::vector<geom::Vec2> points;
+  for (int k = 0; k < 10; ++k) {
+    scan.push_back({geom::Vec2(k, -k), 1000 + k});
+    points.push_back(scan.back().p);
+  }
+  const std::vector<MoverPrediction::MovingRun> runs = {
+      {2, 3, geom::Vec2(1, 0)}, {5, 5, geom::Vec2(0, 0)}, {8, 9, geom::Vec2(0, -1)}};
+  std::vector<SectorMap::MovingPoint> moving;
+  takeOutMovers(scan, runs, points, moving);
+  const std::vector<int> stays = {0, 1, 4, 5, 6, 7}, moves = {2, 3, 8, 9};
+  ASSERT_EQ(points.size(), stays.size());
+  for (size_t i = 0; i < stays.size(); ++i) EXPECT_EQ(points[i], scan[static_cast<size_t>(stays[i])].p) << i;
+  ASSERT_EQ(moving.size(), moves.size());
+  for (size_t i = 0; i < moves.size(); ++i) {
+    const TimedPoint& t = scan[static_cast<size_t>(moves[i])];
+    EXPECT_EQ(moving[i].p, t.p) << i;
+    EXPECT_EQ(moving[i].utime, t.utime) << i;
+    EXPECT_EQ(moving[i].v, i < 2 ? geom::Vec2(1, 0) : geom::Vec2(0, -1)) << i;
+  }
+  // No run with a velocity: nothing moves.
+  std::vector<geom::Vec2> all, before;
+  for (const TimedPoint& t : scan) all.push_back(t.p);
+  before = all;
+  std::vector<SectorMap::MovingPoint> none;
+  takeOutMovers(scan, {{5, 5, geom::Vec2(0, 0)}}, all, none);
+  EXPECT_EQ(all, before);
+  EXPECT_TRUE(none.empty());
+}

@@ -657,6 +657,17 @@ TEST(SharedPlacement, TheScanFromAMessageIsKnownWithoutAComparison) {
   EXPECT_EQ(shared.reused(), 3);
 }
 
+// The same ranges, in order.
+::testing::AssertionResult sameSplits(const std::vector<IndexRange>& got, const std::vector<IndexRange>& want) {
+  if (got.size() != want.size())
+    return ::testing::AssertionFailure() << got.size() << " ranges, the definition " << want.size();
+  for (size_t k = 0; k < got.size(); ++k)
+    if (got[k].first != want[k].first || got[k].last != want[k].last)
+      return ::testing::AssertionFailure() << "range " << k << ": [" << got[k].first << ", " << got[k].last
+                                           << "], the definition [" << want[k].first << ", " << want[k].last << "]";
+  return ::testing::AssertionSuccess();
+}
+
 // The end-point fit's distances in vector loops (AVX2 where the CPU has it, SSE2, none) split
 // where the definition does (roots, the first of equal roots): polylines with exact and
 // near ties, points beyond the chord's ends (u clamped, -0 included), chords of zero length
@@ -693,12 +704,8 @@ TEST(IterativeEndPointFit, VectorPathsSplitWhereTheDefinitionSplits) {
     splits += static_cast<int>(expected.size()) - 1;
     for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
       setVectorPath(path);
-      const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
-      ASSERT_EQ(got.size(), expected.size()) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-      for (size_t k = 0; k < got.size(); ++k) {
-        ASSERT_EQ(got[k].first, expected[k].first) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-        ASSERT_EQ(got[k].last, expected[k].last) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-      }
+      ASSERT_TRUE(sameSplits(iterativeEndPointFit(pts, {0, pts.size() - 1}, thr), expected))
+          << "trial " << trial << ", path " << static_cast<int>(vectorPath());
     }
   }
   EXPECT_GT(splits, 3000);
@@ -737,12 +744,8 @@ TEST(IterativeEndPointFit, ScreenedLongRunsSplitWhereTheDefinitionSplits) {
     ties += trial % 4 < 2;
     for (const VectorPath path : {VectorPath::Scalar, VectorPath::Avx2}) {
       setVectorPath(path);
-      const auto got = iterativeEndPointFit(pts, {0, pts.size() - 1}, thr);
-      ASSERT_EQ(got.size(), expected.size()) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-      for (size_t k = 0; k < got.size(); ++k) {
-        ASSERT_EQ(got[k].first, expected[k].first) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-        ASSERT_EQ(got[k].last, expected[k].last) << "trial " << trial << ", path " << static_cast<int>(vectorPath());
-      }
+      ASSERT_TRUE(sameSplits(iterativeEndPointFit(pts, {0, pts.size() - 1}, thr), expected))
+          << "trial " << trial << ", path " << static_cast<int>(vectorPath());
     }
   }
   EXPECT_GT(splits, 2000);
