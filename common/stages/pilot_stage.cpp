@@ -306,7 +306,7 @@ void PilotStage::publishSectorMap() {
     return;
   }
   const SectorMapState& s = sector_map_.update(now_, *pose, agm_);
-  sector_map_t msg{};
+  sector_map_t& msg = map_msg_;  // (kept: its arrays' storage is reused, map after map)
   msg.utime = s.utime;
   msg.robot_pose = {s.pose.x, s.pose.y, s.pose.theta};
   msg.robot_radius = static_cast<float>(cfg_.sector_map.robot_radius);
@@ -314,8 +314,8 @@ void PilotStage::publishSectorMap() {
   msg.distance = s.distance;
   msg.laser_distance = s.laser;
   msg.sonar_distance = s.sonar;
-  msg.source.reserve(s.source.size());
-  for (const SectorSource src : s.source) msg.source.push_back(static_cast<int8_t>(src));
+  msg.source.resize(s.source.size());
+  for (size_t k = 0; k < s.source.size(); ++k) msg.source[k] = static_cast<int8_t>(s.source[k]);
   msg.laser_stale = s.laser_stale ? 1 : 0;
   msg.sonar_stale = s.sonar_stale ? 1 : 0;
   msg.laser_age_s = static_cast<float>(s.laser_age_s);

@@ -43,6 +43,7 @@
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/odometry_t.hpp>
+#include <lasonic/sector_map_t.hpp>
 
 #include "complement/shared_placement.hpp"
 #include "core/config.hpp"
@@ -129,6 +130,7 @@ class PilotStage {
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
+  sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
