@@ -125,15 +125,15 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
   hits.reserve(group.size());  // (one hit per reading, but for waiting echoes and surface fill)
   if (cfg_.surface_fill) {
     const int64_t keep = std::max(1, cfg_.arc_wait_cycles);
-    std::vector<Placed> recent;
-    for (const Placed& q : placed_)
-      if (agm.cycle() - q.cycle <= keep) recent.push_back(q);
-    placed_ = std::move(recent);
+    placed_.erase(std::remove_if(placed_.begin(), placed_.end(),
+                                 [&](const Placed& q) { return !(agm.cycle() - q.cycle <= keep); }),
+                  placed_.end());  // (in place, in order: no list per group)
   }
   // Echoes that waited for later arcs: placed now if those crossed theirs, forgotten when too old.
   if (!waiting_.empty()) {
-    std::vector<Waiting> still;
-    for (const Waiting& w : waiting_) {
+    size_t still = 0;  // waiting_[0 .. still): those that wait on (in place, in order)
+    for (size_t i = 0; i < waiting_.size(); ++i) {
+      const Waiting w = waiting_[i];
       if (agm.cycle() - w.cycle > cfg_.arc_wait_cycles) continue;
       // Its own arc voted too, after its group: it needs arc_min_votes from other arcs, as when it came.
       const auto b = votedBearing(agm, w.echo, w.estimate, w.halfwidth, cfg_.arc_min_votes + 1.0, w.estimate);
@@ -143,12 +143,12 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
         hits.push_back(p);
         spread(w.echo.sensor.position(), w.echo.range, w.echo.beam_width, p, agm, hits);
       } else
-        still.push_back(w);
+        waiting_[still++] = w;
     }
-    waiting_ = std::move(still);
+    waiting_.erase(waiting_.begin() + static_cast<std::ptrdiff_t>(still), waiting_.end());
   }
-  std::vector<std::pair<int, std::optional<SonarEcho>>> latest;
-  latest.reserve(group.size());
+  std::vector<std::pair<int, std::optional<SonarEcho>>>& latest = latest_;
+  latest.clear();
   for (const GroupReading& r : group) {
     latest.emplace_back(r.sensor_id, std::nullopt);
     if (!r.echo) continue;

@@ -108,6 +108,7 @@ class EchoPlacer {
     int64_t cycle = 0;
   };
   std::vector<Placed> placed_;  // surface fill: recently placed echoes
+  std::vector<std::pair<int, std::optional<SonarEcho>>> latest_;  // (place's scratch: each sensor's latest)
   // Surface fill: the extra points for the echo placed at p, heard from `sensor`, appended to `hits`.
   void spread(const geom::Vec2& sensor, double range, double beam_width, const geom::Vec2& p,
               AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);
