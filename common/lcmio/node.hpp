@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -93,7 +94,7 @@ class Node {
   void publish(const std::string& channel, T& msg);
 
   // Counters shown in PROCESS_STATUS.
-  void count(const std::string& counter, int64_t n = 1) { status_.count(counter, n); }
+  void count(std::string_view counter, int64_t n = 1) { status_.count(counter, n); }
   int64_t counter(const std::string& name) const { return status_.counter(name); }
   // Bad input or a failure: counted under `counter` and in `errors`, logged (rate-limited),
   // kept as last_error. The process goes on.

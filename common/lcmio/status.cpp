@@ -15,7 +15,11 @@ int64_t wallUtime() {
 StatusBoard::StatusBoard(std::string process_name)
     : name_(std::move(process_name)), start_(std::chrono::steady_clock::now()), last_snapshot_(start_) {}
 
-void StatusBoard::count(const std::string& counter, int64_t n) { counters_[counter] += n; }
+void StatusBoard::count(std::string_view counter, int64_t n) {
+  auto it = counters_.find(counter);
+  if (it == counters_.end()) it = counters_.emplace(std::string(counter), 0).first;
+  it->second += n;
+}
 
 int64_t StatusBoard::counter(const std::string& name) const {
   auto it = counters_.find(name);

@@ -5,8 +5,10 @@
 // flood the log. No LCM here: Node feeds it and publishes what it builds.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include <lasonic/process_status_t.hpp>
 
@@ -16,7 +18,7 @@ class StatusBoard {
  public:
   explicit StatusBoard(std::string process_name);
 
-  void count(const std::string& counter, int64_t n = 1);
+  void count(std::string_view counter, int64_t n = 1);
   int64_t counter(const std::string& name) const;
   // Counted under `counter` and in errors(), logged (rate-limited), kept as the last error.
   void reportError(const std::string& counter, const std::string& message);
@@ -35,7 +37,7 @@ class StatusBoard {
   int64_t errors() const { return errors_; }
   const std::string& lastError() const { return last_error_; }
   // Every named counter (count() and reportError()), by name.
-  const std::map<std::string, int64_t>& counters() const { return counters_; }
+  const std::map<std::string, int64_t, std::less<>>& counters() const { return counters_; }
 
  private:
   struct ChannelStats {
@@ -45,7 +47,7 @@ class StatusBoard {
   };
   std::string name_;
   std::map<std::string, ChannelStats> in_, out_;
-  std::map<std::string, int64_t> counters_;
+  std::map<std::string, int64_t, std::less<>> counters_;  // (std::less<>: counted by name without a string made per count)
   int64_t errors_ = 0;
   std::string last_error_;
   int64_t last_msg_utime_ = 0;

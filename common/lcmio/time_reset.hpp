@@ -8,8 +8,10 @@
 // a reset every channel starts afresh, so one restart is one reset. Smaller steps back are late
 // or reordered messages: the stages drop them (rejected.*_backwards).
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 
 namespace lasonic {
 
@@ -26,17 +28,21 @@ class TimeReset {
 
   // True when utime lies more than kJumpUs before the newest time seen on `channel`: the caller
   // resets. Either way utime is remembered (after a reset it is the only time known).
-  bool jumpedBack(const std::string& channel, int64_t utime) {
+  bool jumpedBack(std::string_view channel, int64_t utime) {
     auto it = newest_.find(channel);
     const bool jumped = it != newest_.end() && utime < it->second - kJumpUs;
-    if (jumped) newest_.clear();
-    int64_t& n = newest_.try_emplace(channel, utime).first->second;
-    if (utime > n) n = utime;
+    if (jumped) {
+      newest_.clear();
+      it = newest_.end();
+    }
+    if (it == newest_.end()) it = newest_.emplace(std::string(channel), utime).first;
+    if (utime > it->second) it->second = utime;
     return jumped;
   }
 
  private:
-  std::map<std::string, int64_t> newest_;
+  // (std::less<>: looked up by the channel's name as given, without a string made per message)
+  std::map<std::string, int64_t, std::less<>> newest_;
 };
 
 }  // namespace lasonic

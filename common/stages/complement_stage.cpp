@@ -1,5 +1,6 @@
 #include "stages/complement_stage.hpp"
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -31,6 +32,20 @@ void ComplementStage::onOdometry(const odometry_t& m) {
   if (!timeOk(m.utime, channels::ODOMETRY)) return;
   acceptOdometry(node_, poses_, m);
 }
+
+namespace {
+// "class." + className(c), made once per class (a counter per reading).
+const std::string& classCounter(cp::SonarClass c) {
+  constexpr size_t kClasses = 6;  // SonarClass's values 0 .. 5
+  static const std::array<std::string, kClasses> names = [] {
+    std::array<std::string, kClasses> n;
+    for (size_t k = 0; k < kClasses; ++k) n[k] = std::string("class.") + cp::className(static_cast<cp::SonarClass>(k));
+    return n;
+  }();
+  const auto i = static_cast<size_t>(c);
+  return names[i < kClasses ? i : static_cast<size_t>(cp::SonarClass::Invalid)];  // (className's "invalid")
+}
+}  // namespace
 
 void ComplementStage::onLaserScan(const laser_scan_t& m) {
   if (!timeOk(m.utime, channels::LASER_SCAN)) return;
@@ -76,7 +91,7 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   const cp::GroupComplement result =
       cp::extractComplement(group, robot, radar_map_ ? &*radar_map_ : nullptr, cfg_.params);
   for (const auto& r : result.readings) {
-    node_.count(std::string("class.") + cp::className(r.cls));
+    node_.count(classCounter(r.cls));
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
     if (r.by_pole) node_.count("redundant.pole");
   }
