@@ -2,6 +2,7 @@
 
 #include <pthread.h>
 
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 
@@ -9,7 +10,9 @@ namespace lasonic {
 
 namespace {
 constexpr uint32_t kSync = 0xEDA1DA01u;  // LCM's event-log sync word
-constexpr size_t kReadChunk = 1 << 20;
+constexpr size_t kReadChunk = 1 << 17;  // (the buffer: twice that, a quarter of a megabyte)
+// A megabyte: a quarter of one gave the writer thread four times the wake-ups, on two cores each
+// a switch away from a busy stage thread (lasonic-replay 2400x -> 2200x on a 600 s log).
 constexpr size_t kWriteChunk = 1 << 20;
 
 uint32_t be32(const uint8_t* p) {
@@ -35,7 +38,8 @@ bool LogReader::fill(size_t need) {
     end_ -= pos_;
     pos_ = 0;
   }
-  if (buf_.size() < need + kReadChunk) buf_.resize(need + kReadChunk);
+  // (Grown at least twofold: an event a little larger than any before is no new buffer.)
+  if (buf_.size() < need + kReadChunk) buf_.resize(std::max(need + kReadChunk, 2 * buf_.size()));
   while (end_ < need) {
     const size_t got = std::fread(buf_.data() + end_, 1, buf_.size() - end_, f_.get());
     if (got == 0) return false;
@@ -106,7 +110,10 @@ LogWriter::LogWriter(const std::string& path) : path_(path) {
   f_ = std::fopen(path.c_str(), "wb");
   if (!f_) throw LogError(path + ": cannot open LCM log for writing");
   std::setvbuf(f_, nullptr, _IONBF, 0);  // buffered here
+  // Both buffers made once (a chunk and the event that fills it): the second one grown by
+  // doubling as it was filled cost a copy and a page fault per page of each size on the way.
   buf_.reserve(2 * kWriteChunk);
+  writing_.reserve(2 * kWriteChunk);
   writer_ = std::thread([this] {
     pthread_setname_np(pthread_self(), "log-writer");  // for top -H, perf
     writerLoop();

@@ -31,18 +31,36 @@ const std::vector<size_t>& LocalBus::subscribersOf(Channel* c) {
   return c->subs;
 }
 
-LocalBus::Bytes LocalBus::takeBuffer() {
+LocalBus::Bytes LocalBus::takeBuffer(size_t size) {
   Bytes bytes;
-  if (!spare_.empty()) {
+  if (size >= kLarge && !spare_large_.empty()) {
+    // The newest that is big enough (else the newest: it grows once).
+    size_t k = spare_large_.size() - 1;
+    for (size_t i = spare_large_.size(); i-- > 0;)
+      if (spare_large_[i].capacity() >= size) {
+        k = i;
+        break;
+      }
+    bytes = std::move(spare_large_[k]);
+    spare_large_.erase(spare_large_.begin() + static_cast<std::ptrdiff_t>(k));
+  } else if (!spare_.empty()) {
     bytes = std::move(spare_.back());
     spare_.pop_back();
-    bytes.clear();
   }
+  bytes.clear();
   return bytes;
 }
 
+void LocalBus::giveBack(Bytes&& bytes) {
+  if (bytes.capacity() >= kLarge) {
+    if (spare_large_.size() < kMaxSpareLarge) spare_large_.push_back(std::move(bytes));
+  } else if (bytes.capacity() > 0 && spare_.size() < kMaxSpare) {
+    spare_.push_back(std::move(bytes));
+  }
+}
+
 int LocalBus::publish(const std::string& channel, const void* data, size_t size) {
-  Bytes bytes = takeBuffer();
+  Bytes bytes = takeBuffer(size);
   const auto* p = static_cast<const uint8_t*>(data);
   bytes.assign(p, p + size);
   return publish(channel, std::move(bytes));
@@ -77,7 +95,7 @@ int LocalBus::handleOne() {
   }
   // Kept for reuse, up to a bound: buffers published from elsewhere (another thread's copies)
   // would otherwise pile up here.
-  if (spare_.size() < kMaxSpare) spare_.push_back(std::move(m.data));
+  giveBack(std::move(m.data));
   return 1;
 }
 

@@ -72,8 +72,13 @@ class LocalBus {
   int publish(const std::string& channel, const void* data, size_t size);
   // Queues these bytes (no copy). Returns 0.
   int publish(const std::string& channel, Bytes&& bytes);
-  // An empty buffer to encode into (a delivered message's, its capacity kept), for publish.
-  Bytes takeBuffer();
+  // An empty buffer to encode `size` bytes into (a delivered message's, its capacity kept), for
+  // publish. Large buffers (grid maps) are kept apart and go to large messages: a 300-byte
+  // SONAR_RING taking an 80 kB buffer would leave the next grid map to allocate and first-touch
+  // its own.
+  Bytes takeBuffer(size_t size = 0);
+  // A buffer for later takeBuffer() calls (kept up to a bound, else freed).
+  void giveBack(Bytes&& bytes);
   // Delivers one queued message; returns 1, or 0 if the queue was empty.
   int handleOne();
   // Delivers until the queue is empty (including what the handlers publish); returns the count.
@@ -98,8 +103,10 @@ class LocalBus {
   uint64_t generation_ = 1;                            // of the subscriptions; bumped on subscribe
   std::deque<Message> queue_;
   std::vector<size_t> subs_scratch_;  // the delivered message's subscriptions
-  std::vector<Bytes> spare_;  // buffers of delivered messages, reused (at most kMaxSpare)
-  static constexpr size_t kMaxSpare = 64;
+  std::vector<Bytes> spare_;        // buffers of delivered messages, reused (at most kMaxSpare)
+  std::vector<Bytes> spare_large_;  // those of kLarge bytes or more (at most kMaxSpareLarge)
+  static constexpr size_t kMaxSpare = 64, kMaxSpareLarge = 16;
+  static constexpr size_t kLarge = 16384;
 };
 
 struct LocalBus::Channel {

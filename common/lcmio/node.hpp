@@ -214,7 +214,7 @@ void Node::publish(const std::string& channel, T& msg) {
     int rc = -1;
     if (bus_) {  // as lcm::LCM::publish: encode, then hand over the bytes
       const int size = msg.getEncodedSize();
-      LocalBus::Bytes bytes = bus_->takeBuffer();  // encoded in place, handed over without a copy
+      LocalBus::Bytes bytes = bus_->takeBuffer(static_cast<size_t>(size));  // encoded in place, handed over without a copy
       bytes.resize(static_cast<size_t>(size));
       if (wireEncode(msg, bytes.data(), size) == size) rc = bus_->publish(channel, std::move(bytes));
     } else if constexpr (HasFastEncode<T>::value) {  // the same bytes as lcm::LCM::publish(channel, &msg)

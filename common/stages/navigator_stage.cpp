@@ -230,11 +230,11 @@ void NavigatorStage::publish() {
     return;
   }
   last_publish_ = now_;
-  grid_map_t grid = gridMapMessage(agm_, now_, *pose, cfg_.lines.gp_threshold, cfg_.published_size);
-  node_.publish(channels::AGM_TACTICAL, grid);
+  gridMapMessageInto(grid_msg_, agm_, now_, *pose, cfg_.lines.gp_threshold, cfg_.published_size);
+  node_.publish(channels::AGM_TACTICAL, grid_msg_);
 
   const int o = publishedOffset(agm_, cfg_.published_size);
-  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, o, o, grid.width,
+  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, o, o, grid_msg_.width,
                                     [this](int64_t c) { return cycleUtime(c); });
   csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), cfg_.lines));
   const int64_t agm_utime = last_complement_utime_.value_or(0);

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include <lasonic/complement_t.hpp>
+#include <lasonic/grid_map_t.hpp>
 #include <lasonic/line_map_t.hpp>
 #include <lasonic/odometry_t.hpp>
 
@@ -111,6 +112,7 @@ class NavigatorStage {
   LookWeight look_weight_;
   std::optional<int64_t> last_integrated_utime_;  // the previous firing group put into the AGM
   CurrentSensorMap csm_;
+  grid_map_t grid_msg_{};  // (the AGM_TACTICAL message, every field set per map; storage reused)
   struct PendingGroup {
     int64_t utime = 0;
     std::vector<GroupReading> readings;

@@ -328,8 +328,8 @@ void PilotStage::publishSectorMap() {
 }
 
 void PilotStage::publishAgm(int64_t utime) {
-  grid_map_t msg = gridMapMessage(agm_, utime, poses_.at(utime).value_or(geom::Pose2{}), cfg_.sector_map.gp_threshold);
-  node_.publish(channels::AGM_OPERATIONAL, msg);
+  gridMapMessageInto(agm_msg_, agm_, utime, poses_.at(utime).value_or(geom::Pose2{}), cfg_.sector_map.gp_threshold);
+  node_.publish(channels::AGM_OPERATIONAL, agm_msg_);
   last_agm_publish_ = utime;
 }
 

@@ -131,6 +131,7 @@ class PilotStage {
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
+  grid_map_t agm_msg_{};    // (the same for AGM_OPERATIONAL)
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)

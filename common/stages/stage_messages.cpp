@@ -12,6 +12,12 @@ int publishedOffset(const AccumulativeGridMap& agm, int published_size) {
 grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold,
                           int published_size) {
   grid_map_t msg{};
+  gridMapMessageInto(msg, agm, utime, robot, gp_threshold, published_size);
+  return msg;
+}
+
+void gridMapMessageInto(grid_map_t& msg, const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot,
+                        int gp_threshold, int published_size) {
   msg.utime = utime;
   msg.robot_pose = {robot.x, robot.y, robot.theta};
   const int w = published_size <= 0 ? agm.size() : std::min(published_size, agm.size());
@@ -27,7 +33,6 @@ grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const g
   else
     agm.exportGrids(o, o, w, msg.g, msg.h, msg.gp);
   msg.ncells = static_cast<int32_t>(msg.g.size());
-  return msg;
 }
 
 line_map_t lineMapMessage(const std::vector<CsmLine>& lines, int64_t utime, int64_t source_utime,

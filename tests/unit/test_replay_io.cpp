@@ -190,6 +190,26 @@ TEST(ReplayIo, LocalBusDeliversInMemqOrder) {
   EXPECT_EQ(got, expected);
 }
 
+// Delivered messages' buffers are reused by size: a grid map's for the next grid map, not for
+// a sonar ring (which would leave the next grid map to allocate its own).
+TEST(ReplayIo, LocalBusReusesLargeBuffersForLargeMessages) {
+  LocalBus bus;
+  const std::vector<uint8_t> grid(80000, 7), ring(300, 1);
+  bus.publish("AGM", grid.data(), grid.size());
+  for (int i = 0; i < 10; ++i) bus.publish("RING", ring.data(), ring.size());
+  EXPECT_EQ(bus.handleAll(), 11);
+  // The small ones take the small buffers, however many there are.
+  for (int i = 0; i < 20; ++i) EXPECT_LT(bus.takeBuffer(ring.size()).capacity(), 16384u) << i;
+  LocalBus::Bytes big = bus.takeBuffer(grid.size());
+  EXPECT_GE(big.capacity(), grid.size());
+  EXPECT_TRUE(big.empty());
+  // Taken: the next large one has none to reuse.
+  EXPECT_EQ(bus.takeBuffer(grid.size()).capacity(), 0u);
+  // Given back, it is there again.
+  bus.giveBack(std::move(big));
+  EXPECT_GE(bus.takeBuffer(grid.size()).capacity(), grid.size());
+}
+
 TEST(ReplayIo, NodeOnLocalBusDecodesAndCounts) {
   auto bus = std::make_shared<LocalBus>();
   Node a("a", bus, Node::Options{false, false});
