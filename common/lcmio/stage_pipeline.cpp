@@ -41,6 +41,31 @@ void StagePipeline::ChunkQueue::close() {
   cv_.notify_all();
 }
 
+void StagePipeline::Chunk::reset() {
+  inputs.clear();
+  input_bytes.clear();
+  calls.clear();
+  outs.clear();
+  bytes.clear();
+  owned.clear();
+  for (auto& from : calls_from) from.clear();
+}
+
+StagePipeline::Chunk StagePipeline::takeChunk() {
+  const std::lock_guard<std::mutex> lock(spare_m_);
+  if (spare_chunks_.empty()) return Chunk{};
+  Chunk c = std::move(spare_chunks_.back());
+  spare_chunks_.pop_back();
+  return c;
+}
+
+void StagePipeline::recycle(Chunk&& chunk) {
+  chunk.reset();
+  const std::lock_guard<std::mutex> lock(spare_m_);
+  // (At most as many as can be on their way at once: the queues' and one per thread.)
+  if (spare_chunks_.size() < (kQueueChunks + 1) * threads_.size()) spare_chunks_.push_back(std::move(chunk));
+}
+
 StagePipeline::StagePipeline(int threads) {
   if (threads < 1) throw std::invalid_argument("StagePipeline: threads must be >= 1");
   for (int i = 0; i < threads; ++i) threads_.push_back(std::make_unique<Thread>());
@@ -112,15 +137,17 @@ void StagePipeline::endStage() {
   stage_thread_ = -1;
 }
 
-void StagePipeline::process(Thread& th, int index, const std::function<void(const Input&)>& on_last) {
+void StagePipeline::process(Thread& th, int index, const std::function<void(int64_t)>& on_last) {
   Chunk& c = *th.chunk;
-  Input& in = c.inputs[th.unit];
+  const Chunk::Input& in = c.inputs[th.unit];
   for (Thread::Proxy& p : th.proxies) p.cursor = c.calls_from[static_cast<size_t>(p.from_thread)][th.unit];
+  th.input_channel.assign(reinterpret_cast<const char*>(c.input_bytes.data() + in.at), in.channel_len);
+  const uint8_t* data = c.input_bytes.data() + in.at + in.channel_len;
   if (index == lastThread()) {
-    if (on_last) on_last(in);
-    th.bus->publish(in.channel, std::move(in.data));  // its last use
-  } else if (th.bus->wanted(in.channel)) {  // (a message nobody here takes changes nothing here)
-    th.bus->publish(in.channel, in.data.data(), in.data.size());
+    if (on_last) on_last(in.timestamp);
+    th.bus->publish(th.input_channel, data, in.data_len);
+  } else if (th.bus->wanted(th.input_channel)) {  // (a message nobody here takes changes nothing here)
+    th.bus->publish(th.input_channel, data, in.data_len);
   }
   th.bus->handleAll();
   for (const Thread::Proxy& p : th.proxies) {
@@ -142,21 +169,25 @@ void StagePipeline::fail(std::exception_ptr e) {
   for (auto& t : threads_) t->in.close();
 }
 
-void StagePipeline::work(int index, const std::function<std::optional<Input>()>& next,
-                         const std::function<void(const Input&)>& on_last) {
+void StagePipeline::work(int index, const std::function<std::optional<InputView>()>& next,
+                         const std::function<void(int64_t)>& on_last) {
   try {
     Thread& th = *threads_[static_cast<size_t>(index)];
     for (bool end = false; !end && !failed_;) {
       Chunk chunk;
       if (index == 0) {
+        chunk = takeChunk();
         chunk.inputs.reserve(kChunk);
         while (chunk.inputs.size() < kChunk) {
-          std::optional<Input> in = next();
+          const std::optional<InputView> in = next();
           if (!in) {
             end = true;
             break;
           }
-          chunk.inputs.push_back(std::move(*in));
+          const size_t at = chunk.input_bytes.size();
+          chunk.input_bytes.insert(chunk.input_bytes.end(), in->channel.begin(), in->channel.end());
+          chunk.input_bytes.insert(chunk.input_bytes.end(), in->data, in->data + in->size);
+          chunk.inputs.push_back({in->timestamp, at, in->channel.size(), in->size});
         }
         if (chunk.inputs.empty()) break;
         chunk.calls_from.resize(threads_.size());
@@ -174,7 +205,8 @@ void StagePipeline::work(int index, const std::function<std::optional<Input>()>&
       }
       from.push_back(chunk.calls.size());
       th.chunk = nullptr;
-      if (index < lastThread() && !threads_[static_cast<size_t>(index) + 1]->in.push(std::move(chunk), failed_)) break;
+      if (index == lastThread()) recycle(std::move(chunk));
+      else if (!threads_[static_cast<size_t>(index) + 1]->in.push(std::move(chunk), failed_)) break;
     }
   } catch (...) {
     fail(std::current_exception());
@@ -182,8 +214,8 @@ void StagePipeline::work(int index, const std::function<std::optional<Input>()>&
   if (index < lastThread()) threads_[static_cast<size_t>(index) + 1]->in.close();
 }
 
-void StagePipeline::run(const std::function<std::optional<Input>()>& next,
-                        const std::function<void(const Input&)>& on_last) {
+void StagePipeline::run(const std::function<std::optional<InputView>()>& next,
+                        const std::function<void(int64_t)>& on_last) {
   if (stage_thread_ >= 0) throw std::logic_error("StagePipeline::run: a stage was not ended");
   for (int t = 0; t < lastThread(); ++t) {  // only stages and proxies on the earlier threads' buses
     const Thread& th = *threads_[static_cast<size_t>(t)];

@@ -19,7 +19,10 @@
 // PipelineError naming the pattern, never with a different output.
 //
 // Work moves between threads in chunks of events through bounded queues, so a fast thread
-// waits for a slow one instead of buffering the whole log.
+// waits for a slow one instead of buffering the whole log. A chunk holds its input events in one
+// byte array, and the last thread hands a finished chunk back to the first with its storage:
+// no allocation per event, and none made on one thread and freed on the other (which has the
+// two wait on each other's allocator lock).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -31,6 +34,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lcmio/local_bus.hpp"
@@ -44,10 +48,12 @@ class PipelineError : public std::logic_error {
 
 class StagePipeline {
  public:
-  struct Input {
+  // An input event; channel and data are valid until the next call of the function that gave it.
+  struct InputView {
     int64_t timestamp = 0;
-    std::string channel;
-    LocalBus::Bytes data;
+    std::string_view channel;
+    const uint8_t* data = nullptr;
+    size_t size = 0;
   };
 
   explicit StagePipeline(int threads);  // threads >= 1
@@ -65,10 +71,11 @@ class StagePipeline {
   void beginStage(int thread);
   void endStage();
 
-  // Runs to the end of the input: `next` (called on the first thread) gives the input events;
-  // `on_last` (may be empty) is called on the last thread before an event is delivered there.
-  // The last thread is the calling thread. Rethrows the first exception of any thread.
-  void run(const std::function<std::optional<Input>()>& next, const std::function<void(const Input&)>& on_last);
+  // Runs to the end of the input: `next` (called on the first thread) gives the input events
+  // (copied before it is called again); `on_last` (may be empty) is called with an event's
+  // timestamp on the last thread before the event is delivered there. The last thread is the
+  // calling thread. Rethrows the first exception of any thread.
+  void run(const std::function<std::optional<InputView>()>& next, const std::function<void(int64_t)>& on_last);
 
  private:
   // A chunk of input events with what the stages of the threads it has passed published, in a
@@ -83,7 +90,12 @@ class StagePipeline {
       size_t channel_hash;    // of the delivered message's channel
       size_t first_out, outs;
     };
+    struct Input {  // an input event: its channel name, then its data, in `input_bytes` from `at`
+      int64_t timestamp;
+      size_t at, channel_len, data_len;
+    };
     std::vector<Input> inputs;
+    std::vector<uint8_t> input_bytes;
     std::vector<Call> calls;
     std::vector<Out> outs;
     std::vector<uint8_t> bytes;
@@ -91,6 +103,7 @@ class StagePipeline {
     // calls_from[t][u]: where thread t's calls for input u begin in `calls` (u = inputs.size():
     // where they end).
     std::vector<std::vector<size_t>> calls_from;
+    void reset();  // empty, its storage kept
   };
   class ChunkQueue {
    public:
@@ -117,12 +130,14 @@ class StagePipeline {
     Chunk* chunk = nullptr;  // being processed
     size_t unit = 0;         // its input being processed
     std::string channel;     // scratch: a recorded channel name
+    std::string input_channel;  // scratch: the input event's channel name
     ChunkQueue in;           // from the previous thread (unused on the first)
   };
 
-  void process(Thread& th, int index, const std::function<void(const Input&)>& on_last);
-  void work(int index, const std::function<std::optional<Input>()>& next,
-            const std::function<void(const Input&)>& on_last);
+  void process(Thread& th, int index, const std::function<void(int64_t)>& on_last);
+  void work(int index, const std::function<std::optional<InputView>()>& next, const std::function<void(int64_t)>& on_last);
+  Chunk takeChunk();            // one the last thread is done with, or a new one
+  void recycle(Chunk&& chunk);  // (on the last thread) kept for takeChunk, up to a bound
   void fail(std::exception_ptr e);
 
   std::vector<std::unique_ptr<Thread>> threads_;
@@ -132,6 +147,8 @@ class StagePipeline {
   std::atomic<bool> failed_{false};
   std::mutex error_m_;
   std::exception_ptr error_;
+  std::mutex spare_m_;
+  std::vector<Chunk> spare_chunks_;
   static constexpr size_t kChunk = 256;  // events per hand-over
 };
 

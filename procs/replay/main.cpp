@@ -132,7 +132,7 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   ReplayMeter meter(in.fileSize());  // progress and speed on stderr; never in the output log
   int64_t events = 0, dropped = 0;
   // On the first thread: the input events, without the derived channels.
-  const auto next = [&]() -> std::optional<StagePipeline::Input> {
+  const auto next = [&]() -> std::optional<StagePipeline::InputView> {
     while (const auto ev = in.nextView()) {
       ++events;
       if (const std::string line = meter.update(ev->timestamp, in.bytesRead()); !line.empty())
@@ -141,11 +141,11 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
         ++dropped;
         continue;
       }
-      return StagePipeline::Input{ev->timestamp, std::string(ev->channel), LocalBus::Bytes(ev->data, ev->data + ev->size)};
+      return StagePipeline::InputView{ev->timestamp, ev->channel, ev->data, ev->size};  // (valid until the next call)
     }
     return std::nullopt;
   };
-  pipeline.run(next, [&recorder](const StagePipeline::Input& ev) { recorder.timestamp = ev.timestamp; });
+  pipeline.run(next, [&recorder](int64_t timestamp) { recorder.timestamp = timestamp; });
   out.flush();
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);

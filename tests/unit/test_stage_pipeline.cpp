@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -82,14 +83,15 @@ struct Downstream {
   }
 };
 
-// 1000 inputs (several chunks and a partial one), some on a channel no stage takes.
-std::function<std::optional<StagePipeline::Input>()> inputs() {
-  return [i = 0]() mutable -> std::optional<StagePipeline::Input> {
-    if (i == 1000) return std::nullopt;
-    StagePipeline::Input in;
-    in.timestamp = 1000 * i;
-    in.channel = i % 7 == 3 ? "OTHER" : "IN";
-    in.data.assign(static_cast<size_t>(1 + i % 5), static_cast<uint8_t>(i));
+// 5000 inputs (more chunks than can be on their way at once, so that chunks come back and are
+// used again, and a partial one), some on a channel no stage takes. Each view points into storage
+// that the next call overwrites, as lasonic-replay's log reader's do.
+std::function<std::optional<StagePipeline::InputView>()> inputs() {
+  auto data = std::make_shared<std::vector<uint8_t>>();
+  return [i = 0, data]() mutable -> std::optional<StagePipeline::InputView> {
+    if (i == 5000) return std::nullopt;
+    data->assign(static_cast<size_t>(1 + i % 5), static_cast<uint8_t>(i));
+    const StagePipeline::InputView in{1000 * i, i % 7 == 3 ? "OTHER" : "IN", data->data(), data->size()};
     ++i;
     return in;
   };
@@ -127,7 +129,7 @@ std::vector<std::pair<int64_t, Record>> runPipeline(const Options& o) {
     const auto* d = static_cast<const uint8_t*>(rbuf->data);
     seen.push_back({now, {ch, std::vector<uint8_t>(d, d + rbuf->data_size)}});
   });
-  p.run(inputs(), [&now](const StagePipeline::Input& in) { now = in.timestamp; });
+  p.run(inputs(), [&now](int64_t timestamp) { now = timestamp; });
   return seen;
 }
 
