@@ -328,6 +328,7 @@ line_map_t radarMapToMessage(const RadarMap& rm) {
   m.utime = rm.utime;
   m.source_utime = rm.source_utime;
   m.robot_pose = toMsg(rm.robot_pose);
+  m.segments.reserve(rm.segments.size());  // (one allocation, not one per doubling)
   for (const RmSegment& s : rm.segments) {
     line_segment_t l;
     l.x0 = s.seg.a.x();
@@ -355,6 +356,11 @@ double widestBeam(const GroupComplement& g, const ComplementParams& p) {
 
 hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const ComplementParams& p) {
   hypothetical_scan_t m;
+  hypothesisToMessageInto(m, g, p);
+  return m;
+}
+
+void hypothesisToMessageInto(hypothetical_scan_t& m, const GroupComplement& g, const ComplementParams& p) {
   m.utime = g.utime;
   m.group = static_cast<int16_t>(g.group);
   m.radar_map_utime = g.radar_map_utime;
@@ -362,17 +368,27 @@ hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const Compleme
   m.range_limit = static_cast<float>(p.model.range_limit);
   m.beam_width = static_cast<float>(widestBeam(g, p));
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.sensor_id.clear();
+  m.range.clear();
+  m.sensor_pose.clear();
+  m.sensor_id.reserve(g.readings.size());  // (one allocation per array, not one per doubling)
+  m.range.reserve(g.readings.size());
+  m.sensor_pose.reserve(g.readings.size());
   for (const ClassifiedReading& r : g.readings) {
     m.sensor_id.push_back(static_cast<int16_t>(r.sensor_id));
     m.range.push_back(static_cast<float>(r.hypothetical_range));
     m.sensor_pose.push_back(toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan})));
   }
   m.nreadings = static_cast<int32_t>(m.sensor_id.size());
-  return m;
 }
 
 complement_t complementToMessage(const GroupComplement& g, const ComplementParams& p) {
   complement_t m;
+  complementToMessageInto(m, g, p);
+  return m;
+}
+
+void complementToMessageInto(complement_t& m, const GroupComplement& g, const ComplementParams& p) {
   m.utime = g.utime;
   m.group = static_cast<int16_t>(g.group);
   m.radar_map_utime = g.radar_map_utime;
@@ -381,6 +397,8 @@ complement_t complementToMessage(const GroupComplement& g, const ComplementParam
   m.beam_width = static_cast<float>(widestBeam(g, p));
   m.range_limit = static_cast<float>(p.model.range_limit);
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.readings.clear();
+  m.readings.reserve(g.readings.size());  // (one allocation, not one per doubling)
   for (const ClassifiedReading& r : g.readings) {
     complement_reading_t c;
     c.sensor_id = static_cast<int16_t>(r.sensor_id);
@@ -395,7 +413,6 @@ complement_t complementToMessage(const GroupComplement& g, const ComplementParam
     m.readings.push_back(c);
   }
   m.nreadings = static_cast<int32_t>(m.readings.size());
-  return m;
 }
 
 static_assert(static_cast<int8_t>(SonarClass::Complementary) == complement_reading_t::CLASS_COMPLEMENTARY &&

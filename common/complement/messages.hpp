@@ -85,5 +85,8 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
 line_map_t radarMapToMessage(const RadarMap& rm);
 hypothetical_scan_t hypothesisToMessage(const GroupComplement& g, const ComplementParams& p);
 complement_t complementToMessage(const GroupComplement& g, const ComplementParams& p);
+// The same into a message kept from group to group (every field set; the arrays' storage reused).
+void hypothesisToMessageInto(hypothetical_scan_t& m, const GroupComplement& g, const ComplementParams& p);
+void complementToMessageInto(complement_t& m, const GroupComplement& g, const ComplementParams& p);
 
 }  // namespace lasonic::complement

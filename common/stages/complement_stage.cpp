@@ -95,10 +95,10 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
     if (r.by_pole) node_.count("redundant.pole");
   }
-  hypothetical_scan_t hyp = cp::hypothesisToMessage(result, cfg_.params);
-  node_.publish(channels::SONAR_HYPOTHESIS, hyp);
-  complement_t comp = cp::complementToMessage(result, cfg_.params);
-  node_.publish(channels::SONAR_COMPLEMENT, comp);
+  cp::hypothesisToMessageInto(hyp_msg_, result, cfg_.params);
+  node_.publish(hypothesis_channel_, hyp_msg_);
+  cp::complementToMessageInto(comp_msg_, result, cfg_.params);
+  node_.publish(complement_channel_, comp_msg_);
 }
 
 }  // namespace lasonic

@@ -30,11 +30,14 @@
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
 
+#include <lasonic/complement_t.hpp>
+#include <lasonic/hypothetical_scan_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sonar_ring_t.hpp>
 
 #include <memory>
+#include <string>
 #include <optional>
 
 namespace lasonic {
@@ -66,6 +69,10 @@ class ComplementStage {
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
+  // The per-group channels' names made once (16 characters: a heap string for each publish).
+  const std::string hypothesis_channel_ = channels::SONAR_HYPOTHESIS, complement_channel_ = channels::SONAR_COMPLEMENT;
+  hypothetical_scan_t hyp_msg_{};  // (the two per-group messages, every field set per group; storage reused)
+  complement_t comp_msg_{};
 };
 
 }  // namespace lasonic

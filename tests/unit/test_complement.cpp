@@ -332,6 +332,32 @@ TEST(Messages, OutputsCarryClassesAndNaNsForUnknowns) {
   EXPECT_EQ(h.nreadings, 2);
   EXPECT_NEAR(h.range[0], 1.0f, 1e-6);
   EXPECT_EQ(h.radar_map_utime, 7);
+  // Into messages kept from group to group: a later group with fewer readings and no Radar Map
+  // leaves nothing of the earlier one behind.
+  complement_t kept_c = c;
+  hypothetical_scan_t kept_h = h;
+  SonarGroup g2;
+  g2.utime = 11;
+  g2.group = 3;
+  g2.readings = {{4, 1.5, false, {}, true}};
+  const GroupComplement res2 = extractComplement(g2, Pose2{}, nullptr, p);
+  complementToMessageInto(kept_c, res2, p);
+  hypothesisToMessageInto(kept_h, res2, p);
+  const complement_t fresh_c = complementToMessage(res2, p);
+  const hypothetical_scan_t fresh_h = hypothesisToMessage(res2, p);
+  ASSERT_EQ(kept_c.getEncodedSize(), fresh_c.getEncodedSize());
+  ASSERT_EQ(kept_h.getEncodedSize(), fresh_h.getEncodedSize());
+  std::vector<uint8_t> a(static_cast<size_t>(kept_c.getEncodedSize())), b(a.size());
+  kept_c.encode(a.data(), 0, static_cast<int>(a.size()));
+  fresh_c.encode(b.data(), 0, static_cast<int>(b.size()));
+  EXPECT_EQ(a, b);
+  a.assign(static_cast<size_t>(kept_h.getEncodedSize()), 0);
+  b.assign(a.size(), 1);
+  kept_h.encode(a.data(), 0, static_cast<int>(a.size()));
+  fresh_h.encode(b.data(), 0, static_cast<int>(b.size()));
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(kept_c.nreadings, 1);
+  EXPECT_EQ(kept_h.radar_map_utime, 0);
 }
 
 TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
