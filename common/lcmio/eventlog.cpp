@@ -1,8 +1,12 @@
 #include "lcmio/eventlog.hpp"
 
 #include <pthread.h>
+#include <sys/uio.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cstring>
 #include <iostream>
 
@@ -112,8 +116,8 @@ LogWriter::LogWriter(const std::string& path) : path_(path) {
   std::setvbuf(f_, nullptr, _IONBF, 0);  // buffered here
   // Both buffers made once (a chunk and the event that fills it): the second one grown by
   // doubling as it was filled cost a copy and a page fault per page of each size on the way.
-  buf_.reserve(2 * kWriteChunk);
-  writing_.reserve(2 * kWriteChunk);
+  buf_.bytes.reserve(2 * kWriteChunk);
+  writing_.bytes.reserve(2 * kWriteChunk);
   writer_ = std::thread([this] {
     pthread_setname_np(pthread_self(), "log-writer");  // for top -H, perf
     writerLoop();
@@ -136,14 +140,51 @@ LogWriter::~LogWriter() {
   if (std::fclose(f_) != 0) std::cerr << path_ << ": closing the LCM log failed\n";
 }
 
+size_t LogWriter::Chunk::size() const {
+  size_t n = bytes.size();
+  for (const LocalBus::Bytes& b : owned) n += b.size();
+  return n;
+}
+
+bool LogWriter::writeChunk(Chunk& c) {
+  if (c.pieces.empty()) return std::fwrite(c.bytes.data(), 1, c.bytes.size(), f_) == c.bytes.size();
+  // The pieces in order, as few system calls as the iovec limit allows; a short write goes on
+  // from where it stopped.
+  std::vector<iovec> iov;
+  iov.reserve(c.pieces.size() + 1);
+  size_t covered = 0;  // bytes up to here are in a piece
+  for (const Chunk::Piece& p : c.pieces) {
+    uint8_t* base = p.owned == SIZE_MAX ? c.bytes.data() + p.at : c.owned[p.owned].data();
+    if (p.owned == SIZE_MAX) covered = p.at + p.len;
+    if (p.len > 0) iov.push_back({base, p.len});
+  }
+  if (covered < c.bytes.size()) iov.push_back({c.bytes.data() + covered, c.bytes.size() - covered});
+  const int fd = fileno(f_);
+  size_t first = 0;
+  while (first < iov.size()) {
+    const int count = static_cast<int>(std::min<size_t>(iov.size() - first, IOV_MAX));
+    const ssize_t n = ::writev(fd, iov.data() + first, count);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    auto left = static_cast<size_t>(n);
+    while (first < iov.size() && left >= iov[first].iov_len) left -= iov[first++].iov_len;
+    if (left > 0) {
+      iov[first].iov_base = static_cast<uint8_t*>(iov[first].iov_base) + left;
+      iov[first].iov_len -= left;
+    }
+  }
+  return true;
+}
+
 void LogWriter::writerLoop() {
   std::unique_lock<std::mutex> lock(m_);
   for (;;) {
     cv_.wait(lock, [this] { return pending_ || stop_; });
     if (!pending_) return;  // stop_, nothing left to write
     lock.unlock();
-    const bool ok = std::fwrite(writing_.data(), 1, writing_.size(), f_) == writing_.size();
-    writing_.clear();
+    const bool ok = writeChunk(writing_);
+    writing_.bytes.clear();
+    writing_.pieces.clear();  // (the owned buffers go back from the caller's thread: handOver)
     lock.lock();
     failed_ = failed_ || !ok;
     pending_ = false;
@@ -156,10 +197,15 @@ void LogWriter::handOver() {
   cv_.wait(lock, [this] { return !pending_; });
   if (failed_) throwFailed();
   if (buf_.empty()) return;
-  std::swap(buf_, writing_);  // buf_ is now the written (cleared) buffer, its capacity kept
+  std::swap(buf_, writing_);  // buf_ is now the written (cleared) chunk, its capacity kept
+  buf_size_ = 0;
+  covered_ = 0;
   pending_ = true;
   lock.unlock();
   cv_.notify_all();
+  for (LocalBus::Bytes& b : buf_.owned)
+    if (give_back_) give_back_(std::move(b));
+  buf_.owned.clear();
 }
 
 void LogWriter::flush() {
@@ -174,24 +220,45 @@ void LogWriter::throwFailed() {
   throw LogError(path_ + ": write failed");
 }
 
-void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {
+void LogWriter::header(const std::string& channel, int64_t timestamp, size_t size) {
   if (size > 0x7fffffff) throw LogError(path_ + ": event on channel '" + channel + "' too large for an LCM log");
   // The event header (big-endian), made apart and appended at once (not byte by byte).
-  uint8_t header[28];
-  const auto be = [&header](size_t at, uint64_t v, int bytes) {
-    for (int i = 0; i < bytes; ++i)
-      header[at + static_cast<size_t>(i)] = static_cast<uint8_t>(v >> (8 * (bytes - 1 - i)));
+  uint8_t h[28];
+  const auto be = [&h](size_t at, uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) h[at + static_cast<size_t>(i)] = static_cast<uint8_t>(v >> (8 * (bytes - 1 - i)));
   };
   be(0, kSync, 4);
   be(4, static_cast<uint64_t>(events_), 8);
   be(12, static_cast<uint64_t>(timestamp), 8);
   be(20, channel.size(), 4);
   be(24, size, 4);
-  buf_.insert(buf_.end(), header, header + sizeof header);
-  buf_.insert(buf_.end(), channel.begin(), channel.end());
+  buf_.bytes.insert(buf_.bytes.end(), h, h + sizeof h);
+  buf_.bytes.insert(buf_.bytes.end(), channel.begin(), channel.end());
+  buf_size_ += sizeof h + channel.size();
   ++events_;
-  buf_.insert(buf_.end(), data, data + size);
-  if (buf_.size() >= kWriteChunk) handOver();
+}
+
+void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size) {
+  header(channel, timestamp, size);
+  buf_.bytes.insert(buf_.bytes.end(), data, data + size);
+  buf_size_ += size;
+  if (buf_size_ >= kWriteChunk) handOver();
+}
+
+void LogWriter::writeOwned(const std::string& channel, int64_t timestamp, LocalBus::Bytes&& data) {
+  if (data.size() < kOwnedMin) {
+    writeRaw(channel, timestamp, data.data(), data.size());
+    if (give_back_) give_back_(std::move(data));
+    return;
+  }
+  header(channel, timestamp, data.size());
+  // The bytes since the previous kept buffer (or the start), then this one.
+  buf_.pieces.push_back({SIZE_MAX, covered_, buf_.bytes.size() - covered_});
+  covered_ = buf_.bytes.size();
+  buf_.pieces.push_back({buf_.owned.size(), 0, data.size()});
+  buf_size_ += data.size();
+  buf_.owned.push_back(std::move(data));
+  if (buf_size_ >= kWriteChunk) handOver();
 }
 
 void LogWriter::writeRaw(const std::string& channel, int64_t timestamp, const std::vector<uint8_t>& data) {

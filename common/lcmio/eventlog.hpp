@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "lcmio/lengths.hpp"
+#include "lcmio/local_bus.hpp"
 #include "lcmio/wire.hpp"
 
 namespace lasonic {
@@ -104,6 +106,9 @@ class LogReader {
 // and the next one filled meanwhile, so the file system's work (a third of lasonic-replay's time
 // when it ran in line) overlaps the caller's. The bytes and their order are those of the calls.
 // A failed write is reported by the next call that hands over a buffer, or by flush().
+// writeOwned takes a large event's data whole instead of copying it (lasonic-replay's grid maps:
+// 19 MB of a 60 s fig7_lab replay's 26 MB); written in place (writev), the buffer goes back
+// through the give-back function on the caller's thread once it is written.
 class LogWriter {
  public:
   explicit LogWriter(const std::string& path);  // throws LogError
@@ -112,6 +117,11 @@ class LogWriter {
   LogWriter& operator=(const LogWriter&) = delete;
   void writeRaw(const std::string& channel, int64_t timestamp, const uint8_t* data, size_t size);
   void writeRaw(const std::string& channel, int64_t timestamp, const std::vector<uint8_t>& data);
+  // The same bytes as writeRaw; data of kOwnedMin bytes or more is kept, not copied, and handed
+  // to the give-back function (if set) once written, from a later call on the caller's thread.
+  void writeOwned(const std::string& channel, int64_t timestamp, LocalBus::Bytes&& data);
+  void setGiveBack(std::function<void(LocalBus::Bytes&&)> give_back) { give_back_ = std::move(give_back); }
+  static constexpr size_t kOwnedMin = 16384;
   template <typename T>
   void write(const std::string& channel, int64_t timestamp, T& msg) {
     writeRaw(channel, timestamp, encodeMsg(msg));
@@ -122,17 +132,34 @@ class LogWriter {
   void flush();
 
  private:
+  // What is handed to the writer thread: bytes, and data kept whole, in the order of `pieces`.
+  struct Chunk {
+    struct Piece {
+      size_t owned;       // index in `owned`, or SIZE_MAX: bytes[at, at + len)
+      size_t at, len;
+    };
+    std::vector<uint8_t> bytes;
+    std::vector<LocalBus::Bytes> owned;
+    std::vector<Piece> pieces;
+    size_t size() const;  // bytes in all
+    bool empty() const { return pieces.empty() && bytes.empty(); }
+  };
+  void header(const std::string& channel, int64_t timestamp, size_t size);  // into buf_.bytes
   void handOver();  // buf_ to the writer thread (after it has written the previous buffer)
   void writerLoop();
+  bool writeChunk(Chunk& c);  // (on the writer thread) false on failure
   [[noreturn]] void throwFailed();
 
   std::FILE* f_ = nullptr;
   std::string path_;
-  std::vector<uint8_t> buf_;  // being filled by the caller
+  Chunk buf_;  // being filled by the caller
+  size_t buf_size_ = 0;  // buf_.size()
+  size_t covered_ = 0;   // buf_.bytes up to here are in buf_.pieces
   int64_t events_ = 0;
+  std::function<void(LocalBus::Bytes&&)> give_back_;
   std::mutex m_;
   std::condition_variable cv_;
-  std::vector<uint8_t> writing_;  // being written by the writer thread (while pending_)
+  Chunk writing_;  // being written by the writer thread (while pending_)
   bool pending_ = false, stop_ = false, failed_ = false;
   bool failure_thrown_ = false;  // a caller has been told (the destructor need not say it again)
   std::thread writer_;

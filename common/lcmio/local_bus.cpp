@@ -93,6 +93,10 @@ int LocalBus::handleOne() {
     subs_[i].handler(&rbuf, name);
     subs_[i].capture(i, name, queue_, first);
   }
+  if (sink_) {
+    sink_(name, std::move(m.data));
+    return 1;
+  }
   // Kept for reuse, up to a bound: buffers published from elsewhere (another thread's copies)
   // would otherwise pile up here.
   giveBack(std::move(m.data));

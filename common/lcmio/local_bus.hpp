@@ -68,6 +68,10 @@ class LocalBus {
   const std::string& patternOf(size_t subscription) const { return subs_.at(subscription).pattern_text; }
   // What the handler of `subscription` publishes is reported to `capture` after each delivery.
   void capture(size_t subscription, Capture capture);
+  // Given every message after its subscriptions, with its buffer to keep (a recorder: it sees the
+  // messages in the order a subscription to ".*" made last would, and need not copy them).
+  using Sink = std::function<void(const std::string& channel, Bytes&& data)>;
+  void setSink(Sink sink) { sink_ = std::move(sink); }
   // Queues a copy of the bytes. Returns 0 (as lcm::LCM::publish on success).
   int publish(const std::string& channel, const void* data, size_t size);
   // Queues these bytes (no copy). Returns 0.
@@ -103,6 +107,7 @@ class LocalBus {
   uint64_t generation_ = 1;                            // of the subscriptions; bumped on subscribe
   std::deque<Message> queue_;
   std::vector<size_t> subs_scratch_;  // the delivered message's subscriptions
+  Sink sink_;
   std::vector<Bytes> spare_;        // buffers of delivered messages, reused (at most kMaxSpare)
   std::vector<Bytes> spare_large_;  // those of kLarge bytes or more (at most kMaxSpareLarge)
   static constexpr size_t kMaxSpare = 64, kMaxSpareLarge = 16;

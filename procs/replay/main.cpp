@@ -58,9 +58,8 @@ const std::vector<StageInfo> kStages = {
 struct Recorder {
   LogWriter* out = nullptr;
   int64_t timestamp = 0;  // of the input event being processed
-  void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    const auto* p = static_cast<const uint8_t*>(rbuf->data);
-    out->writeRaw(channel, timestamp, p, rbuf->data_size);
+  void handleMessage(const std::string& channel, LocalBus::Bytes&& data) {
+    out->writeOwned(channel, timestamp, std::move(data));
   }
 };
 
@@ -121,12 +120,15 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   for (const StageInfo& s : kStages)
     if (stages.count(s.name)) derived.insert(s.outputs.begin(), s.outputs.end());
 
+  // Every message on the last thread's bus, after its subscriptions (as a ".*" subscription
+  // made last), its buffer taken over: large ones are written in place and come back to the bus.
   LogWriter out(out_path);
   Recorder recorder{&out};
-  pipeline.bus(pipeline.lastThread())
-      ->subscribe(".*", [&recorder](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-        recorder.handleMessage(rbuf, channel);
-      });
+  const std::shared_ptr<LocalBus>& last_bus = pipeline.bus(pipeline.lastThread());
+  out.setGiveBack([bus = last_bus.get()](LocalBus::Bytes&& b) { bus->giveBack(std::move(b)); });
+  last_bus->setSink([&recorder](const std::string& channel, LocalBus::Bytes&& data) {
+    recorder.handleMessage(channel, std::move(data));
+  });
 
   LogReader in(in_path);
   ReplayMeter meter(in.fileSize());  // progress and speed on stderr; never in the output log
