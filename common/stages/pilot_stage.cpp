@@ -183,6 +183,33 @@ void PilotStage::onOdometry(const odometry_t& m) {
   }
 }
 
+void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
+                  std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest) {
+  // Every element written and the count advanced by validity (no branch per reading); the
+  // surplus cut off at the end.
+  const size_t n = std::min(placed.size(), readings.size());
+  points.resize(n);
+  size_t k = 0;
+  if (timed) {
+    timed->resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const int64_t t = readings[i].utime;
+      newest = std::max(newest, t);
+      points[k] = placed[i].p;
+      (*timed)[k] = {placed[i].p, t};
+      k += placed[i].valid ? 1 : 0;
+    }
+    timed->resize(k);
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      newest = std::max(newest, readings[i].utime);
+      points[k] = placed[i].p;
+      k += placed[i].valid ? 1 : 0;
+    }
+  }
+  points.resize(k);
+}
+
 void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
                    std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving) {
   size_t kept = 0, next = 0;  // points[0 .. kept) are final; points[next ..] not looked at yet
@@ -218,16 +245,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose) : own_placed_;
   // The valid returns, in scan order (points[k] is timed_[k].p).
   std::vector<geom::Vec2> points;
-  points.reserve(placed.size());
   int64_t newest = m.utime;
-  timed_.clear();
-  if (cfg_.predict_movers) timed_.reserve(placed.size());
-  for (size_t i = 0; i < placed.size(); ++i) {
-    newest = std::max(newest, scan->readings[i].utime);
-    if (!placed[i].valid) continue;
-    points.push_back(placed[i].p);
-    if (cfg_.predict_movers) timed_.push_back({placed[i].p, scan->readings[i].utime});
-  }
+  validReturns(placed, scan->readings, points, cfg_.predict_movers ? &timed_ : nullptr, newest);
   std::vector<SectorMap::MovingPoint> moving;
   // What the laser memory may keep: returns known to stand still (all of them without the
   // mover prediction).

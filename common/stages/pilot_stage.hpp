@@ -94,6 +94,12 @@ struct PilotConfig {
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
 
+// A scan's valid returns in scan order into `points` (and, with `timed`, with their reading's
+// time into `timed`: timed[k].p is points[k]); `newest` raised to the newest reading's time.
+// (Storage reused: both are resized to the count.)
+void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
+                  std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest);
+
 // The pilot's split of a scan's valid returns (points[k] is scan[k].p): the returns of the runs
 // with a velocity go to `moving` with it and their times, the others stay in `points`, in order
 // (a velocity of zero is none).

@@ -165,16 +165,8 @@ class Replayer {
       if (!one_process_) cp::placeReadingsInto(*scan, poses_, own_placed_);  // (as PilotStage: storage reused)
       const std::vector<cp::ScanPoint>& placed = one_process_ ? shared_.place(*scan, pilot_poses_) : own_placed_;
       std::vector<geom::Vec2> points;
-      points.reserve(placed.size());
       int64_t newest = ls->utime;
-      timed_.clear();
-      if (pcfg_.predict_movers) timed_.reserve(placed.size());  // (as PilotStage::onLaserScan)
-      for (size_t i = 0; i < placed.size(); ++i) {
-        newest = std::max(newest, scan->readings[i].utime);
-        if (!placed[i].valid) continue;
-        points.push_back(placed[i].p);
-        if (pcfg_.predict_movers) timed_.push_back({placed[i].p, scan->readings[i].utime});
-      }
+      validReturns(placed, scan->readings, points, pcfg_.predict_movers ? &timed_ : nullptr, newest);  // (as PilotStage)
       // pilot.predict_movers: returns of small clusters moving scan to scan (PilotStage::onLaserScan).
       std::vector<SectorMap::MovingPoint> moving;
       if (pcfg_.predict_movers) {

@@ -493,3 +493,41 @@ TEST(PilotStage, TakeOutMoversKeepsTheOthersInOrder) {
   EXPECT_EQ(all, before);
   EXPECT_TRUE(none.empty());
 }
+
+// The valid returns in scan order, with their times, whatever the reused vectors held before;
+// the newest reading's time counts whether or not it returned.
+TEST(PilotStage, ValidReturnsKeepsTheValidInOrderWithTheirTimes) {
+  std::vector<complement::ScanPoint> placed;
+  std::vector<complement::LaserReading> readings;
+  for (int k = 0; k < 9; ++k) {
+    complement::ScanPoint p;
+    p.p = geom::Vec2(k, 2 * k);
+    p.valid = k % 3 != 1;
+    placed.push_back(p);
+    complement::LaserReading r;
+    r.utime = k == 4 ? 9000 : 1000 + k;  // (reading 4, invalid, is the newest)
+    readings.push_back(r);
+  }
+  std::vector<geom::Vec2> points(20, geom::Vec2(-1, -1));  // left over from a longer scan
+  std::vector<TimedPoint> timed(3);
+  int64_t newest = 500;
+  validReturns(placed, readings, points, &timed, newest);
+  const std::vector<int> valid = {0, 2, 3, 5, 6, 8};
+  ASSERT_EQ(points.size(), valid.size());
+  ASSERT_EQ(timed.size(), valid.size());
+  for (size_t i = 0; i < valid.size(); ++i) {
+    const auto k = static_cast<size_t>(valid[i]);
+    EXPECT_EQ(points[i], placed[k].p) << i;
+    EXPECT_EQ(timed[i].p, placed[k].p) << i;
+    EXPECT_EQ(timed[i].utime, readings[k].utime) << i;
+  }
+  EXPECT_EQ(newest, 9000);
+  // Without times: the same points, `timed` untouched.
+  std::vector<geom::Vec2> only;
+  std::vector<TimedPoint> untouched(2);
+  int64_t newest2 = 0;
+  validReturns(placed, readings, only, nullptr, newest2);
+  EXPECT_EQ(only, points);
+  EXPECT_EQ(newest2, 9000);
+  EXPECT_EQ(untouched.size(), 2u);
+}
