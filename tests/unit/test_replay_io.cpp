@@ -319,4 +319,13 @@ TEST(ReplayIo, LogWriterReportsAFailedWrite) {
   } catch (const LogError& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
   }
+  // The same where large events are written in place (writev).
+  LogWriter v("/dev/full");
+  try {
+    for (int i = 0; i < 100; ++i) v.writeOwned("AGM", i, LocalBus::Bytes(80000, 7));  // 8 MB
+    v.flush();
+    FAIL() << "no error writing taken buffers to /dev/full";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+  }
 }
