@@ -20,7 +20,10 @@ std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector
     if (i < scan.size() && (scan[i].p - scan[i - 1].p).squaredNorm() <= gap2) continue;
     // scan[first .. i-1] is one cluster.
     const size_t n = i - first;
-    if (n >= static_cast<size_t>(p_.min_points)) {
+    // A cluster whose ends lie more than max_extent apart is wider than that (its box holds both
+    // ends, and each rounded step below is monotonic: the box's squared diagonal is at least
+    // theirs): dropped without the walk below (a wall's ends, not its hundreds of points).
+    if (n >= static_cast<size_t>(p_.min_points) && !((scan[i - 1].p - scan[first].p).squaredNorm() > extent2)) {
       geom::Vec2 lo = scan[first].p, hi = scan[first].p, sum = geom::Vec2::Zero();
       double t = 0;
       bool too_wide = false;
