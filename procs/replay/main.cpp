@@ -152,8 +152,11 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
   std::cerr << "lasonic-replay: " << meter.summary() << std::endl;
-  spdlog::info("replay: {} thread(s); laser readings placed {} times, shared {} times", nthreads,
-               placement->computed(), placement->reused());
+  if (placement->computed() + placement->reused() > 0)
+    spdlog::info("replay: {} thread(s); laser scans placed {} times, shared {} times (complement and pilot on one thread)",
+                 nthreads, placement->computed(), placement->reused());
+  else
+    spdlog::info("replay: {} thread(s); each stage places its laser scans itself", nthreads);
   for (const auto& n : nodes)
     if (n->errors() > 0) spdlog::warn("{}: {} input errors", n->name(), n->errors());
   // --status: what each stage would have said in PROCESS_STATUS at the end, one "process key
