@@ -140,12 +140,6 @@ LogWriter::~LogWriter() {
   if (std::fclose(f_) != 0) std::cerr << path_ << ": closing the LCM log failed\n";
 }
 
-size_t LogWriter::Chunk::size() const {
-  size_t n = bytes.size();
-  for (const LocalBus::Bytes& b : owned) n += b.size();
-  return n;
-}
-
 bool LogWriter::writeChunk(Chunk& c) {
   if (c.pieces.empty()) return std::fwrite(c.bytes.data(), 1, c.bytes.size(), f_) == c.bytes.size();
   // The pieces in order, as few system calls as the iovec limit allows; a short write goes on

@@ -141,7 +141,6 @@ class LogWriter {
     std::vector<uint8_t> bytes;
     std::vector<LocalBus::Bytes> owned;
     std::vector<Piece> pieces;
-    size_t size() const;  // bytes in all
     bool empty() const { return pieces.empty() && bytes.empty(); }
   };
   void header(const std::string& channel, int64_t timestamp, size_t size);  // into buf_.bytes
@@ -153,7 +152,7 @@ class LogWriter {
   std::FILE* f_ = nullptr;
   std::string path_;
   Chunk buf_;  // being filled by the caller
-  size_t buf_size_ = 0;  // buf_.size()
+  size_t buf_size_ = 0;  // bytes in buf_ (its own and those of its kept buffers)
   size_t covered_ = 0;   // buf_.bytes up to here are in buf_.pieces
   int64_t events_ = 0;
   std::function<void(LocalBus::Bytes&&)> give_back_;
