@@ -36,7 +36,7 @@ void ComplementStage::onOdometry(const odometry_t& m) {
 namespace {
 // "class." + className(c), made once per class (a counter per reading).
 const std::string& classCounter(cp::SonarClass c) {
-  constexpr size_t kClasses = 6;  // SonarClass's values 0 .. 5
+  constexpr size_t kClasses = static_cast<size_t>(cp::SonarClass::OutsideView) + 1;  // (the last of SonarClass's values)
   static const std::array<std::string, kClasses> names = [] {
     std::array<std::string, kClasses> n;
     for (size_t k = 0; k < kClasses; ++k) n[k] = std::string("class.") + cp::className(static_cast<cp::SonarClass>(k));

@@ -37,8 +37,8 @@
 #include <lasonic/sonar_ring_t.hpp>
 
 #include <memory>
-#include <string>
 #include <optional>
+#include <string>
 
 namespace lasonic {
 
