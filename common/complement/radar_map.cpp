@@ -52,31 +52,55 @@ class CachedRotation {
 
 
 // cos/sin of each reading's angle, kept from the previous scan: a scanner's angles are the same
-// scan after scan, and a value is reused only for the very same angle (bit for bit).
+// scan after scan, and a value is reused only for the very same angle (bit for bit). Kept as
+// three arrays, so that a whole scan's angles are checked four at a time and the directions
+// loaded four at a time.
 class UnitVectors {
  public:
   Vec2 at(size_t i, double angle) {
-    if (i >= cache_.size()) cache_.resize(i + 1, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
-    Entry& e = cache_[i];
-    if (std::memcmp(&e.angle, &angle, sizeof angle) != 0) e = {angle, geom::unitVector(angle)};
-    return e.u;
+    if (i >= angle_.size()) grow(i + 1);
+    refresh(i, angle);
+    return {ux_[i], uy_[i]};
   }
-  struct Entry {
-    double angle;
-    Vec2 u;
-  };
-  // Entry i holds at(i, r[i].angle) for every valid reading i of r[0 .. n-1].
-  const Entry* prepare(const LaserReading* r, size_t n) {
-    if (n > cache_.size()) cache_.resize(n, {std::numeric_limits<double>::quiet_NaN(), Vec2::Zero()});
-    for (size_t i = 0; i < n; ++i) {
-      Entry& e = cache_[i];
-      if (r[i].valid && std::memcmp(&e.angle, &r[i].angle, sizeof e.angle) != 0) e = {r[i].angle, geom::unitVector(r[i].angle)};
-    }
-    return cache_.data();
+  // After prepare(r, n): ux()[i], uy()[i] hold at(i, r[i].angle) for every i < n (every
+  // reading's angle, valid or not: each is then the same bits from scan to scan).
+  void prepare(const LaserReading* r, size_t n) {
+    if (n > angle_.size()) grow(n);
+    size_t i = 0;
+#if LASONIC_AVX2_LOOP
+    if (vectorPath() == VectorPath::Avx2) i = sameAnglesAvx2(r, n);
+#endif
+    for (; i < n; ++i) refresh(i, r[i].angle);
   }
+  const double* ux() const { return ux_.data(); }
+  const double* uy() const { return uy_.data(); }
 
  private:
-  std::vector<Entry> cache_;
+  void grow(size_t n) {
+    angle_.resize(n, std::numeric_limits<double>::quiet_NaN());
+    ux_.resize(n, 0.0);
+    uy_.resize(n, 0.0);
+  }
+  void refresh(size_t i, double angle) {
+    if (std::memcmp(&angle_[i], &angle, sizeof angle) == 0) return;
+    const Vec2 u = geom::unitVector(angle);
+    angle_[i] = angle, ux_[i] = u.x(), uy_[i] = u.y();
+  }
+#if LASONIC_AVX2_LOOP
+  // prepare() four at a time: quads whose angles all equal the kept ones (bit for bit) are
+  // skipped, the others refreshed one by one; returns how many readings it did.
+  LASONIC_AVX2 size_t sameAnglesAvx2(const LaserReading* r, size_t n) {
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+      const __m256i now = _mm256_castpd_si256(_mm256_set_pd(r[i + 3].angle, r[i + 2].angle, r[i + 1].angle, r[i].angle));
+      const __m256i kept = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(angle_.data() + i));
+      if (_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(now, kept))) != 0xF)
+        for (size_t k = i; k < i + 4; ++k) refresh(k, r[k].angle);
+    }
+    return i;
+  }
+#endif
+  std::vector<double> angle_, ux_, uy_;
 };
 }  // namespace
 
@@ -219,16 +243,13 @@ LASONIC_AVX2 void placeFourAvx2(const Cursor& cu, const LaserReading* r, const d
 // placeReadings' first loop, four readings at a time: each lane the scalar operations on one
 // reading (x = range * ux, y = range * uy, lx = mx + mc * x - ms * y, ly = my + ms * x + mc * y,
 // left to right); returns how many readings it did (a multiple of four).
-template <typename Entry>
-LASONIC_AVX2 size_t robotFrameAvx2(const LaserReading* rd, const Entry* u, size_t n, double mc, double ms, double mx,
-                                   double my, double* lx, double* ly) {
+LASONIC_AVX2 size_t robotFrameAvx2(const LaserReading* rd, const double* ux, const double* uy, size_t n, double mc,
+                                   double ms, double mx, double my, double* lx, double* ly) {
   const __m256d vmc = _mm256_set1_pd(mc), vms = _mm256_set1_pd(ms), vmx = _mm256_set1_pd(mx), vmy = _mm256_set1_pd(my);
   size_t i = 0;
   for (; i + 4 <= n; i += 4) {
     const __m256d r = _mm256_set_pd(rd[i + 3].range, rd[i + 2].range, rd[i + 1].range, rd[i].range);
-    const __m256d ux = _mm256_set_pd(u[i + 3].u.x(), u[i + 2].u.x(), u[i + 1].u.x(), u[i].u.x());
-    const __m256d uy = _mm256_set_pd(u[i + 3].u.y(), u[i + 2].u.y(), u[i + 1].u.y(), u[i].u.y());
-    const __m256d x = _mm256_mul_pd(r, ux), y = _mm256_mul_pd(r, uy);
+    const __m256d x = _mm256_mul_pd(r, _mm256_loadu_pd(ux + i)), y = _mm256_mul_pd(r, _mm256_loadu_pd(uy + i));
     _mm256_storeu_pd(lx + i, _mm256_sub_pd(_mm256_add_pd(vmx, _mm256_mul_pd(vmc, x)), _mm256_mul_pd(vms, y)));
     _mm256_storeu_pd(ly + i, _mm256_add_pd(_mm256_add_pd(vmy, _mm256_mul_pd(vms, x)), _mm256_mul_pd(vmc, y)));
   }
@@ -257,14 +278,16 @@ void placeReadingsInto(const LaserScan& scan, const PoseHistory& poses, std::vec
   mount_rot.use(scan.mount.theta);
   const double mc = mount_rot.c(), ms = mount_rot.s(), mx = scan.mount.x, my = scan.mount.y;
   const LaserReading* rd = scan.readings.data();
-  const UnitVectors::Entry* u = unit.prepare(rd, n);
+  unit.prepare(rd, n);
+  const double* ux = unit.ux();
+  const double* uy = unit.uy();
   size_t i0 = 0;
 #if LASONIC_AVX2_LOOP
-  if (vectorPath() == VectorPath::Avx2) i0 = robotFrameAvx2(rd, u, n, mc, ms, mx, my, lx.data(), ly.data());
+  if (vectorPath() == VectorPath::Avx2) i0 = robotFrameAvx2(rd, ux, uy, n, mc, ms, mx, my, lx.data(), ly.data());
 #endif
   for (size_t i = i0; i < n; ++i) {
     // mount_rot.transform(scan.mount, range * u), for valid readings (others: not used)
-    const double x = rd[i].range * u[i].u.x(), y = rd[i].range * u[i].u.y();
+    const double x = rd[i].range * ux[i], y = rd[i].range * uy[i];
     lx[i] = mx + mc * x - ms * y;
     ly[i] = my + ms * x + mc * y;
   }

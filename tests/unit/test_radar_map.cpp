@@ -513,6 +513,42 @@ TEST(RadarMap, PlacementVectorPathsEqualTheDefinitionBitForBit) {
   EXPECT_GT(missing_total, 100);  // and readings without a pose
 }
 
+// The readings' directions are kept from scan to scan and reused only for the very same angle:
+// one angle changed by one ulp (at each place in a group of four, valid or not) is noticed, on
+// every vector path.
+TEST(RadarMap, PlacementNoticesOneAngleChangedByOneUlp) {
+  RestoreVectorPath restore;
+  PoseHistory h(5'000'000, 0);
+  h.add(1'000'000, {1.0, 2.0, 0.3});
+  h.add(1'040'000, {1.02, 2.01, 0.31});
+  LaserScan scan;
+  scan.mount = {0.1, 0.0, 0.2};
+  scan.utime = 1'001'000;
+  for (int i = 0; i < 67; ++i) {
+    LaserReading r;
+    r.utime = scan.utime + 500 * i;
+    r.angle = -2.0 + 0.06 * i;
+    r.range = 1.0 + 0.01 * i;
+    r.valid = i % 9 != 4;
+    scan.readings.push_back(r);
+  }
+  for (const VectorPath path : {VectorPath::Scalar, VectorPath::Sse2, VectorPath::Avx2}) {
+    setVectorPath(path);
+    for (const size_t j : {size_t{0}, size_t{1}, size_t{2}, size_t{3}, size_t{13}, size_t{40}, size_t{66}}) {
+      LaserScan changed = scan;
+      placeReadings(scan, h);  // (the directions of `scan` kept)
+      changed.readings[j].angle = std::nextafter(changed.readings[j].angle, 10.0);
+      changed.readings[j].valid = true;
+      int missing_def = 0, missing = -1;
+      const std::vector<ScanPoint> def = placedOneByOne(changed, h, missing_def);
+      size_t at = 0;
+      EXPECT_TRUE(samePoints(placeReadings(changed, h, &missing), def, at))
+          << "path " << static_cast<int>(vectorPath()) << ", reading " << j << " changed, differs at " << at;
+      EXPECT_EQ(missing, missing_def);
+    }
+  }
+}
+
 namespace {
 // splitClusters' definition, pair by pair: point i continues the cluster of point i-1 when both
 // are valid and (p_i - p_{i-1}).norm() <= jump_abs + jump_rel * min(range_{i-1}, range_i); a full
