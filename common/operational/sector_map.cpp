@@ -131,9 +131,10 @@ void SectorMap::setLaserMovers(std::vector<MovingPoint> movers, double horizon_s
   movers_horizon_s_ = std::isfinite(horizon_s) ? std::max(0.0, horizon_s) : 0.0;
 }
 
-void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
+std::vector<geom::Vec2> SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_movers_.clear();
-  laser_points_ = std::move(points);
+  std::swap(laser_points_, points);
+  points.clear();
   laser_x_.resize(laser_points_.size());
   laser_y_.resize(laser_points_.size());
   for (size_t i = 0; i < laser_points_.size(); ++i) {
@@ -144,6 +145,7 @@ void SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   have_laser_ = true;
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
   laser_bucket_size_ = 0;
+  return points;
 }
 
 void SectorMap::rebuildLaserBuckets(double rho) {

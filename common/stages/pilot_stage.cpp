@@ -186,28 +186,37 @@ void PilotStage::onOdometry(const odometry_t& m) {
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
                   std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest) {
   // Every element written and the count advanced by validity (no branch per reading); the
-  // surplus cut off at the end.
+  // surplus cut off at the end. Through local pointers and a local maximum: the stores could
+  // alias the vectors and newest, which would otherwise be reloaded and stored per reading.
   const size_t n = std::min(placed.size(), readings.size());
   points.resize(n);
+  const complement::ScanPoint* in = placed.data();
+  const complement::LaserReading* rd = readings.data();
+  geom::Vec2* out = points.data();
+  int64_t latest = newest;
   size_t k = 0;
   if (timed) {
     timed->resize(n);
+    TimedPoint* tout = timed->data();
     for (size_t i = 0; i < n; ++i) {
-      const int64_t t = readings[i].utime;
-      newest = std::max(newest, t);
-      points[k] = placed[i].p;
-      (*timed)[k] = {placed[i].p, t};
-      k += placed[i].valid ? 1 : 0;
+      const int64_t t = rd[i].utime;
+      latest = std::max(latest, t);
+      const geom::Vec2 p = in[i].p;
+      out[k] = p;
+      tout[k].p = p;
+      tout[k].utime = t;
+      k += in[i].valid ? 1 : 0;
     }
     timed->resize(k);
   } else {
     for (size_t i = 0; i < n; ++i) {
-      newest = std::max(newest, readings[i].utime);
-      points[k] = placed[i].p;
-      k += placed[i].valid ? 1 : 0;
+      latest = std::max(latest, rd[i].utime);
+      out[k] = in[i].p;
+      k += in[i].valid ? 1 : 0;
     }
   }
   points.resize(k);
+  newest = latest;
 }
 
 void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
@@ -243,8 +252,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   int no_pose = 0;
   if (!placement_) complement::placeReadingsInto(*scan, poses_, own_placed_, &no_pose);
   const std::vector<complement::ScanPoint>& placed = placement_ ? placement_->place(*scan, poses_, &no_pose) : own_placed_;
-  // The valid returns, in scan order (points[k] is timed_[k].p).
-  std::vector<geom::Vec2> points;
+  // The valid returns, in scan order (points[k] is timed_[k].p); in the storage the sector map
+  // handed back from the previous scan.
+  std::vector<geom::Vec2>& points = laser_points_;
   int64_t newest = m.utime;
   validReturns(placed, scan->readings, points, cfg_.predict_movers ? &timed_ : nullptr, newest);
   std::vector<SectorMap::MovingPoint> moving;
@@ -286,7 +296,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
       node_.count("laser.remembered_returns", static_cast<int64_t>(remembered.size()));
     }
   }
-  sector_map_.setLaserPoints(newest, std::move(points));
+  laser_points_ = sector_map_.setLaserPoints(newest, std::move(points));
   sector_map_.setLaserMovers(std::move(moving), cfg_.mover_prediction.horizon_s);
   now_ = std::max(now_, newest);
   publishSectorMap();

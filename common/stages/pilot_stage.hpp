@@ -140,6 +140,7 @@ class PilotStage {
   grid_map_t agm_msg_{};    // (the same for AGM_OPERATIONAL)
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
+  std::vector<geom::Vec2> laser_points_;  // (the sector map's previous list, handed back: storage reused)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
 };
 

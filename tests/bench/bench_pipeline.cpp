@@ -164,7 +164,7 @@ class Replayer {
       if (one_process_) shared_.scanFrom(*ls, problems_);  // (the pilot's own call: the same message)
       if (!one_process_) cp::placeReadingsInto(*scan, poses_, own_placed_);  // (as PilotStage: storage reused)
       const std::vector<cp::ScanPoint>& placed = one_process_ ? shared_.place(*scan, pilot_poses_) : own_placed_;
-      std::vector<geom::Vec2> points;
+      std::vector<geom::Vec2>& points = points_;  // (as PilotStage: the previous scan's storage)
       int64_t newest = ls->utime;
       validReturns(placed, scan->readings, points, pcfg_.predict_movers ? &timed_ : nullptr, newest);  // (as PilotStage)
       // pilot.predict_movers: returns of small clusters moving scan to scan (PilotStage::onLaserScan).
@@ -175,7 +175,7 @@ class Replayer {
             movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
         takeOutMovers(timed_, runs, points, moving);
       }
-      sector_map_.setLaserPoints(newest, std::move(points));
+      points_ = sector_map_.setLaserPoints(newest, std::move(points));
       sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);
       now_ = std::max(now_, newest);
       benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
@@ -245,6 +245,7 @@ class Replayer {
   std::vector<TimedPoint> timed_;
   std::optional<cp::LaserScan> own_scan_;  // (as the stages without SharedPlacement: storage reused)
   std::vector<cp::ScanPoint> own_placed_;
+  std::vector<geom::Vec2> points_;  // (handed back by SectorMap::setLaserPoints)
 };
 
 // One pass that checks the replayer against the real stages (and prepares the group readings),
