@@ -70,6 +70,21 @@ TEST(SectorMap, LaserDistanceFromTheBoundaryAndMaxRange) {
   EXPECT_EQ(known, 2);
 }
 
+// setLaserPoints hands the previous list back emptied (its storage for the caller's next scan);
+// the map then holds the new list alone.
+TEST(SectorMap, SetLaserPointsHandsBackThePreviousListEmptied) {
+  SectorMap s({});
+  AccumulativeGridMap agm(agmParams01());
+  const Pose2 pose{0.0, 0.0, 0.0};
+  std::vector<Vec2> first(100, Vec2(1.0, 0.0));  // 0.65 m ahead of the boundary
+  EXPECT_TRUE(s.setLaserPoints(0, first).empty());
+  std::vector<Vec2> back = s.setLaserPoints(1, {{0.0, 2.0}});  // 1.65 m to the left
+  EXPECT_TRUE(back.empty());
+  EXPECT_GE(back.capacity(), 100u);  // the first list's storage
+  const auto& m = s.update(1, pose, agm);
+  EXPECT_FLOAT_EQ(m.laser[24], -1.0f);  // the first list is gone
+  EXPECT_FLOAT_EQ(m.laser[static_cast<size_t>(s.sectorOf(kPi / 2))], 1.65f);
+}
 TEST(SectorMap, LaserPointsAreMovedIntoTheCurrentPose) {
   SectorMap s({});
   AccumulativeGridMap agm(agmParams01());
