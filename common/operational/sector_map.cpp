@@ -263,16 +263,24 @@ namespace {
 LASONIC_AVX2 void minMaxAvx2(const int64_t* v, size_t n, int64_t& lo, int64_t& hi) {
   size_t i = 0;
   if (n >= 4) {
-    __m256i l = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v)), h = l;
-    for (i = 4; i + 4 <= n; i += 4) {
-      const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i));
-      l = _mm256_blendv_epi8(l, x, _mm256_cmpgt_epi64(l, x));
-      h = _mm256_blendv_epi8(h, x, _mm256_cmpgt_epi64(x, h));
+    // Two running extremes each (eight values a round), so that a round does not wait for the last.
+    __m256i l = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v)), h = l, l2 = l, h2 = l;
+    const auto take = [](__m256i& lo4, __m256i& hi4, __m256i x) LASONIC_AVX2 {
+      lo4 = _mm256_blendv_epi8(lo4, x, _mm256_cmpgt_epi64(lo4, x));
+      hi4 = _mm256_blendv_epi8(hi4, x, _mm256_cmpgt_epi64(x, hi4));
+    };
+    for (i = 4; i + 8 <= n; i += 8) {
+      take(l, h, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i)));
+      take(l2, h2, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i + 4)));
     }
-    alignas(32) int64_t ls[4], hs[4];
+    if (i + 4 <= n) take(l, h, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i))), i += 4;
+    alignas(32) int64_t ls[4], hs[4], ls2[4], hs2[4];
     _mm256_store_si256(reinterpret_cast<__m256i*>(ls), l);
     _mm256_store_si256(reinterpret_cast<__m256i*>(hs), h);
-    for (size_t k = 0; k < 4; ++k) lo = std::min(lo, ls[k]), hi = std::max(hi, hs[k]);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(ls2), l2);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(hs2), h2);
+    for (size_t k = 0; k < 4; ++k)
+      lo = std::min({lo, ls[k], ls2[k]}), hi = std::max({hi, hs[k], hs2[k]});
   }
   for (; i < n; ++i) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
 }
@@ -341,7 +349,7 @@ void SectorMap::rebuildExplained(double c) {
   explained_known_.clear();
   explained_bits_.clear();
   bucket_start_.clear();
-  bucket_points_.clear();
+  bucket_runs_.clear();
   explained_w_ = explained_h_ = 0;
   explained_any_ = false;
   explained_cell_size_ = c;
@@ -383,13 +391,11 @@ void SectorMap::rebuildExplained(double c) {
     bucket_start_.assign(buckets + 1, 0);
     const size_t np = laser_points_.size();
     point_bucket_.resize(np);
-    bucket_points_.resize(np);
-    // (Through local pointers, and run by run: a scan's consecutive points mostly share a
-    // bucket, and a count kept in memory would make each point wait for the previous one's.)
+    // (Through local pointers: a store through a member vector could, as far as the compiler
+    // knows, change the vector itself.)
     const int64_t* gxs = point_gx_.data();
     const int64_t* gys = point_gy_.data();
     uint32_t* pb = point_bucket_.data();
-    uint32_t* count = bucket_start_.data() + 1;
     const int64_t shift = bucket_shift_, w = bucket_w_;
     size_t i0 = 0;
 #if LASONIC_AVX2_LOOP
@@ -397,25 +403,27 @@ void SectorMap::rebuildExplained(double c) {
 #endif
     for (size_t i = i0; i < np; ++i)
       pb[i] = static_cast<uint32_t>(((gys[i] - y0) >> shift) * w + ((gxs[i] - x0) >> shift));
+    // The runs of consecutive points in one bucket (a scan's neighbours mostly share one), put
+    // in bucket order by a counting sort: a cell is decided from the runs of the buckets around
+    // it, each a stretch of laser_points_ (sorting runs, not points: a few times fewer).
+    run_first_.resize(np + 1);
+    uint32_t* first = run_first_.data();
+    uint32_t* count = bucket_start_.data() + 1;
+    size_t runs = 0;
     for (size_t i = 0; i < np;) {
       const uint32_t b = pb[i];
-      size_t j = i + 1;
-      while (j < np && pb[j] == b) ++j;
-      count[b] += static_cast<uint32_t>(j - i);
-      i = j;
+      first[runs++] = static_cast<uint32_t>(i);
+      ++count[b];
+      do ++i;
+      while (i < np && pb[i] == b);
     }
+    first[runs] = static_cast<uint32_t>(np);
     for (size_t b = 1; b <= buckets; ++b) bucket_start_[b] += bucket_start_[b - 1];
     bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
     uint32_t* fill = bucket_fill_.data();
-    const geom::Vec2* src = laser_points_.data();
-    geom::Vec2* dst = bucket_points_.data();
-    for (size_t i = 0; i < np;) {
-      const uint32_t b = pb[i];
-      uint32_t at = fill[b];
-      do dst[at++] = src[i++];
-      while (i < np && pb[i] == b);
-      fill[b] = at;
-    }
+    bucket_runs_.resize(runs);
+    std::pair<uint32_t, uint32_t>* dst = bucket_runs_.data();
+    for (size_t r = 0; r < runs; ++r) dst[fill[pb[first[r]]]++] = {first[r], first[r + 1]};
     explained_any_ = true;  // (not known yet; every cell is decided when asked)
     return;
   }
@@ -447,8 +455,9 @@ bool SectorMap::explainedCell(int64_t gx, int64_t gy) const {
     for (int64_t by = by0; by <= by1 && !found; ++by)
       for (int64_t bx = bx0; bx <= bx1 && !found; ++bx) {
         const auto b = static_cast<size_t>(by * bucket_w_ + bx);
-        for (uint32_t i = bucket_start_[b]; i < bucket_start_[b + 1] && !found; ++i)
-          found = explainedBy(gx, gy, bucket_points_[i]);
+        for (uint32_t r = bucket_start_[b]; r < bucket_start_[b + 1] && !found; ++r)
+          for (uint32_t i = bucket_runs_[r].first; i < bucket_runs_[r].second && !found; ++i)
+            found = explainedBy(gx, gy, laser_points_[i]);
       }
     explained_known_[bit >> 6] |= mask;
     if (found) explained_bits_[bit >> 6] |= mask;

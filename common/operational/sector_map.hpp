@@ -203,14 +203,15 @@ class SectorMap {
   // The global cells (gx, gy) the newest scan explains (see rebuildExplained), over their
   // bounding box [explained_x0_, +explained_w_) x [explained_y0_, +explained_h_): decided when
   // first asked (explained_known_, one bit per cell; the answer in explained_bits_) from the
-  // scan's points bucketed by cell; or, for a box too large for that, a sorted list.
+  // scan's points bucketed by cell (run by run); or, for a box too large for that, a sorted list.
   mutable std::vector<uint64_t> explained_known_, explained_bits_;
   int64_t explained_x0_ = 0, explained_y0_ = 0, explained_w_ = 0, explained_h_ = 0;
   int64_t explained_span_ = 0;  // candidate box half-width [cells]
   double explained_rho2_ = 0;   // the largest squared distance whose root is <= laser_explains_radius
-  std::vector<uint32_t> bucket_start_;     // per bucket (row-major, bucket_w_ wide) its first point; + end
-  std::vector<geom::Vec2> bucket_points_;  // the scan's points, bucket after bucket
-  std::vector<uint32_t> bucket_fill_, point_bucket_;       // (scratch of rebuildExplained)
+  std::vector<uint32_t> bucket_start_;  // per bucket (row-major, bucket_w_ wide) its first run; + end
+  // The runs of the scan's points in one bucket, bucket after bucket: [first, end) of laser_points_.
+  std::vector<std::pair<uint32_t, uint32_t>> bucket_runs_;
+  std::vector<uint32_t> bucket_fill_, point_bucket_, run_first_;  // (scratch of rebuildExplained)
   std::vector<int64_t> point_gx_, point_gy_;  // (scratch: each point's cell)
   int64_t bucket_w_ = 0, bucket_shift_ = 0;  // buckets per row; log2 of a bucket's side [cells]
   std::vector<std::pair<int64_t, int64_t>> explained_;  // sorted; only when the box is too large

@@ -529,7 +529,8 @@ TEST(SectorMap, RememberedValuesWithExplainedCellsEqualTheNaiveDefinition) {
 // The explained cells (decided per cell from the scan's points in buckets) against the brute
 // force: a cell is explained exactly when some point of the scan lies within the radius of its
 // centre. One obstacle cell per trial among a scan's worth of points around it, several maps
-// per scan (the per-scan memo), cells at every offset from the buckets' grid.
+// per scan (the per-scan memo), cells at every offset from the buckets' grid, points in random
+// and in bearing order (runs of points in one bucket).
 namespace {
 double edgeOrNeighbour(double edge, int k) {
   return k % 3 == 0 ? edge : std::nextafter(edge, k % 3 == 1 ? 1e9 : -1e9);
@@ -562,6 +563,10 @@ TEST(SectorMap, ExplainedCellsEqualTheBruteForce) {
           const double edge = std::round(q[a] / 0.1) * 0.1;
           q[a] = edgeOrNeighbour(edge, trial + a);
         }
+    if (trial % 2 == 0)  // in bearing order, as a scan comes: neighbours share buckets (runs)
+      std::sort(points.begin(), points.end(), [](const Vec2& a, const Vec2& b) {
+        return std::atan2(a.y() - 0.05, a.x() - 0.05) < std::atan2(b.y() - 0.05, b.x() - 0.05);
+      });
     bool brute = false;
     for (const Vec2& q : points) brute = brute || (q - centre).norm() <= p.laser_explains_radius;
     s.setSonarTime(0);
