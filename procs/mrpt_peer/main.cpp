@@ -156,7 +156,6 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
   Timing mrpt_scan, mrpt_group_insert, mrpt_readout, mrpt_group, own_scan, own_radar_map, own_scan_map, own_group;
 
   eval::RawChannelReplay replay(log);
-  const auto pose_at = [&replay](int64_t t) { return replay.poses().at(t); };
   eval::RawChannelReplay::Handlers h;
   h.laser = [&](const laser_scan_t& msg, const complement::LaserScan& scan,
                 const std::vector<complement::ScanPoint>& placed, int64_t newest) {
@@ -201,7 +200,7 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
     if (!points.empty()) mrpt_map.setLaserPoints(newest, points);
 
     t0 = Clock::now();
-    rm = complement::extractRadarMap(scan, pose_at, ccfg.radar_map);
+    rm = complement::extractRadarMap(scan, replay.poses(), ccfg.radar_map);  // (as ComplementStage)
     const double radar_map_us = usSince(t0);
     t0 = Clock::now();
     if (!points.empty()) own_map.setLaserPoints(newest, std::move(points));
