@@ -3,9 +3,10 @@
 // One table over many runs of lasonic-eval (`./run score --all`): the JSON files are grouped by
 // scene, the file name being <scene>-s<seed>.json, and every key (a dotted path into the JSON,
 // e.g. sector_map.missed_rate) is shown per scene as "mean (worst)" over the seeds, worst being
-// the largest value (every rate in the table is one where less is better). A key missing from a
-// file is left out of that scene's mean and counted in the last column. Markdown, so the README
-// can show the output as it is.
+// the largest value for a rate (less is better) and the smallest for a key that names a recall,
+// precision, coverage or rejection (more is better; its column says "worst: lowest"). A key
+// missing from a file is left out of that scene's mean and counted in the last column. Markdown,
+// so the README can show the output as it is.
 #include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -43,6 +44,14 @@ std::optional<double> lookup(const YAML::Node& root, const std::string& key) {
   } catch (const YAML::Exception&) {
     return std::nullopt;
   }
+}
+
+// More is better for these keys (the last part of the path names the quantity).
+bool higherIsBetter(const std::string& key) {
+  const std::string last = key.substr(key.rfind('.') + 1);
+  for (const char* word : {"recall", "precision", "coverage", "rejection"})
+    if (last.find(word) != std::string::npos) return true;
+  return false;
 }
 
 }  // namespace
@@ -91,14 +100,15 @@ int main(int argc, char** argv) {
     }
   }
   std::cout << "| scene | seeds |";
-  for (const auto& k : keys) std::cout << " " << k << " |";
+  for (const auto& k : keys) std::cout << " " << k << (higherIsBetter(k) ? " (worst: lowest)" : "") << " |";
   std::cout << " missing |\n|---|---|";
   for (size_t k = 0; k < keys.size(); ++k) std::cout << "---|";
   std::cout << "---|\n";
   for (const std::string& name : order) {
     const Scene& s = scenes[name];
     std::cout << "| " << name << " | " << s.seeds.size() << " |";
-    for (const auto& v : s.values) {
+    for (size_t k = 0; k < keys.size(); ++k) {
+      const std::vector<double>& v = s.values[k];
       if (v.empty()) {
         std::cout << " - |";
         continue;
@@ -106,8 +116,9 @@ int main(int argc, char** argv) {
       double sum = 0;
       for (double x : v) sum += x;
       char buf[64];
-      std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()),
-                    *std::max_element(v.begin(), v.end()));
+      const double worst = higherIsBetter(keys[k]) ? *std::min_element(v.begin(), v.end())
+                                                   : *std::max_element(v.begin(), v.end());
+      std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()), worst);
       std::cout << buf;
     }
     std::cout << " " << s.missing << " |\n";

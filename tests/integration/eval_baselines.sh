@@ -5,7 +5,8 @@
 #     observability keys and every baseline's keys are in the JSON, all rates in [0, 1], and
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
-#  3. a missing config file and a bad baselines value exit 2 and name the file and key path.
+#  3. a missing config file and a bad baselines value exit 2 and name the file and key path;
+#  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall.
 set -euo pipefail
 
 source "$(dirname "$0")/lib.sh"
@@ -58,3 +59,14 @@ expect_error bad_value "bad.yaml: baselines.sonar_himm.threshold" --config "$tmp
 printf 'baselines:\n  log_odds:\n    size: 40\n' >"$tmp/small.yaml"
 expect_error small_window "small.yaml: baselines.log_odds.size" --config "$tmp/small.yaml"
 echo "$test_name: (3) ok: bad configuration exits 2 naming the file and key"
+
+# (4) Two seeds of one scene: a rate's worst is its highest value, a recall's its lowest.
+mkdir -p "$tmp/table"
+printf '{"sector_map": {"missed_rate": 0.02, "x_recall": 0.9}}\n' >"$tmp/table/room-s1.json"
+printf '{"sector_map": {"missed_rate": 0.04, "x_recall": 0.7}}\n' >"$tmp/table/room-s2.json"
+"$bin/lasonic-eval-table" "$tmp"/table/*.json --keys sector_map.missed_rate,sector_map.x_recall,sector_map.none \
+  >"$tmp/table.md" || die "lasonic-eval-table failed"
+grep -qF '| sector_map.x_recall (worst: lowest) |' "$tmp/table.md" || die "the recall column does not say its worst is the lowest"
+grep -qF '| room | 2 | 0.030 (0.040) | 0.800 (0.700) | - | 2 |' "$tmp/table.md" ||
+  die "lasonic-eval-table: expected '| room | 2 | 0.030 (0.040) | 0.800 (0.700) | - | 2 |', got: $(tail -n 1 "$tmp/table.md")"
+echo "$test_name: (4) ok: lasonic-eval-table's worst is the highest rate and the lowest recall"
