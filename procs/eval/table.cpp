@@ -1,12 +1,15 @@
-// lasonic-eval-table --keys K1,K2,... FILE.json...
+// lasonic-eval-table --keys K1,K2,... [--methods NAME=PREFIX,...] FILE.json...
 //
 // One table over many runs of lasonic-eval (`./run score --all`): the JSON files are grouped by
 // scene, the file name being <scene>-s<seed>.json, and every key (a dotted path into the JSON,
 // e.g. sector_map.missed_rate) is shown per scene as "mean (worst)" over the seeds, worst being
 // the largest value for a rate (less is better) and the smallest for a key that names a recall,
-// precision, coverage or rejection (more is better; its column says "worst: lowest"). A key
-// missing from a file is left out of that scene's mean and counted in the last column. Markdown,
-// so the README can show the output as it is.
+// precision, coverage or rejection (more is better; its column says "worst: lowest"). Files of
+// the same name in different folders are one run scored by different programs (`./run peer`:
+// lasonic-eval and lasonic-mrpt-peer): a key is looked up in each. With --methods, each scene
+// gets one row per method and a key K is read at PREFIX.K (lasonic=sector_map,
+// MRPT=mrpt.sector_map, ...). A key missing from a run is left out of that mean and counted in
+// the last column. Markdown, so the README can show the output as it is.
 #include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -58,21 +61,33 @@ bool higherIsBetter(const std::string& key) {
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-eval-table: mean and worst of lasonic-eval's metrics per scene over seeds"};
-  std::string keys_arg;
+  std::string keys_arg, methods_arg;
   std::vector<std::string> files;
   app.add_option("--keys", keys_arg, "comma-separated metric keys (dotted paths)")->required();
+  app.add_option("--methods", methods_arg,
+                 "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
   app.add_option("files", files, "lasonic-eval JSON files named <scene>-s<seed>.json")->required();
   CLI11_PARSE(app, argc, argv);
   const std::vector<std::string> keys = split(keys_arg, ',');
+  struct Method {
+    std::string name, prefix;  // prefix empty: the keys as given
+  };
+  std::vector<Method> methods;
+  for (const std::string& m : split(methods_arg, ',')) {
+    const size_t eq = m.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == m.size()) {
+      std::cerr << "lasonic-eval-table: --methods: '" << m << "' is not NAME=PREFIX\n";
+      return 2;
+    }
+    methods.push_back({m.substr(0, eq), m.substr(eq + 1)});
+  }
+  const bool by_method = !methods.empty();
+  if (!by_method) methods.push_back({"", ""});
   const std::regex name_re(R"((.+)-s(\d+)\.json)");
 
-  struct Scene {
-    std::vector<std::vector<double>> values;  // per key
-    std::vector<std::string> seeds;
-    int missing = 0;
-  };
+  // Per scene, per seed: the JSON roots of that run (one per program that scored it).
   std::vector<std::string> order;
-  std::map<std::string, Scene> scenes;
+  std::map<std::string, std::map<std::string, std::vector<YAML::Node>>> runs;
   int status = 0;
   for (const std::string& f : files) {
     std::smatch m;
@@ -90,38 +105,42 @@ int main(int argc, char** argv) {
       continue;
     }
     const std::string scene = m[1];
-    if (!scenes.count(scene)) order.push_back(scene);
-    Scene& s = scenes[scene];
-    s.values.resize(keys.size());
-    s.seeds.push_back(m[2]);
-    for (size_t k = 0; k < keys.size(); ++k) {
-      if (const auto v = lookup(root, keys[k])) s.values[k].push_back(*v);
-      else ++s.missing;
-    }
+    if (!runs.count(scene)) order.push_back(scene);
+    runs[scene][m[2]].push_back(root);
   }
-  std::cout << "| scene | seeds |";
+  std::cout << "| scene |" << (by_method ? " method |" : "") << " seeds |";
   for (const auto& k : keys) std::cout << " " << k << (higherIsBetter(k) ? " (worst: lowest)" : "") << " |";
-  std::cout << " missing |\n|---|---|";
+  std::cout << " missing |\n|---|" << (by_method ? "---|" : "") << "---|";
   for (size_t k = 0; k < keys.size(); ++k) std::cout << "---|";
   std::cout << "---|\n";
   for (const std::string& name : order) {
-    const Scene& s = scenes[name];
-    std::cout << "| " << name << " | " << s.seeds.size() << " |";
-    for (size_t k = 0; k < keys.size(); ++k) {
-      const std::vector<double>& v = s.values[k];
-      if (v.empty()) {
-        std::cout << " - |";
-        continue;
+    const auto& seeds = runs[name];
+    for (const Method& method : methods) {
+      std::cout << "| " << name << " |" << (by_method ? " " + method.name + " |" : "") << " " << seeds.size() << " |";
+      int missing = 0;
+      for (const std::string& key : keys) {
+        const std::string path = method.prefix.empty() ? key : method.prefix + "." + key;
+        std::vector<double> v;
+        for (const auto& [seed, roots] : seeds) {
+          std::optional<double> x;
+          for (size_t r = 0; r < roots.size() && !x; ++r) x = lookup(roots[r], path);
+          if (x) v.push_back(*x);
+          else ++missing;
+        }
+        if (v.empty()) {
+          std::cout << " - |";
+          continue;
+        }
+        double sum = 0;
+        for (double x : v) sum += x;
+        const double worst = higherIsBetter(key) ? *std::min_element(v.begin(), v.end())
+                                                 : *std::max_element(v.begin(), v.end());
+        char buf[64];
+        std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()), worst);
+        std::cout << buf;
       }
-      double sum = 0;
-      for (double x : v) sum += x;
-      char buf[64];
-      const double worst = higherIsBetter(keys[k]) ? *std::min_element(v.begin(), v.end())
-                                                   : *std::max_element(v.begin(), v.end());
-      std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()), worst);
-      std::cout << buf;
+      std::cout << " " << missing << " |\n";
     }
-    std::cout << " " << s.missing << " |\n";
   }
   return status;
 }

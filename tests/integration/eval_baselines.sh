@@ -6,7 +6,8 @@
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file and a bad baselines value exit 2 and name the file and key path;
-#  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall.
+#  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
+#     one row per method (--methods), a run's keys looked up in its files of every folder.
 set -euo pipefail
 
 source "$(dirname "$0")/lib.sh"
@@ -70,3 +71,22 @@ grep -qF '| sector_map.x_recall (worst: lowest) |' "$tmp/table.md" || die "the r
 grep -qF '| room | 2 | 0.030 (0.040) | 0.800 (0.700) | - | 2 |' "$tmp/table.md" ||
   die "lasonic-eval-table: expected '| room | 2 | 0.030 (0.040) | 0.800 (0.700) | - | 2 |', got: $(tail -n 1 "$tmp/table.md")"
 echo "$test_name: (4) ok: lasonic-eval-table's worst is the highest rate and the lowest recall"
+
+# (4b) One run scored by two programs (files of one name in two folders), one row per method.
+mkdir -p "$tmp/t2/eval" "$tmp/t2/peer"
+for seed in 1 2; do
+  printf '{"sector_map": {"missed_rate": 0.0%d}, "baselines": {"log_odds": {"sector_map": {"missed_rate": 0.1%d}}}}\n' \
+    "$seed" "$seed" >"$tmp/t2/eval/room-s$seed.json"
+  printf '{"mrpt": {"sector_map": {"missed_rate": 0.2%d}}}\n' "$seed" >"$tmp/t2/peer/room-s$seed.json"
+done
+"$bin/lasonic-eval-table" "$tmp"/t2/eval/*.json "$tmp"/t2/peer/*.json --keys missed_rate \
+  --methods "lasonic=sector_map,log-odds=baselines.log_odds.sector_map,MRPT=mrpt.sector_map,none=nothing" \
+  >"$tmp/t2.md" || die "lasonic-eval-table --methods failed"
+for want in '| room | lasonic | 2 | 0.015 (0.020) | 0 |' '| room | log-odds | 2 | 0.115 (0.120) | 0 |' \
+  '| room | MRPT | 2 | 0.215 (0.220) | 0 |' '| room | none | 2 | - | 2 |'; do
+  grep -qF -- "$want" "$tmp/t2.md" || die "lasonic-eval-table --methods: no line '$want' in: $(cat "$tmp/t2.md")"
+done
+"$bin/lasonic-eval-table" "$tmp"/t2/eval/*.json --keys missed_rate --methods "nameless" >/dev/null 2>"$tmp/t2.err" &&
+  die "--methods without NAME=PREFIX was accepted"
+grep -qF "'nameless' is not NAME=PREFIX" "$tmp/t2.err" || die "--methods: the error does not name the bad entry"
+echo "$test_name: (4b) ok: one row per method, a run's files of both folders read together"
