@@ -9,7 +9,7 @@
 namespace lasonic {
 
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
-  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells"});
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells", "refit_weights"});
   p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
   p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
   p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
@@ -21,6 +21,9 @@ LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams 
   p.refit_cells = c.getChoice("refit_cells", p.refit_cells,
                               {{"run", LineGenerationParams::RefitCells::Run},
                                {"band", LineGenerationParams::RefitCells::Band}});
+  p.refit_weights = c.getChoice("refit_weights", p.refit_weights,
+                                {{"cells", LineGenerationParams::RefitWeights::Cells},
+                                 {"echoes", LineGenerationParams::RefitWeights::Echoes}});
   p.occlusion = c.getChoice("occlusion", p.occlusion,
                             {{"global", LineGenerationParams::Occlusion::Global},
                              {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
@@ -150,19 +153,57 @@ std::vector<complement::IndexRange> mergePieces(const std::vector<geom::Vec2>& p
 
 namespace {
 // The cells of `band` within threshold of seg (the run's fitted line), ordered along it.
-std::vector<geom::Vec2> bandPoints(const geom::Segment& seg, const std::vector<CandidateCell>& band, double threshold) {
-  std::vector<std::pair<double, geom::Vec2>> near;
+std::vector<const CandidateCell*> bandCells(const geom::Segment& seg, const std::vector<CandidateCell>& band,
+                                           double threshold) {
+  std::vector<std::pair<double, const CandidateCell*>> near;
   const double len = seg.length();
   if (!(len > 0)) return {};
   const geom::Vec2 dir = (seg.b - seg.a) / len;
   for (const CandidateCell& c : band)
     if (geom::distance(seg, c.centre) <= threshold + 1e-6)  // a row exactly one threshold away belongs to it
-      near.emplace_back((c.centre - seg.a).dot(dir), c.centre);
+      near.emplace_back((c.centre - seg.a).dot(dir), &c);
   std::sort(near.begin(), near.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<geom::Vec2> out;
+  std::vector<const CandidateCell*> out;
   out.reserve(near.size());
   for (const auto& n : near) out.push_back(n.second);
   return out;
+}
+
+std::vector<geom::Vec2> centres(const std::vector<const CandidateCell*>& cells) {
+  std::vector<geom::Vec2> out;
+  out.reserve(cells.size());
+  for (const CandidateCell* c : cells) out.push_back(c->centre);
+  return out;
+}
+
+// Total least squares with each cell weighted by its Gp; the segment spans the projections of the
+// first and last cell (cells ordered along the line). rms: weighted, as the fit.
+complement::RmSegment fitWeighted(const std::vector<const CandidateCell*>& cells) {
+  double wsum = 0;
+  geom::Vec2 c = geom::Vec2::Zero();
+  for (const CandidateCell* k : cells) {
+    const double w = std::max(1, k->gp);
+    c += w * k->centre;
+    wsum += w;
+  }
+  c /= wsum;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const CandidateCell* k : cells) {
+    const double w = std::max(1, k->gp);
+    const geom::Vec2 d = k->centre - c;
+    sxx += w * d.x() * d.x();
+    syy += w * d.y() * d.y();
+    sxy += w * d.x() * d.y();
+  }
+  const geom::Vec2 dir = geom::unitVector(0.5 * std::atan2(2.0 * sxy, sxx - syy));
+  const geom::Vec2 nrm(-dir.y(), dir.x());
+  double ss = 0;
+  for (const CandidateCell* k : cells) ss += std::max(1, k->gp) * std::pow((k->centre - c).dot(nrm), 2);
+  complement::RmSegment s;
+  s.seg = {c + dir * (cells.front()->centre - c).dot(dir), c + dir * (cells.back()->centre - c).dot(dir)};
+  s.npoints = static_cast<int>(cells.size());
+  s.rms = std::sqrt(ss / wsum);
+  return s;
 }
 }  // namespace
 
@@ -182,8 +223,21 @@ std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerat
       complement::RmSegment s = complement::fitLine(pts, r);
       if (p.refit_cells == LineGenerationParams::RefitCells::Band && band) {
         // The run's cells are always in the band (each lies within the threshold of its own fit).
-        const std::vector<geom::Vec2> b = bandPoints(s.seg, *band, p.split_threshold);
-        if (b.size() >= r.size()) s = complement::fitLine(b, {0, b.size() - 1});
+        std::vector<const CandidateCell*> b = bandCells(s.seg, *band, p.split_threshold);
+        if (b.size() >= r.size()) {
+          if (p.refit_weights == LineGenerationParams::RefitWeights::Cells) {
+            s = complement::fitLine(centres(b), {0, b.size() - 1});
+          } else {
+            // Chosen again around each weighted line until the band stays the same (a few rounds:
+            // the band only narrows onto the heavy rows).
+            for (int round = 0; round < 8; ++round) {
+              s = fitWeighted(b);
+              std::vector<const CandidateCell*> next = bandCells(s.seg, *band, p.split_threshold);
+              if (next.size() < static_cast<size_t>(p.min_cells) || next == b) break;
+              b = std::move(next);
+            }
+          }
+        }
       }
       l.seg = s.seg;
       l.rms = s.rms;

@@ -41,6 +41,12 @@ struct LineGenerationParams {
   // also those behind a nearer one; an obstacle heard from both sides, or a band of cells two
   // deep, has its surface in the band's middle, not on the face nearest to the robot.
   enum class RefitCells { Run, Band } refit_cells = RefitCells::Band;
+  // How the band refit weighs its cells. Cells: each cell once (every cell is one point). Echoes:
+  // each cell by its Gp, the echoes that agree on it, and the band chosen again around the
+  // weighted line until it no longer changes: the line is where most echoes put the surface, so
+  // a few stray cells beside a two-cell-deep band (an edge's echoes placed off the surface) do
+  // not tilt it.
+  enum class RefitWeights { Cells, Echoes } refit_weights = RefitWeights::Echoes;
   // Split-and-merge: neighbouring pieces of a run are merged again while one line fits all their
   // cells within split_threshold (a band of cells two deep, seen at an angle, zigzags in the
   // angle order and would otherwise be split into slanted pieces).

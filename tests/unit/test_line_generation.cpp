@@ -186,6 +186,34 @@ TEST(LineGeneration, BandRefitPutsTheLineInTheMiddleOfATwoDeepBand) {
   EXPECT_EQ(middle[0].ncells, 21);  // the cells the line was found on (the run)
 }
 
+TEST(LineGeneration, EchoWeightedRefitFollowsTheHeavyRowsNotStrayCells) {
+  // A mesh at y = 1.05 heard from both sides many times (rows 1.0 and 1.1, Gp 50), and at its
+  // left end five cells 0.1 m in front of it from a few stray echoes (Gp 5; an edge's echoes
+  // placed off the surface). They are nearest per angle there, so the run's line is tilted.
+  std::vector<CandidateCell> cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.1}, {1, 1.1}));
+  for (CandidateCell& c : cells) c.gp = 50;
+  for (CandidateCell c : along({-1, 0.9}, {-0.6, 0.9})) {
+    c.gp = 5;
+    cells.push_back(c);
+  }
+  auto endsOff = [](const AgmLine& l) {  // the line's distance from the mesh at x = -1 and x = 1
+    const double slope = (l.seg.b.y() - l.seg.a.y()) / (l.seg.b.x() - l.seg.a.x());
+    const double y_at = l.seg.a.y() - slope * l.seg.a.x();
+    return std::max(std::abs(y_at - slope - 1.05), std::abs(y_at + slope - 1.05));
+  };
+  LineGenerationParams cells_once = params();
+  cells_once.refit_weights = LineGenerationParams::RefitWeights::Cells;
+  const auto tilted = generateLines(cells, {0, 0, 0}, kCell, cells_once);
+  ASSERT_EQ(tilted.size(), 1u);
+  EXPECT_GT(endsOff(tilted[0]), 0.03);  // each cell once: the stray cells tilt it
+  LineGenerationParams echoes = params();
+  echoes.refit_weights = LineGenerationParams::RefitWeights::Echoes;
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, echoes);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_LT(endsOff(lines[0]), 0.01);  // the band chosen again around the heavy rows: the mesh
+  EXPECT_LT(lines[0].rms, 0.06);
+}
+
 TEST(LineGeneration, BandRefitLeavesAnotherObstacleBehindAlone) {
   // A second wall 0.3 m behind the first (more than split_threshold): not part of the band, and
   // with per-cluster occlusion its own line (both walls are one cluster only within max_gap).
@@ -236,7 +264,7 @@ TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
 TEST(LineGeneration, ConfigKeysAndErrors) {
   const auto p = lineGenerationParams(Config::fromString(
       "lines: {gp_threshold: 7, angle_bin_deg: 2, max_gap: 0.3, split_threshold: 0.05, min_cells: 4, refit: false, "
-      "occlusion: global, merge: false, min_length: 0.3, refit_cells: run}").section("lines"));
+      "occlusion: global, merge: false, min_length: 0.3, refit_cells: run, refit_weights: cells}").section("lines"));
   EXPECT_EQ(p.gp_threshold, 7);
   EXPECT_DOUBLE_EQ(p.angle_bin_deg, 2);
   EXPECT_DOUBLE_EQ(p.max_gap, 0.3);
@@ -245,14 +273,17 @@ TEST(LineGeneration, ConfigKeysAndErrors) {
   EXPECT_FALSE(p.refit);
   EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::Global);
   EXPECT_EQ(p.refit_cells, LineGenerationParams::RefitCells::Run);
+  EXPECT_EQ(p.refit_weights, LineGenerationParams::RefitWeights::Cells);
   EXPECT_FALSE(p.merge);
   // The defaults are the shipped configuration's.
   const LineGenerationParams d;
   EXPECT_EQ(d.occlusion, LineGenerationParams::Occlusion::PerCluster);
   EXPECT_EQ(d.refit_cells, LineGenerationParams::RefitCells::Band);
+  EXPECT_EQ(d.refit_weights, LineGenerationParams::RefitWeights::Echoes);
   EXPECT_DOUBLE_EQ(p.min_length, 0.3);
   for (const char* bad : {"lines: {max_gap: 0}", "lines: {min_cells: 1}", "lines: {angle_bin_deg: -1}",
-                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {refit_cells: all}", "lines: {colour: red}"})
+                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {refit_cells: all}", "lines: {refit_weights: gp}",
+                          "lines: {colour: red}"})
     EXPECT_THROW(lineGenerationParams(Config::fromString(bad).section("lines")), ConfigError) << bad;
 }
 
