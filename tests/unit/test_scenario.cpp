@@ -330,4 +330,5 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                                            "holdout/pioneer_workshop", "holdout/cafe_tables",
                                            "holdout/glass_balustrade", "holdout/waiting_robot",
                                            "holdout/turning_in_place", "holdout/slow_corridor",
-                                           "holdout/pioneer_sick180"));
+                                           "holdout/pioneer_sick180", "holdout/mesh_partition",
+                                           "holdout/glass_office_row"));
