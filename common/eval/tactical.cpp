@@ -468,10 +468,9 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     std::vector<std::vector<PolarCell>> runs;
     std::vector<std::vector<AgmLine>> run_lines;
     auto addRuns = [&](const std::vector<CandidateCell>& group) {
-      const auto nearest = nearestPerAngle(toPolar(group, robot), geom::deg2rad(lp.angle_bin_deg), g.cell_size);
-      for (auto& run : splitAtGaps(nearest, lp.max_gap)) {
-        run_lines.push_back(fitRun(run, lp, g.cell_size, &group));
-        runs.push_back(std::move(run));
+      for (LineRun& r : lineRuns(group, robot, g.cell_size, lp)) {
+        run_lines.push_back(std::move(r.lines));
+        runs.push_back(std::move(r.cells));
       }
     };
     if (lp.occlusion == LineGenerationParams::Occlusion::Global) addRuns(cand);

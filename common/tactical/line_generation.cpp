@@ -9,7 +9,7 @@
 namespace lasonic {
 
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
-  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells", "refit_weights"});
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells", "refit_weights", "hidden_cells"});
   p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
   p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
   p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
@@ -24,6 +24,9 @@ LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams 
   p.refit_weights = c.getChoice("refit_weights", p.refit_weights,
                                 {{"cells", LineGenerationParams::RefitWeights::Cells},
                                  {"echoes", LineGenerationParams::RefitWeights::Echoes}});
+  p.hidden_cells = c.getChoice("hidden_cells", p.hidden_cells,
+                               {{"drop", LineGenerationParams::HiddenCells::Drop},
+                                {"peel", LineGenerationParams::HiddenCells::Peel}});
   p.occlusion = c.getChoice("occlusion", p.occlusion,
                             {{"global", LineGenerationParams::Occlusion::Global},
                              {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
@@ -56,8 +59,10 @@ std::vector<PolarCell> toPolar(const std::vector<CandidateCell>& cells, const ge
   return out;
 }
 
-std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, double bin_rad, double cell_size) {
-  if (cells.empty() || !(bin_rad > 0)) return {};
+namespace {
+// Which of cells are nearest to the robot in at least one angle bin (see nearestPerAngle).
+std::vector<char> nearestMask(const std::vector<PolarCell>& cells, double bin_rad, double cell_size) {
+  if (cells.empty() || !(bin_rad > 0)) return std::vector<char>(cells.size(), 0);
   const int nbins = std::max(1, static_cast<int>(std::ceil(2 * geom::kPi / bin_rad)));
   constexpr size_t kNone = std::numeric_limits<size_t>::max();
   std::vector<size_t> nearest(static_cast<size_t>(nbins), kNone);
@@ -85,6 +90,11 @@ std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, doub
   std::vector<char> keep(cells.size(), 0);
   for (size_t b : nearest)
     if (b != kNone) keep[b] = 1;
+  return keep;
+}
+
+// The kept cells sorted by bearing (then range).
+std::vector<PolarCell> keptInBearingOrder(const std::vector<PolarCell>& cells, const std::vector<char>& keep) {
   std::vector<PolarCell> out;
   for (size_t i = 0; i < cells.size(); ++i)
     if (keep[i]) out.push_back(cells[i]);
@@ -92,6 +102,11 @@ std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, doub
     return a.bearing != b.bearing ? a.bearing < b.bearing : a.range < b.range;
   });
   return out;
+}
+}  // namespace
+
+std::vector<PolarCell> nearestPerAngle(const std::vector<PolarCell>& cells, double bin_rad, double cell_size) {
+  return keptInBearingOrder(cells, nearestMask(cells, bin_rad, cell_size));
 }
 
 std::vector<std::vector<PolarCell>> splitAtGaps(const std::vector<PolarCell>& ordered, double max_gap) {
@@ -292,13 +307,45 @@ std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<Candidate
   return out;
 }
 
+std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geom::Pose2& robot, double cell_size,
+                              const LineGenerationParams& p) {
+  std::vector<LineRun> out;
+  const double bin = geom::deg2rad(p.angle_bin_deg);
+  std::vector<PolarCell> layer_cells = toPolar(group, robot);
+  for (int layer = 0; layer < kMaxLineLayers && !layer_cells.empty(); ++layer) {
+    const std::vector<char> keep = nearestMask(layer_cells, bin, cell_size);
+    const size_t first = out.size();
+    for (auto& run : splitAtGaps(keptInBearingOrder(layer_cells, keep), p.max_gap)) {
+      LineRun r;
+      r.lines = fitRun(run, p, cell_size, &group);
+      r.cells = std::move(run);
+      r.layer = layer;
+      out.push_back(std::move(r));
+    }
+    if (p.hidden_cells == LineGenerationParams::HiddenCells::Drop) break;
+    // The next layer: the hidden cells that no line of this layer took.
+    std::vector<PolarCell> hidden;
+    for (size_t i = 0; i < layer_cells.size(); ++i) {
+      if (keep[i]) continue;
+      bool taken = false;
+      for (size_t k = first; k < out.size() && !taken; ++k)
+        for (const AgmLine& l : out[k].lines)
+          if (geom::distance(l.seg, layer_cells[i].cell.centre) <= p.split_threshold + 1e-6) {
+            taken = true;
+            break;
+          }
+      if (!taken) hidden.push_back(layer_cells[i]);
+    }
+    layer_cells = std::move(hidden);
+  }
+  return out;
+}
+
 std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, const geom::Pose2& robot,
                                    double cell_size, const LineGenerationParams& p) {
   std::vector<AgmLine> out;
-  const double bin = geom::deg2rad(p.angle_bin_deg);
   auto lines = [&](const std::vector<CandidateCell>& group) {
-    for (const auto& run : splitAtGaps(nearestPerAngle(toPolar(group, robot), bin, cell_size), p.max_gap))
-      for (const AgmLine& l : fitRun(run, p, cell_size, &group)) out.push_back(l);
+    for (const LineRun& r : lineRuns(group, robot, cell_size, p)) out.insert(out.end(), r.lines.begin(), r.lines.end());
   };
   if (p.occlusion == LineGenerationParams::Occlusion::Global) lines(cells);
   else

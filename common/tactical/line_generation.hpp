@@ -16,6 +16,8 @@
 //                    dropped (isolated cells: noise); optional total-least-squares refit (on the
 //                    run's cells, or on every cell of the band along the line); each end
 //                    extended by half a cell, since a cell stands for the square around its centre
+//   lineRuns         the runs of one group, layer by layer (cells hidden behind a layer's lines
+//                    get the next layer; beyond the paper, which drops them)
 //   generateLines    all of the above
 // Everything is in the global (odometry) frame except the polar coordinates.
 #include <cstdint>
@@ -55,6 +57,12 @@ struct LineGenerationParams {
   // behind a nearer cell of its own cluster (cells connected within max_gap), so a remembered
   // obstacle is not dropped because another one now stands in front of it.
   enum class Occlusion { Global, PerCluster } occlusion = Occlusion::PerCluster;
+  // Cells hidden behind nearer ones. Drop: the paper's rule, the lines describe what the robot
+  // faces. Peel: layer by layer, the hidden cells that no line of the layer took (farther than
+  // split_threshold from each) get their own nearest-per-angle pass, until no cell is left: a
+  // memory holds every surface it has heard, also the one behind another (a box behind a fence,
+  // the far side of a railing).
+  enum class HiddenCells { Drop, Peel } hidden_cells = HiddenCells::Peel;
 };
 // Reads a `lines:` section over `base`. Throws ConfigError naming the key path.
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams base = {});
@@ -107,6 +115,20 @@ std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<Candidate
 // band: the candidate cells a RefitCells::Band refit may use (null: the run's own).
 std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerationParams& p, double cell_size,
                             const std::vector<CandidateCell>* band = nullptr);
+
+// One run of cells and the lines fitted to it; layer 0 is what the robot faces.
+struct LineRun {
+  std::vector<PolarCell> cells;
+  std::vector<AgmLine> lines;
+  int layer = 0;
+};
+// The runs of one group of cells (a cluster, or all cells with global occlusion): nearest per
+// angle, cut at gaps, fitted (the band refit draws on the whole group); with HiddenCells::Peel
+// the next layers as described there (at most kMaxLineLayers; a blob of cells that deep is no
+// surface).
+constexpr int kMaxLineLayers = 32;
+std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geom::Pose2& robot, double cell_size,
+                              const LineGenerationParams& p);
 
 std::vector<AgmLine> generateLines(const std::vector<CandidateCell>& cells, const geom::Pose2& robot,
                                    double cell_size, const LineGenerationParams& p);

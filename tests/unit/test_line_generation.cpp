@@ -1,6 +1,7 @@
 // Line generation (Jörg 1995 sec. 3.4) on synthetic grids, and the Current Sensor Map.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -156,12 +157,17 @@ TEST(LineGeneration, OnlyTheNearestCellsPerAngleUnlessPerCluster) {
   const auto cells = join(along({-0.5, 1}, {0.5, 1}), along({-0.5, 3}, {0.5, 3}));
   LineGenerationParams paper = params();
   paper.occlusion = LineGenerationParams::Occlusion::Global;
+  paper.hidden_cells = LineGenerationParams::HiddenCells::Drop;
   const auto global = generateLines(cells, {0, 0, 0}, kCell, paper);
   ASSERT_EQ(global.size(), 1u);
   EXPECT_LT(offLine(global[0], {0, 1}), 0.02);
   LineGenerationParams p = params();
   p.occlusion = LineGenerationParams::Occlusion::PerCluster;
+  p.hidden_cells = LineGenerationParams::HiddenCells::Drop;
   EXPECT_EQ(generateLines(cells, {0, 0, 0}, kCell, p).size(), 2u);
+  // Peeled, the far wall gets its line also where one cluster (or global occlusion) hides it.
+  paper.hidden_cells = LineGenerationParams::HiddenCells::Peel;
+  EXPECT_EQ(generateLines(cells, {0, 0, 0}, kCell, paper).size(), 2u);
   // Two rows of one surface (quantisation): only the nearer row is a line candidate.
   const auto visible = nearestPerAngle(toPolar(join(along({-1, 1}, {1, 1}), along({-1, 1.1}, {1, 1.1})), {0, 0, 0}),
                                        geom::deg2rad(1.0), kCell);
@@ -203,11 +209,13 @@ TEST(LineGeneration, EchoWeightedRefitFollowsTheHeavyRowsNotStrayCells) {
   };
   LineGenerationParams cells_once = params();
   cells_once.refit_weights = LineGenerationParams::RefitWeights::Cells;
+  cells_once.hidden_cells = LineGenerationParams::HiddenCells::Drop;  // the first layer's line only
   const auto tilted = generateLines(cells, {0, 0, 0}, kCell, cells_once);
   ASSERT_EQ(tilted.size(), 1u);
   EXPECT_GT(endsOff(tilted[0]), 0.03);  // each cell once: the stray cells tilt it
   LineGenerationParams echoes = params();
   echoes.refit_weights = LineGenerationParams::RefitWeights::Echoes;
+  echoes.hidden_cells = LineGenerationParams::HiddenCells::Drop;
   const auto lines = generateLines(cells, {0, 0, 0}, kCell, echoes);
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_LT(endsOff(lines[0]), 0.01);  // the band chosen again around the heavy rows: the mesh
@@ -221,11 +229,62 @@ TEST(LineGeneration, BandRefitLeavesAnotherObstacleBehindAlone) {
   LineGenerationParams p = params();
   p.refit_cells = LineGenerationParams::RefitCells::Band;
   p.occlusion = LineGenerationParams::Occlusion::Global;
+  p.hidden_cells = LineGenerationParams::HiddenCells::Drop;
   const auto lines = generateLines(cells, {0, 0, 0}, kCell, p);
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_LT(offLine(lines[0], {0, 1.0}), 0.01);
   EXPECT_LT(std::abs(std::sin(angleOf(lines[0]))), 0.01);
   EXPECT_NEAR(lines[0].seg.length(), 2.1, 1e-6);  // band cells beyond the ends: none
+}
+
+TEST(LineGeneration, PeeledLayersGiveTheSurfaceBehindItsOwnLine) {
+  // A pane at y = 1.0 and, 0.3 m behind it (one cluster: closer than max_gap), a wall at y = 1.3.
+  const auto cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.3}, {1, 1.3}));
+  LineGenerationParams drop = params();
+  drop.hidden_cells = LineGenerationParams::HiddenCells::Drop;
+  EXPECT_EQ(generateLines(cells, {0, 0, 0}, kCell, drop).size(), 1u);  // the paper: what the robot faces
+  LineGenerationParams peel = params();
+  peel.hidden_cells = LineGenerationParams::HiddenCells::Peel;
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, peel);
+  ASSERT_EQ(lines.size(), 2u);
+  std::vector<double> ys;
+  for (const AgmLine& l : lines) {
+    EXPECT_LT(std::abs(std::sin(angleOf(l))), 0.01);
+    EXPECT_NEAR(l.seg.length(), 2.1, 1e-6);
+    ys.push_back(0.5 * (l.seg.a.y() + l.seg.b.y()));
+  }
+  std::sort(ys.begin(), ys.end());
+  EXPECT_NEAR(ys[0], 1.0, 0.01);
+  EXPECT_NEAR(ys[1], 1.3, 0.01);
+  const auto runs = lineRuns(cells, {0, 0, 0}, kCell, peel);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].layer, 0);
+  EXPECT_EQ(runs[1].layer, 1);
+}
+
+TEST(LineGeneration, PeelingABandTwoCellsDeepGivesOneLine) {
+  // The far row of a mesh heard from both sides is in the first line's band: no second line.
+  const auto cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.1}, {1, 1.1}));
+  LineGenerationParams peel = params();
+  peel.hidden_cells = LineGenerationParams::HiddenCells::Peel;
+  const auto lines = generateLines(cells, {0, 0, 0}, kCell, peel);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_LT(offLine(lines[0], {0, 1.05}), 0.01);
+}
+
+TEST(LineGeneration, PeelingEndsOnADeepBlockOfCells) {
+  // 40 rows of cells behind each other, 0.15 m apart (one cluster, and no row within the
+  // split_threshold of another's line): the layers stop at kMaxLineLayers.
+  std::vector<CandidateCell> cells;
+  for (int row = 0; row < 40; ++row) cells = join(cells, along({-0.5, 1.0 + 0.15 * row}, {0.5, 1.0 + 0.15 * row}));
+  LineGenerationParams peel = params();
+  peel.hidden_cells = LineGenerationParams::HiddenCells::Peel;
+  peel.refit_cells = LineGenerationParams::RefitCells::Run;  // one row per layer
+  const auto runs = lineRuns(cells, {0, 0, 0}, kCell, peel);
+  ASSERT_FALSE(runs.empty());
+  int deepest = 0;
+  for (const LineRun& r : runs) deepest = std::max(deepest, r.layer);
+  EXPECT_EQ(deepest, kMaxLineLayers - 1);
 }
 
 TEST(LineGeneration, WallBehindTheRobotIsNotCutAtTheBearingSeam) {
@@ -264,7 +323,8 @@ TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
 TEST(LineGeneration, ConfigKeysAndErrors) {
   const auto p = lineGenerationParams(Config::fromString(
       "lines: {gp_threshold: 7, angle_bin_deg: 2, max_gap: 0.3, split_threshold: 0.05, min_cells: 4, refit: false, "
-      "occlusion: global, merge: false, min_length: 0.3, refit_cells: run, refit_weights: cells}").section("lines"));
+      "occlusion: global, merge: false, min_length: 0.3, refit_cells: run, refit_weights: cells, "
+      "hidden_cells: drop}").section("lines"));
   EXPECT_EQ(p.gp_threshold, 7);
   EXPECT_DOUBLE_EQ(p.angle_bin_deg, 2);
   EXPECT_DOUBLE_EQ(p.max_gap, 0.3);
@@ -274,15 +334,17 @@ TEST(LineGeneration, ConfigKeysAndErrors) {
   EXPECT_EQ(p.occlusion, LineGenerationParams::Occlusion::Global);
   EXPECT_EQ(p.refit_cells, LineGenerationParams::RefitCells::Run);
   EXPECT_EQ(p.refit_weights, LineGenerationParams::RefitWeights::Cells);
+  EXPECT_EQ(p.hidden_cells, LineGenerationParams::HiddenCells::Drop);
   EXPECT_FALSE(p.merge);
   // The defaults are the shipped configuration's.
   const LineGenerationParams d;
   EXPECT_EQ(d.occlusion, LineGenerationParams::Occlusion::PerCluster);
   EXPECT_EQ(d.refit_cells, LineGenerationParams::RefitCells::Band);
   EXPECT_EQ(d.refit_weights, LineGenerationParams::RefitWeights::Echoes);
+  EXPECT_EQ(d.hidden_cells, LineGenerationParams::HiddenCells::Peel);
   EXPECT_DOUBLE_EQ(p.min_length, 0.3);
   for (const char* bad : {"lines: {max_gap: 0}", "lines: {min_cells: 1}", "lines: {angle_bin_deg: -1}",
-                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {refit_cells: all}", "lines: {refit_weights: gp}",
+                          "lines: {occlusion: none}", "lines: {refit: maybe}", "lines: {refit_cells: all}", "lines: {refit_weights: gp}", "lines: {hidden_cells: keep}",
                           "lines: {colour: red}"})
     EXPECT_THROW(lineGenerationParams(Config::fromString(bad).section("lines")), ConfigError) << bad;
 }
