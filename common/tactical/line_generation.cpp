@@ -167,6 +167,8 @@ std::vector<complement::IndexRange> mergePieces(const std::vector<geom::Vec2>& p
 }  // namespace
 
 namespace {
+constexpr int kMaxRefitRounds = 8;
+
 // The cells of `band` within threshold of seg (the run's fitted line), ordered along it.
 std::vector<const CandidateCell*> bandCells(const geom::Segment& seg, const std::vector<CandidateCell>& band,
                                            double threshold) {
@@ -243,9 +245,9 @@ std::vector<AgmLine> fitRun(const std::vector<PolarCell>& run, const LineGenerat
           if (p.refit_weights == LineGenerationParams::RefitWeights::Cells) {
             s = complement::fitLine(centres(b), {0, b.size() - 1});
           } else {
-            // Chosen again around each weighted line until the band stays the same (a few rounds:
-            // the band only narrows onto the heavy rows).
-            for (int round = 0; round < 8; ++round) {
+            // Chosen again around each weighted line until the band stays the same (it settles on
+            // the heavy rows within a few rounds; kMaxRefitRounds bounds an oscillating band).
+            for (int round = 0; round < kMaxRefitRounds; ++round) {
               s = fitWeighted(b);
               std::vector<const CandidateCell*> next = bandCells(s.seg, *band, p.split_threshold);
               if (next.size() < static_cast<size_t>(p.min_cells) || next == b) break;
