@@ -65,6 +65,20 @@ void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths) {
         add(c.obstacle, t.utime, {c.hit_x, c.hit_y});
 }
 
+void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths, const std::vector<sonar_ring_t>& rings,
+                                    double max_range) {
+  std::map<std::pair<int64_t, int>, float> read;
+  for (const auto& r : rings)
+    for (size_t i = 0; i < r.sensor_id.size() && i < r.range.size(); ++i) read[{r.utime, r.sensor_id[i]}] = r.range[i];
+  for (const auto& t : truths)
+    for (const auto& c : t.causes) {
+      if (c.cause != sonar_cause_t::CAUSE_DIRECT || c.true_range < 0 || c.obstacle == -1) continue;
+      const auto it = read.find({t.utime, c.sensor_id});
+      const double range = it != read.end() ? double(it->second) : double(c.true_range);
+      if (range <= max_range) add(c.obstacle, t.utime, {c.hit_x, c.hit_y});
+    }
+}
+
 bool LocatedPoints::located(int obstacle, const geom::Vec2& p, int64_t utime) const {
   if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
   const int64_t cx = cell(p.x()), cy = cell(p.y());
@@ -135,8 +149,9 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return table;
   TruthTrack truth(log.sim_states);
   sim::WorldGeometry world(sc);
-  LocatedPoints located(o.observe_radius);
+  LocatedPoints located(o.observe_radius), within_limit(o.observe_radius);
   located.addDirectEchoes(log.sonar_truths);
+  within_limit.addDirectEchoes(log.sonar_truths, log.sonar_rings, hypothesisRangeLimit(log, o));
   std::map<std::string, int16_t> material_index;
   for (size_t i = 0; i < log.sector_maps.size(); ++i) {
     const sector_map_t& sm = log.sector_maps[i];
@@ -170,10 +185,12 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
         if (h.distance <= o.sector_range) {
           if (laser) {
             s.cue = Cue::Laser;
-          } else if (const auto t = located.lastLocated(obstacle, h.point, sm.utime)) {
+          } else if (const auto t = within_limit.lastLocated(obstacle, h.point, sm.utime)) {
             const auto memory = static_cast<int64_t>(o.recent_echo_s * 1e6);
             if (sm.utime - *t > memory) s.cue = Cue::EchoOld;
-            else s.cue = located.countLocated(obstacle, h.point, sm.utime - memory, sm.utime) >= 2 ? Cue::EchoRepeated : Cue::EchoOnce;
+            else s.cue = within_limit.countLocated(obstacle, h.point, sm.utime - memory, sm.utime) >= 2 ? Cue::EchoRepeated : Cue::EchoOnce;
+          } else if (located.located(obstacle, h.point, sm.utime)) {
+            s.cue = Cue::EchoFar;  // observable, but only by readings the hypothesis cannot classify
           }
           s.observable = s.cue != Cue::None;
         }
@@ -202,7 +219,7 @@ bool sectorFalseAlarm(double reported, const SectorSample& s, const EvalOptions&
 }
 
 const char* cueName(Cue c) {
-  static const char* kNames[kCues] = {"none", "laser", "echo_once", "echo_repeated", "echo_old"};
+  static const char* kNames[kCues] = {"none", "laser", "echo_once", "echo_repeated", "echo_old", "echo_far"};
   const int i = static_cast<int>(c);
   return i >= 0 && i < kCues ? kNames[i] : "none";
 }

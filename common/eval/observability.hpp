@@ -17,6 +17,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <lasonic/sonar_ring_t.hpp>
 #include <lasonic/sonar_truth_t.hpp>
 
 #include "core/geometry.hpp"
@@ -46,6 +47,10 @@ class LocatedPoints {
   void add(int obstacle, int64_t utime, const geom::Vec2& p);
   // Every DIRECT echo's hit point (cause DIRECT, true_range >= 0, finite hit point).
   void addDirectEchoes(const std::vector<sonar_truth_t>& truths);
+  // ... only those whose reading was at most max_range: the range SONAR_RING reported for that
+  // firing and sensor, or, without one in the log, the echo's true range.
+  void addDirectEchoes(const std::vector<sonar_truth_t>& truths, const std::vector<sonar_ring_t>& rings,
+                       double max_range);
   // True if an echo located `obstacle` within the radius of p at a time <= utime.
   bool located(int obstacle, const geom::Vec2& p, int64_t utime) const;
   // The newest such echo's time, if any.
@@ -74,11 +79,13 @@ class LocatedPoints {
 };
 
 // How an observable sample could be known (the first that applies): the laser saw it; echoes
+// read within the hypothetical scan's range limit (the only ones the complement can classify)
 // located it within the operational memory (EvalOptions::recent_echo_s) before the map — one
 // echo (below a confirmation threshold of two, which a single crosstalk reading must not pass)
-// or several; or only earlier, so that only a longer memory (the tactical map) could hold it.
-enum class Cue : uint8_t { None = 0, Laser = 1, EchoOnce = 2, EchoRepeated = 3, EchoOld = 4 };
-inline constexpr int kCues = 5;
+// or several; or only earlier, so that only a longer memory (the tactical map) could hold it;
+// or only echoes read beyond that limit located it, which the method never uses.
+enum class Cue : uint8_t { None = 0, Laser = 1, EchoOnce = 2, EchoRepeated = 3, EchoOld = 4, EchoFar = 5 };
+inline constexpr int kCues = 6;
 
 // One scored sample.
 struct SectorSample {
@@ -108,7 +115,7 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
 // per-sample CSV alike. reported: [m], < 0 = nothing reported.
 bool sectorMissed(double reported, const SectorSample& s, const EvalOptions& o);      // truth within range only
 bool sectorFalseAlarm(double reported, const SectorSample& s, const EvalOptions& o);
-const char* cueName(Cue c);            // "none", "laser", "echo_once", "echo_repeated", "echo_old"
+const char* cueName(Cue c);  // "none", "laser", "echo_once", "echo_repeated", "echo_old", "echo_far"
 const char* sectorSourceName(int source);  // sector_map_t::SOURCE_*: "none", "laser", ...; unknown: "none"
 
 // Scores of one sector-map source against the samples (README "Evaluation", sector map).
@@ -124,7 +131,7 @@ class SectorScore {
  private:
   Ratio missed_, observable_missed_, unobservable_, false_alarm_, false_of_reports_;
   std::vector<Ratio> missed_by_material_;
-  int64_t observable_missed_by_cue_[kCues] = {0, 0, 0, 0, 0};
+  int64_t observable_missed_by_cue_[kCues] = {};
   double abs_err_ = 0;
   int64_t err_n_ = 0;
   int64_t false_by_source_[5] = {0, 0, 0, 0, 0};  // sector_map_t::SOURCE_*

@@ -158,6 +158,35 @@ TEST(SectorTruthTable, GlassIsObservableOnlyWhereAndAfterAnEchoLocatedIt) {
   EXPECT_EQ(sectorTruthTable(twice, sc, EvalOptions{}).mapSamples(1)[24].cue, Cue::EchoRepeated);
 }
 
+TEST(SectorTruthTable, AnEchoReadBeyondTheHypothesisLimitLocatesButTheMethodCannotUseIt) {
+  const auto sc = glassRoom();
+  RunLog log = glassLog(sc);
+  // The glass echo between the maps read at 2.5 m (its true range; no SONAR_RING in the log):
+  // beyond the hypothetical scan's 2.20 m, where the complement calls every reading unverifiable.
+  log.sonar_truths[2].causes[0].true_range = 2.5f;
+  const auto far = sectorTruthTable(log, sc, EvalOptions{});
+  EXPECT_TRUE(far.mapSamples(1)[24].observable);  // observable all the same (the definition has no range)
+  EXPECT_EQ(far.mapSamples(1)[24].cue, Cue::EchoFar);
+  EXPECT_EQ(far.mapSamples(1)[20].cue, Cue::None);
+  // The reading SONAR_RING reported decides, not the true range: 2.0 m is within the limit.
+  sonar_ring_t ring{};
+  ring.utime = log.sonar_truths[2].utime;
+  ring.sensor_id = {log.sonar_truths[2].causes[0].sensor_id};
+  ring.range = {2.0f};
+  log.sonar_rings.push_back(ring);
+  EXPECT_EQ(sectorTruthTable(log, sc, EvalOptions{}).mapSamples(1)[24].cue, Cue::EchoOnce);
+  // A longer limit (the complement's, carried in SONAR_HYPOTHESIS when the log has it) admits 2.5 m.
+  log.sonar_rings.clear();
+  EvalOptions longer;
+  longer.range_limit = 3.0;
+  EXPECT_EQ(sectorTruthTable(log, sc, longer).mapSamples(1)[24].cue, Cue::EchoOnce);
+  // The split is counted as a share of the observable misses (sector 24 of map B is missed).
+  Metrics m;
+  evalSectorMap(log, sc, EvalOptions{}, m);
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_far"), 1.0, 1e-12);
+  EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_once"), 0.0, 1e-12);
+}
+
 TEST(EvalSectorMap, ObservableSplitAndMissesByMaterial) {
   const auto sc = glassRoom();
   const RunLog log = glassLog(sc);
