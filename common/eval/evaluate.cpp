@@ -10,6 +10,7 @@
 #include "eval/baselines.hpp"
 #include "eval/laser_seen.hpp"
 #include "eval/observability.hpp"
+#include "stages/pilot_stage.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "stages/navigator_stage.hpp"
@@ -170,6 +171,15 @@ double hypothesisRangeLimit(const RunLog& log, const EvalOptions& o) {
   return o.range_limit;
 }
 
+double operationalMemory(const RunLog& log, const EvalOptions& o) {
+  std::vector<int64_t> gaps;
+  for (size_t i = 1; i < log.sonar_rings.size(); ++i)
+    if (const int64_t d = log.sonar_rings[i].utime - log.sonar_rings[i - 1].utime; d > 0) gaps.push_back(d);
+  if (o.operational_h_max <= 0 || gaps.empty()) return o.recent_echo_s;
+  std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+  return static_cast<double>(o.operational_h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
+}
+
 void evalLaserTruth(const LaserSeen& seen, Metrics& m) {
   m.set("sensors.laser_truth", int64_t{seen.available() ? 1 : 0});
   if (seen.available()) m.set("sensors.laser_scans_without_truth", seen.scansWithoutTruth());
@@ -322,6 +332,7 @@ void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalO
   }
   m.set("sector_map.maps", static_cast<int64_t>(truth.maps.size()));
   m.set("sector_map.maps_before_first_data", truth.warmup);
+  m.set("sector_map.echo_memory_s", truth.echo_memory_s);
   fused.write(m, "sector_map", true, truth.materials);
 }
 
@@ -394,6 +405,7 @@ EvalOptions evalOptions(const Config& config) {
   o.forget_after_m = nav.agm.h_max_m;
   o.forget_sigma_m = nav.agm.forget_sigma_m;
   o.odometry = {nav.agm.odometry_trans_noise, nav.agm.odometry_rot_noise, nav.agm.odometry_drift_noise};
+  o.operational_h_max = pilotConfig(config.section("pilot")).agm.h_max;
   return o;
 }
 

@@ -56,7 +56,13 @@ struct EvalOptions {
   double observe_radius = 0.30;    // [m] an echo this near a surface point located it (observability)
   // [s] An echo this recent is within the operational memory: the shipped operational AGM forgets
   // a cell that is not heard again in h_max = 18 update cycles of 30 ms (observable_missed_by_cue).
+  // Used as given only where the memory below cannot be worked out.
   double recent_echo_s = 0.54;
+  // The operational AGM's h_max in update cycles (pilot.agm.h_max; 0: recent_echo_s as given).
+  // One SONAR_RING message is one update cycle, so the memory in seconds is h_max times the log's
+  // median interval between rings: 0.61 s for MOBOT-IV's ring (30 ms + up to 8 ms jitter per
+  // group), 0.96 s for a Pioneer's (24 cycles of 40 ms).
+  int operational_h_max = 0;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
   bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
   // Also every scored sector sample of the pilot's SECTOR_MAP as one CSV row (writeSectorSampleHeader
@@ -70,7 +76,7 @@ struct EvalOptions {
   OdometryNoise odometry;          // navigator.agm.odometry_*_noise
 };
 // The options for a run made with `config` (the navigator's line generation and h_max_m, for the
-// breakdown). Throws ConfigError naming the key path.
+// breakdown; the pilot's h_max, for the observability cues). Throws ConfigError naming the key path.
 EvalOptions evalOptions(const Config& config);
 
 // The CSV columns of EvalOptions::samples_csv.
@@ -144,6 +150,9 @@ std::vector<int64_t> locatedTimes(const RunLog& log, const sim::Scenario& sc, co
                                   double range_limit = std::numeric_limits<double>::infinity());
 // The hypothetical scan's range limit: SONAR_HYPOTHESIS's, else the option's.
 double hypothesisRangeLimit(const RunLog& log, const EvalOptions& o);
+// [s] The operational AGM's memory: operational_h_max times the median interval between the
+// log's SONAR_RING messages, else recent_echo_s.
+double operationalMemory(const RunLog& log, const EvalOptions& o);
 
 // Tactical level (AGM_TACTICAL, CURRENT_SENSOR_MAP); definitions in the README.
 void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, Metrics& m);

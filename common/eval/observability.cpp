@@ -153,6 +153,8 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
   located.addDirectEchoes(log.sonar_truths);
   within_limit.addDirectEchoes(log.sonar_truths, log.sonar_rings, hypothesisRangeLimit(log, o));
   std::map<std::string, int16_t> material_index;
+  table.echo_memory_s = operationalMemory(log, o);
+  const auto memory = static_cast<int64_t>(table.echo_memory_s * 1e6);
   for (size_t i = 0; i < log.sector_maps.size(); ++i) {
     const sector_map_t& sm = log.sector_maps[i];
     // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,
@@ -186,7 +188,6 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
           if (laser) {
             s.cue = Cue::Laser;
           } else if (const auto t = within_limit.lastLocated(obstacle, h.point, sm.utime)) {
-            const auto memory = static_cast<int64_t>(o.recent_echo_s * 1e6);
             if (sm.utime - *t > memory) s.cue = Cue::EchoOld;
             else s.cue = within_limit.countLocated(obstacle, h.point, sm.utime - memory, sm.utime) >= 2 ? Cue::EchoRepeated : Cue::EchoOnce;
           } else if (located.located(obstacle, h.point, sm.utime)) {

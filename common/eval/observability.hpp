@@ -103,6 +103,7 @@ struct SectorTruthTable {
   std::vector<SectorSample> samples;
   std::vector<std::string> materials;
   int64_t warmup = 0;                // maps_before_first_data
+  double echo_memory_s = 0;          // [s] the operational memory the cues used (operationalMemory)
   const SectorSample* mapSamples(size_t i) const { return samples.data() + offset[i]; }
   int sectors(size_t i) const { return static_cast<int>(offset[i + 1] - offset[i]); }
 };

@@ -187,6 +187,34 @@ TEST(SectorTruthTable, AnEchoReadBeyondTheHypothesisLimitLocatesButTheMethodCann
   EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_once"), 0.0, 1e-12);
 }
 
+TEST(SectorTruthTable, TheOperationalMemoryIsHMaxRingIntervalsOfTheRun) {
+  const auto sc = glassRoom();
+  RunLog log = glassLog(sc);  // the glass heard once at 0.6 s, map B at 1.0 s: 0.4 s before
+  EvalOptions o;
+  o.recent_echo_s = 0.3;
+  // Without h_max or without rings: recent_echo_s as given (0.3 s: the echo is older).
+  EXPECT_DOUBLE_EQ(operationalMemory(log, o), 0.3);
+  EXPECT_EQ(sectorTruthTable(log, sc, o).mapSamples(1)[24].cue, Cue::EchoOld);
+  o.operational_h_max = 5;
+  EXPECT_DOUBLE_EQ(operationalMemory(log, o), 0.3);  // no SONAR_RING in the log
+  // Rings every 100 ms (one out of order, one repeated: the median of the positive gaps).
+  for (int64_t t : {0, 100'000, 200'000, 200'000, 300'000, 500'000, 400'000, 600'000}) {
+    sonar_ring_t r{};
+    r.utime = t;
+    log.sonar_rings.push_back(r);
+  }
+  EXPECT_NEAR(operationalMemory(log, o), 0.5, 1e-12);  // 5 cycles of 0.1 s
+  const auto table = sectorTruthTable(log, sc, o);
+  EXPECT_NEAR(table.echo_memory_s, 0.5, 1e-12);
+  EXPECT_EQ(table.mapSamples(1)[24].cue, Cue::EchoOnce);  // 0.4 s old: within the memory
+  o.operational_h_max = 3;                                 // 0.3 s: no longer
+  EXPECT_EQ(sectorTruthTable(log, sc, o).mapSamples(1)[24].cue, Cue::EchoOld);
+  // The run's config gives h_max: the pilot's (the code's default 18 without the key).
+  EXPECT_EQ(evalOptions(Config::fromString("pilot: {agm: {h_max: 24}}\n")).operational_h_max, 24);
+  EXPECT_EQ(evalOptions(Config::fromString("pilot: {}\n")).operational_h_max, 18);
+  EXPECT_THROW(evalOptions(Config::fromString("pilot: {agm: {h_maks: 24}}\n")), ConfigError);
+}
+
 TEST(EvalSectorMap, ObservableSplitAndMissesByMaterial) {
   const auto sc = glassRoom();
   const RunLog log = glassLog(sc);
