@@ -10,10 +10,10 @@
 #include "eval/baselines.hpp"
 #include "eval/laser_seen.hpp"
 #include "eval/observability.hpp"
-#include "stages/pilot_stage.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "stages/navigator_stage.hpp"
+#include "stages/pilot_stage.hpp"
 
 namespace lasonic::eval {
 

@@ -60,8 +60,8 @@ struct EvalOptions {
   double recent_echo_s = 0.54;
   // The operational AGM's h_max in update cycles (pilot.agm.h_max; 0: recent_echo_s as given).
   // One SONAR_RING message is one update cycle, so the memory in seconds is h_max times the log's
-  // median interval between rings: 0.61 s for MOBOT-IV's ring (30 ms + up to 8 ms jitter per
-  // group), 0.96 s for a Pioneer's (24 cycles of 40 ms).
+  // median interval between rings: 0.61 s for MOBOT-IV's ring (18 cycles of 30 ms + up to 8 ms
+  // jitter per group), 1.05 s for the Pioneer's (24 cycles of 40 ms + jitter).
   int operational_h_max = 0;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
   bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
