@@ -172,10 +172,11 @@ double hypothesisRangeLimit(const RunLog& log, const EvalOptions& o) {
 }
 
 double operationalMemory(const RunLog& log, const EvalOptions& o) {
+  if (o.operational_h_max <= 0) return o.recent_echo_s;
   std::vector<int64_t> gaps;
   for (size_t i = 1; i < log.sonar_rings.size(); ++i)
     if (const int64_t d = log.sonar_rings[i].utime - log.sonar_rings[i - 1].utime; d > 0) gaps.push_back(d);
-  if (o.operational_h_max <= 0 || gaps.empty()) return o.recent_echo_s;
+  if (gaps.empty()) return o.recent_echo_s;
   std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
   return static_cast<double>(o.operational_h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
 }

@@ -59,10 +59,7 @@ void LocatedPoints::add(int obstacle, int64_t utime, const geom::Vec2& p) {
 }
 
 void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths) {
-  for (const auto& t : truths)
-    for (const auto& c : t.causes)
-      if (c.cause == sonar_cause_t::CAUSE_DIRECT && c.true_range >= 0 && c.obstacle != -1)
-        add(c.obstacle, t.utime, {c.hit_x, c.hit_y});
+  addDirectEchoes(truths, {}, std::numeric_limits<double>::infinity());
 }
 
 void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths, const std::vector<sonar_ring_t>& rings,
