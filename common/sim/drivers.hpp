@@ -166,6 +166,10 @@ struct SonarConfig {
   // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
   // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
   double beam_scale = 1.0;
+  // What SONAR_RING says the beam is: false, the nominal beam_width (a datasheet's, whatever
+  // the transducer really does); true, nominal * beam_scale (a driver calibrated to its
+  // transducer: what an exact estimate of the beam width would give the pipeline).
+  bool report_scaled_beam = false;
   double noise_std = 0.01;            // [m] + noise_rel * range
   double noise_rel = 0.01;
   int multipath_bounces = 3;          // specular reflections followed (1: a single mirror)

@@ -74,7 +74,7 @@ std::vector<std::vector<int>> firingGroups(const std::vector<SonarSensor>& senso
 }
 
 SonarConfig sonarConfig(const Config& c, SonarConfig base) {
-  c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "group_jitter_s", "beam_scale", "rays_per_beam",
+  c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "group_jitter_s", "beam_scale", "report_scaled_beam", "rays_per_beam",
                "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
                "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
                "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range"});
@@ -99,6 +99,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
   o.group_jitter_s = c.get("group_jitter_s", o.group_jitter_s, Range::between(0, 1));
   o.beam_scale = c.get("beam_scale", o.beam_scale, Range{0, 5, true});
+  o.report_scaled_beam = c.get<bool>("report_scaled_beam", o.report_scaled_beam);
   o.rays_per_beam = c.get("rays_per_beam", o.rays_per_beam, Range::between(1, 10000));
   o.noise_std = c.get("noise_std", o.noise_std, Range::nonNegative());
   o.noise_rel = c.get("noise_rel", o.noise_rel, Range::nonNegative());
@@ -278,6 +279,12 @@ bool finite(const sim_state_t& st) {
   return ok;
 }
 
+// The beam SONAR_RING and SONAR_GEOMETRY publish: the nominal one, whatever the simulated
+// transducer does (beam_scale), unless the driver is calibrated to its transducer.
+float reportedBeam(const SonarConfig& c, const SonarSensor& s) {
+  return static_cast<float>(c.report_scaled_beam ? s.beam_width * c.beam_scale : s.beam_width);
+}
+
 pose2d_t toMsg(const geom::Pose2& p) {
   pose2d_t m;
   m.x = p.x;
@@ -391,7 +398,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
     o.ring.range.push_back(r.range);
     o.ring.no_echo.push_back(r.no_echo ? 1 : 0);
     o.ring.mount.push_back(toMsg(s.mount));
-    o.ring.beam_width.push_back(static_cast<float>(s.beam_width));  // the nominal beam, whatever beam_scale is
+    o.ring.beam_width.push_back(reportedBeam(config_, s));
     o.truth.causes.push_back(r.truth);
   }
   o.ring.nreadings = o.truth.nreadings = static_cast<int32_t>(o.ring.sensor_id.size());
@@ -403,7 +410,7 @@ sonar_geometry_t SonarDriverCore::geometry(int64_t utime) const {
   g.utime = utime;
   for (const SonarSensor& s : config_.sensors) {
     g.mount.push_back(toMsg(s.mount));
-    g.beam_width.push_back(static_cast<float>(s.beam_width));
+    g.beam_width.push_back(reportedBeam(config_, s));
     g.group_of.push_back(static_cast<int16_t>(s.group));
   }
   g.num_sensors = static_cast<int32_t>(config_.sensors.size());

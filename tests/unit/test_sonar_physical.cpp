@@ -451,6 +451,13 @@ TEST(SonarPhysical, BeamScaleWidensTheSimulatedBeamOnly) {
   const auto out = core.onSimState(state(1'000'000));
   ASSERT_EQ(out.size(), 1u);
   EXPECT_FLOAT_EQ(out[0].ring.beam_width[0], static_cast<float>(deg2rad(30)));
+  EXPECT_FLOAT_EQ(core.geometry(1'000'000).beam_width[0], static_cast<float>(deg2rad(30)));
+  // ... unless the driver is calibrated to its transducer: then both say 36°.
+  SonarDriverCore calibrated(s, clean("beam_scale: 1.2\nreport_scaled_beam: true\n"), 1);
+  const auto cal = calibrated.onSimState(state(1'000'000));
+  ASSERT_EQ(cal.size(), 1u);
+  EXPECT_FLOAT_EQ(cal[0].ring.beam_width[0], static_cast<float>(deg2rad(30) * 1.2));
+  EXPECT_FLOAT_EQ(calibrated.geometry(1'000'000).beam_width[0], static_cast<float>(deg2rad(30) * 1.2));
   // The ideal profile's sector scales too: a pipe at 17° from sensor 0 (mounted at (0.35, 0)) is
   // outside 30° but inside 36°.
   SonarConfig ideal = clean("profile: ideal\n");
