@@ -9,6 +9,7 @@
 //
 // Handlers are std::function (LCM 1.3.1's C++ API has no lambda subscribe; a small typed
 // subscription object forwards to them).
+#include <lasonic/channels.hpp>
 #include <lcm/lcm-cpp.hpp>
 
 #include <cstdint>
@@ -27,26 +28,6 @@
 #include "lcmio/wire.hpp"
 
 namespace lasonic {
-
-// Fixed channel names (README "Channels").
-namespace channels {
-inline constexpr const char* ODOMETRY = "ODOMETRY";
-inline constexpr const char* LASER_SCAN = "LASER_SCAN";
-inline constexpr const char* SONAR_RING = "SONAR_RING";
-inline constexpr const char* SONAR_GEOMETRY = "SONAR_GEOMETRY";
-inline constexpr const char* SIM_STATE = "SIM_STATE";
-inline constexpr const char* SONAR_TRUTH = "SONAR_TRUTH";
-inline constexpr const char* LASER_TRUTH = "LASER_TRUTH";
-inline constexpr const char* RADAR_MAP = "RADAR_MAP";
-inline constexpr const char* SONAR_HYPOTHESIS = "SONAR_HYPOTHESIS";
-inline constexpr const char* SONAR_COMPLEMENT = "SONAR_COMPLEMENT";
-inline constexpr const char* AGM_OPERATIONAL = "AGM_OPERATIONAL";
-inline constexpr const char* SECTOR_MAP = "SECTOR_MAP";
-inline constexpr const char* AGM_TACTICAL = "AGM_TACTICAL";
-inline constexpr const char* AGM_LINES = "AGM_LINES";
-inline constexpr const char* CURRENT_SENSOR_MAP = "CURRENT_SENSOR_MAP";
-inline constexpr const char* PROCESS_STATUS = "PROCESS_STATUS";
-}  // namespace channels
 
 // Default URL: ttl=0 keeps multicast on the host; the larger receive buffer is needed for
 // grid maps (~80 kB per message).
