@@ -12,6 +12,7 @@
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "core/int_scan.hpp"
+#include "operational/remembered_on_lines.hpp"
 #include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
 
@@ -52,7 +53,7 @@ PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-                                   "remembered_stale_s", "remembered_explains_radius", "copy_over_own",
+                                   "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "copy_over_own",
                                    "predict_movers", "mover_prediction", "laser_memory_s", "laser_memory_coast_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
@@ -80,6 +81,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positive());
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
+  p.remembered_on_lines_m = c.get("remembered_on_lines_m", p.remembered_on_lines_m, Range::between(0, 1));
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
@@ -121,6 +123,42 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
   if (cfg_.remembered)
     node_.subscribe<grid_map_t>(channels::AGM_TACTICAL, [this](const grid_map_t& m) { onTacticalMap(m); });
+  if (cfg_.remembered && cfg_.remembered_on_lines_m > 0)
+    node_.subscribe<line_map_t>(channels::AGM_LINES, [this](const line_map_t& m) { onAgmLines(m); });
+}
+
+void PilotStage::onAgmLines(const line_map_t& m) {
+  // Published right after the AGM_TACTICAL of the same cycle; either may come first. A bad one is
+  // dropped whole: the cells then stay at their centres.
+  if (!timeOk(m.utime, channels::AGM_LINES)) return;
+  if (!isNewer(node_, agm_lines_utime_, m.utime, channels::AGM_LINES, "agm_lines")) return;
+  if (m.nsegments != static_cast<int32_t>(m.segments.size())) {
+    node_.reportError("rejected.agm_lines", "AGM_LINES: nsegments " + std::to_string(m.nsegments) + " for " +
+                                                std::to_string(m.segments.size()) + " segments: dropped");
+    return;
+  }
+  std::vector<geom::Segment> lines;
+  lines.reserve(m.segments.size());
+  for (size_t i = 0; i < m.segments.size(); ++i) {
+    const line_segment_t& s = m.segments[i];
+    if (!std::isfinite(s.x0) || !std::isfinite(s.y0) || !std::isfinite(s.x1) || !std::isfinite(s.y1)) {
+      node_.reportError("rejected.agm_lines",
+                        "AGM_LINES: segments[" + std::to_string(i) + "] has a non-finite end point: dropped");
+      return;
+    }
+    lines.push_back({{s.x0, s.y0}, {s.x1, s.y1}});
+  }
+  agm_lines_ = std::move(lines);
+  agm_lines_utime_ = m.utime;
+  node_.count("remembered.line_maps");
+  if (last_tactical_utime_ && *last_tactical_utime_ == m.utime) setRemembered();
+}
+
+void PilotStage::setRemembered() {
+  std::vector<geom::Vec2> points = tactical_points_;
+  if (agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_)
+    moveOntoLines(points, agm_lines_, cfg_.remembered_on_lines_m);
+  sector_map_.setRemembered(*last_tactical_utime_, std::move(points));
 }
 
 void PilotStage::onTacticalMap(const grid_map_t& m) {
@@ -137,7 +175,8 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
     return;
   }
   last_tactical_utime_ = m.utime;
-  std::vector<geom::Vec2> points;
+  std::vector<geom::Vec2>& points = tactical_points_;
+  points.clear();
   const int threshold = std::max(1, m.gp_threshold);
   const auto keep = [&](int ix, int iy) {
     points.emplace_back(m.origin_x + (ix + 0.5) * m.cell_size, m.origin_y + (iy + 0.5) * m.cell_size);
@@ -146,7 +185,7 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
     const int32_t* const row = m.gp.data() + static_cast<size_t>(iy) * static_cast<size_t>(m.width);
     forEachAtLeast(row, static_cast<size_t>(m.width), threshold, [&](size_t ix) { keep(static_cast<int>(ix), iy); });
   }
-  sector_map_.setRemembered(m.utime, std::move(points));
+  setRemembered();
   node_.count("remembered.maps");
 }
 
@@ -161,6 +200,9 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
+  agm_lines_utime_.reset();
+  agm_lines_.clear();
+  tactical_points_.clear();
   last_scan_utime_.reset();
   last_complement_utime_.reset();
   last_agm_publish_.reset();

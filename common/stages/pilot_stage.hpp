@@ -42,6 +42,7 @@
 #include <lasonic/complement_t.hpp>
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
+#include <lasonic/line_map_t.hpp>
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
@@ -76,6 +77,10 @@ struct PilotConfig {
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
+  // [m] A remembered cell within this of one of the navigator's AGM_LINES is taken at its foot on
+  // the line (operational/remembered_on_lines.hpp); 0: cells at their centres, AGM_LINES not
+  // subscribed.
+  double remembered_on_lines_m = 0.15;
   // Beyond the paper: the laser's returns of people moved to where they are now
   // (operational/mover_prediction.hpp); false: every return where the scan saw it (the paper).
   bool predict_movers = true;
@@ -118,6 +123,8 @@ class PilotStage {
   void onLaserScan(const laser_scan_t& m);
   void onComplement(const complement_t& m);
   void onTacticalMap(const grid_map_t& m);
+  void onAgmLines(const line_map_t& m);
+  void setRemembered();
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void publishSectorMap();
   void publishAgm(int64_t utime);
@@ -137,6 +144,11 @@ class PilotStage {
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
+  // The newest AGM_TACTICAL's occupied cells (global frame) and the newest AGM_LINES' segments; the
+  // cells move onto the lines when both are of the same navigator cycle (same utime).
+  std::vector<geom::Vec2> tactical_points_;
+  std::vector<geom::Segment> agm_lines_;
+  std::optional<int64_t> agm_lines_utime_;
   grid_map_t agm_msg_{};    // (the same for AGM_OPERATIONAL)
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)

@@ -8,6 +8,7 @@
 
 #include "operational/agm.hpp"
 #include "operational/evidence_placement.hpp"
+#include "operational/remembered_on_lines.hpp"
 #include "operational/sector_map.hpp"
 
 using namespace lasonic;
@@ -143,5 +144,34 @@ void BM_EvidenceBearing(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(evidenceBearing(agm, {0.3, 0.2}, 1.5, est));
 }
 BENCHMARK(BM_EvidenceBearing)->Unit(benchmark::kNanosecond);
+
+// The pilot's remembered cells moved onto the navigator's lines, once per AGM_TACTICAL (2 Hz):
+// the occupied cells of a 10 m window of 3 m rooms (two cells deep along every wall, as a
+// tactical band) and one line per wall piece of the window (24, each 3 m).
+void BM_MoveOntoLines(benchmark::State& state) {
+  std::vector<Vec2> cells;
+  std::vector<geom::Segment> lines;
+  for (int w = -1; w <= 2; ++w) {
+    const double c = 3.0 * w - 1.5;  // walls at -4.5, -1.5, 1.5, 4.5
+    for (int piece = 0; piece < 3; ++piece) {
+      const double a = -4.5 + 3.0 * piece, b = a + 3.0;
+      lines.push_back({{c, a}, {c, b}});
+      lines.push_back({{a, c}, {b, c}});
+      for (double t = a; t < b; t += 0.1)
+        for (double d : {-0.05, 0.05}) {
+          cells.emplace_back(c + d, t);
+          cells.emplace_back(t, c + d);
+        }
+    }
+  }
+  for (auto _ : state) {
+    std::vector<Vec2> p = cells;
+    moveOntoLines(p, lines, 0.15);
+    benchmark::DoNotOptimize(p.data());
+  }
+  state.counters["cells"] = static_cast<double>(cells.size());
+  state.counters["lines"] = static_cast<double>(lines.size());
+}
+BENCHMARK(BM_MoveOntoLines)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

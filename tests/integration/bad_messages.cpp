@@ -148,11 +148,26 @@ grid_map_t tacticalGrid(int64_t utime) {
   return g;
 }
 
+// A navigator's line map of one line (the pilot moves remembered cells onto AGM_LINES).
+line_map_t agmLines(int64_t utime, double x0) {
+  line_map_t l{};
+  l.utime = utime;
+  line_segment_t seg{};
+  seg.x0 = x0;
+  seg.y0 = 0.0;
+  seg.x1 = 1.0;
+  seg.y1 = 1.0;
+  seg.source = line_segment_t::SOURCE_SONAR;
+  l.segments.push_back(seg);
+  setLengths(l);
+  return l;
+}
+
 void garbage(lcm::LCM& lcm, Sent& sent) {
   std::mt19937 rng(20240607);
   std::uniform_int_distribution<int> byte(0, 255);
   const char* const channels_in[] = {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING,
-                                     channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL};
+                                     channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL, channels::AGM_LINES};
   // (a) random bytes (a random fingerprint never matches: 2^-64).
   for (const char* ch : channels_in) {
     for (size_t len : {1u, 7u, 64u, 300u}) {
@@ -171,6 +186,7 @@ void garbage(lcm::LCM& lcm, Sent& sent) {
       {channels::SONAR_RING, encode(validRing(900'000))},
       {channels::SONAR_COMPLEMENT, encode(comp)},
       {channels::AGM_TACTICAL, encode(tacticalGrid(900'000))},
+      {channels::AGM_LINES, encode(agmLines(900'000, 0.0))},
   };
   for (const char* ch : channels_in) {
     std::vector<uint8_t> b = valid.at(ch);
@@ -183,6 +199,7 @@ void garbage(lcm::LCM& lcm, Sent& sent) {
   sendRaw(lcm, sent, channels::SONAR_RING, valid.at(channels::SONAR_COMPLEMENT));
   sendRaw(lcm, sent, channels::SONAR_COMPLEMENT, valid.at(channels::SONAR_RING));
   sendRaw(lcm, sent, channels::AGM_TACTICAL, valid.at(channels::ODOMETRY));
+  sendRaw(lcm, sent, channels::AGM_LINES, valid.at(channels::AGM_TACTICAL));
 }
 
 void semanticGarbage(lcm::LCM& lcm, Sent& sent) {
@@ -218,6 +235,11 @@ void semanticGarbage(lcm::LCM& lcm, Sent& sent) {
   s.angle_increment = 0;
   send(lcm, sent, channels::LASER_SCAN, s);  // laser_scan
   send(lcm, sent, channels::LASER_SCAN, scan(1'250'000));  // laser_backwards
+
+  // AGM_LINES straight to the pilot: a NaN end point, then a valid one, then one going backwards.
+  send(lcm, sent, channels::AGM_LINES, agmLines(1'560'000, kNaN));  // agm_lines
+  send(lcm, sent, channels::AGM_LINES, agmLines(1'570'000, 0.0));
+  send(lcm, sent, channels::AGM_LINES, agmLines(1'540'000, 0.0));  // agm_lines_backwards
 
   // SONAR_COMPLEMENT straight to the pilot (before the ring below, whose complement is newer).
   complement_t c{};
@@ -465,6 +487,9 @@ int check(const std::string& file) {
                {"decode_errors.LASER_SCAN", d},
                {"decode_errors.SONAR_COMPLEMENT", d},
                {"decode_errors.AGM_TACTICAL", d},
+               {"decode_errors.AGM_LINES", d},
+               {"rejected.agm_lines", 1},
+               {"rejected.agm_lines_backwards", 1},
                {"rejected.odometry_nan", 1},
                {"rejected.odometry_backwards", 1},
                {"rejected.laser_range", 3},

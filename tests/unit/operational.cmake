@@ -7,3 +7,4 @@ lasonic_add_gtest(test_pilot_stage SOURCES test_pilot_stage.cpp LIBS lasonic_sta
 lasonic_add_gtest(test_echo_placer SOURCES test_echo_placer.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_mover_prediction SOURCES test_mover_prediction.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_laser_memory SOURCES test_laser_memory.cpp LIBS lasonic_operational)
+lasonic_add_gtest(test_remembered_on_lines SOURCES test_remembered_on_lines.cpp LIBS lasonic_operational)

@@ -531,3 +531,111 @@ TEST(PilotStage, ValidReturnsKeepsTheValidInOrderWithTheirTimes) {
   EXPECT_EQ(newest2, 9000);
   EXPECT_EQ(untouched.size(), 2u);
 }
+
+// The remembered source takes a tactical cell at its foot on the navigator's line of the same
+// cycle (AGM_LINES with AGM_TACTICAL's utime), in either order; a line map of another cycle or
+// a bad one leaves the cells at their centres.
+struct PilotRememberedFixture : PilotFixture {
+  int sectorAhead = 23;  // the cell lies 2.7 deg right of ahead
+  // AGM_TACTICAL with one occupied cell, global (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
+  void tactical(int64_t utime) {
+    grid_map_t g{};
+    g.utime = utime;
+    g.robot_pose = {1.0, 2.0, 0.0};
+    g.cell_size = 0.1f;
+    g.width = g.height = 40;
+    g.ncells = 1600;
+    g.gp_threshold = 5;
+    g.g.assign(1600, 0);
+    g.h.assign(1600, 0);
+    g.gp.assign(1600, 0);
+    g.gp[19 * 40 + 20] = 9;
+    node.publish(channels::AGM_TACTICAL, g);
+    drain();
+  }
+  // AGM_LINES with one sonar line along x = x_line, y 1.5..2.5.
+  void lines(int64_t utime, double x_line) {
+    line_map_t l{};
+    l.utime = utime;
+    l.robot_pose = {1.0, 2.0, 0.0};
+    line_segment_t s{};
+    s.x0 = s.x1 = x_line;
+    s.y0 = 1.5;
+    s.y1 = 2.5;
+    s.npoints = 10;
+    s.source = line_segment_t::SOURCE_SONAR;
+    l.segments.push_back(s);
+    l.nsegments = 1;
+    node.publish(channels::AGM_LINES, l);
+    drain();
+  }
+  // An empty firing group: a new sector map.
+  float rememberedAhead(int64_t utime) {
+    complement_t c{};
+    c.utime = utime;
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drain();
+    return maps.back().remembered_distance[sectorAhead];
+  }
+};
+
+TEST_F(PilotRememberedFixture, CellsMoveOntoTheLineOfTheirCycle) {
+  odometry();
+  const double at_centre = std::hypot(1.05, 0.05) - 0.35;  // the cell's centre, from the boundary
+  const double on_line = std::hypot(1.12, 0.05) - 0.35;    // its foot on the line at x = 2.12
+  tactical(500'000);
+  EXPECT_NEAR(rememberedAhead(510'000), at_centre, 1e-5);
+  lines(500'000, 2.12);  // the same cycle: the cell moves 0.07 m back onto the line
+  EXPECT_NEAR(rememberedAhead(540'000), on_line, 1e-5);
+  EXPECT_EQ(node.counter("remembered.line_maps"), 1);
+
+  // Lines first, then the grid of the same cycle: the same.
+  lines(1'000'000, 2.12);
+  tactical(1'000'000);
+  EXPECT_NEAR(rememberedAhead(1'010'000), on_line, 1e-5);
+
+  // The next grid comes without its lines (lost): the cell at its centre, not on the old line.
+  tactical(1'500'000);
+  EXPECT_NEAR(rememberedAhead(1'510'000), at_centre, 1e-5);
+  // A line 0.2 m away (beyond 0.15 m) does not take the cell.
+  lines(1'500'000, 2.25);
+  EXPECT_NEAR(rememberedAhead(1'540'000), at_centre, 1e-5);
+  EXPECT_EQ(node.errors(), 0);
+}
+
+TEST_F(PilotRememberedFixture, BadLineMapsAreReportedAndDropped) {
+  odometry();
+  const double at_centre = std::hypot(1.05, 0.05) - 0.35;
+  tactical(500'000);
+  line_map_t l{};
+  l.utime = 500'000;
+  line_segment_t s{};
+  s.x0 = kNaN;
+  s.y0 = 1.5;
+  s.x1 = 2.12;
+  s.y1 = 2.5;
+  l.segments.push_back(s);
+  l.nsegments = 1;
+  node.publish(channels::AGM_LINES, l);
+  drain();
+  EXPECT_EQ(node.counter("rejected.agm_lines"), 1);
+  EXPECT_NEAR(rememberedAhead(510'000), at_centre, 1e-5);
+  lines(500'000, 2.12);  // the same cycle, now valid: used
+  lines(400'000, 2.12);  // older: dropped
+  EXPECT_EQ(node.counter("rejected.agm_lines_backwards"), 1);
+  EXPECT_NEAR(rememberedAhead(540'000), std::hypot(1.12, 0.05) - 0.35, 1e-5);
+  EXPECT_EQ(node.errors(), 2);
+}
+
+TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig c;
+  c.remembered_on_lines_m = 0;
+  PilotStage stage{node, c};
+  line_map_t l{};
+  l.utime = 1;
+  node.publish(channels::AGM_LINES, l);
+  while (node.spinOnce(0) > 0) {
+  }
+  EXPECT_EQ(node.counter("remembered.line_maps"), 0);
+}
