@@ -53,8 +53,9 @@ PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-                                   "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "copy_over_own",
-                                   "predict_movers", "mover_prediction", "laser_memory_s", "laser_memory_coast_s"};
+                                   "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m",
+                                   "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
+                                   "laser_memory_coast_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -132,11 +133,6 @@ void PilotStage::onAgmLines(const line_map_t& m) {
   // dropped whole: the cells then stay at their centres.
   if (!timeOk(m.utime, channels::AGM_LINES)) return;
   if (!isNewer(node_, agm_lines_utime_, m.utime, channels::AGM_LINES, "agm_lines")) return;
-  if (m.nsegments != static_cast<int32_t>(m.segments.size())) {
-    node_.reportError("rejected.agm_lines", "AGM_LINES: nsegments " + std::to_string(m.nsegments) + " for " +
-                                                std::to_string(m.segments.size()) + " segments: dropped");
-    return;
-  }
   std::vector<geom::Segment> lines;
   lines.reserve(m.segments.size());
   for (size_t i = 0; i < m.segments.size(); ++i) {
