@@ -9,7 +9,10 @@
 // lasonic-eval and lasonic-mrpt-peer): a key is looked up in each. With --methods, each scene
 // gets one row per method and a key K is read at PREFIX.K (lasonic=sector_map,
 // MRPT=mrpt.sector_map, ...). A key missing from a run is left out of that mean and counted in
-// the last column. Markdown, so the README can show the output as it is.
+// the last column. --summary adds a last row over every run of every scene (the mean over runs,
+// the worst run). --targets KEY<=X,KEY<KEY2,... prints instead how many runs, and how many
+// scenes on every seed, meet each target and all of them (a run missing a key meets no target
+// on it). Markdown, so the README can show the output as it is.
 #include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -57,17 +60,70 @@ bool higherIsBetter(const std::string& key) {
   return false;
 }
 
+// One target: KEY OP VALUE, VALUE a number or another key of the same run.
+struct Target {
+  std::string key, op, rhs_key, text;
+  double rhs = 0;
+  bool met(const YAML::Node& root) const {
+    const std::optional<double> a = lookup(root, key);
+    const std::optional<double> b = rhs_key.empty() ? std::optional<double>(rhs) : lookup(root, rhs_key);
+    if (!a || !b) return false;
+    if (op == "<=") return *a <= *b;
+    if (op == "<") return *a < *b;
+    if (op == ">=") return *a >= *b;
+    return *a > *b;
+  }
+};
+
+std::optional<Target> parseTarget(const std::string& t) {
+  for (const char* op : {"<=", ">=", "<", ">"}) {
+    const size_t at = t.find(op);
+    if (at == std::string::npos || at == 0) continue;
+    Target target{t.substr(0, at), op, {}, t, 0};
+    const std::string rhs = t.substr(at + std::string(op).size());
+    if (rhs.empty()) return std::nullopt;
+    try {
+      size_t used = 0;
+      target.rhs = std::stod(rhs, &used);
+      if (used != rhs.size()) target.rhs_key = rhs;
+    } catch (const std::exception&) {
+      target.rhs_key = rhs;
+    }
+    return target;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-eval-table: mean and worst of lasonic-eval's metrics per scene over seeds"};
-  std::string keys_arg, methods_arg;
+  std::string keys_arg, methods_arg, targets_arg;
+  bool summary = false;
   std::vector<std::string> files;
-  app.add_option("--keys", keys_arg, "comma-separated metric keys (dotted paths)")->required();
+  auto* keys_opt = app.add_option("--keys", keys_arg, "comma-separated metric keys (dotted paths)");
+  auto* targets_opt = app.add_option("--targets", targets_arg,
+                                     "comma-separated KEY<=X (or <, >=, >; X a number or another key): runs and "
+                                     "scenes meeting each, instead of the table");
+  keys_opt->excludes(targets_opt);
+  app.add_flag("--summary", summary, "a last row over every run of every scene");
   app.add_option("--methods", methods_arg,
                  "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
   app.add_option("files", files, "lasonic-eval JSON files named <scene>-s<seed>.json")->required();
   CLI11_PARSE(app, argc, argv);
+  if (keys_arg.empty() && targets_arg.empty()) {
+    std::cerr << "lasonic-eval-table: --keys or --targets is required\n";
+    return 2;
+  }
+  std::vector<Target> targets;
+  for (const std::string& t : split(targets_arg, ',')) {
+    const std::optional<Target> target = parseTarget(t);
+    if (!target) {
+      std::cerr << "lasonic-eval-table: --targets: '" << t << "' is not KEY<=VALUE (or <, >=, >)\n";
+      return 2;
+    }
+    targets.push_back(*target);
+  }
   const std::vector<std::string> keys = split(keys_arg, ',');
   struct Method {
     std::string name, prefix;  // prefix empty: the keys as given
@@ -108,39 +164,75 @@ int main(int argc, char** argv) {
     if (!runs.count(scene)) order.push_back(scene);
     runs[scene][m[2]].push_back(root);
   }
+  if (!targets.empty()) {
+    if (by_method) {
+      std::cerr << "lasonic-eval-table: --targets reads the keys as given; --methods does not apply\n";
+      return 2;
+    }
+    std::cout << "| target | runs meeting it | scenes meeting it on every seed |\n|---|---|---|\n";
+    size_t nruns = 0;
+    for (const auto& [scene, seeds] : runs) nruns += seeds.size();
+    auto row = [&](const std::string& label, auto&& met) {
+      size_t good_runs = 0, good_scenes = 0;
+      for (const auto& [scene, seeds] : runs) {
+        size_t good = 0;
+        for (const auto& [seed, roots] : seeds)
+          if (!roots.empty() && met(roots.front())) ++good;
+        good_runs += good;
+        if (good == seeds.size()) ++good_scenes;
+      }
+      std::cout << "| " << label << " | " << good_runs << " of " << nruns << " | " << good_scenes << " of "
+                << runs.size() << " |\n";
+    };
+    for (const Target& t : targets) row(t.text, [&](const YAML::Node& r) { return t.met(r); });
+    row("all of them", [&](const YAML::Node& r) {
+      return std::all_of(targets.begin(), targets.end(), [&](const Target& t) { return t.met(r); });
+    });
+    return status;
+  }
   std::cout << "| scene |" << (by_method ? " method |" : "") << " seeds |";
   for (const auto& k : keys) std::cout << " " << k << (higherIsBetter(k) ? " (worst: lowest)" : "") << " |";
   std::cout << " missing |\n|---|" << (by_method ? "---|" : "") << "---|";
   for (size_t k = 0; k < keys.size(); ++k) std::cout << "---|";
   std::cout << "---|\n";
-  for (const std::string& name : order) {
-    const auto& seeds = runs[name];
-    for (const Method& method : methods) {
-      std::cout << "| " << name << " |" << (by_method ? " " + method.name + " |" : "") << " " << seeds.size() << " |";
-      int missing = 0;
-      for (const std::string& key : keys) {
-        const std::string path = method.prefix.empty() ? key : method.prefix + "." + key;
-        std::vector<double> v;
-        for (const auto& [seed, roots] : seeds) {
-          std::optional<double> x;
-          for (size_t r = 0; r < roots.size() && !x; ++r) x = lookup(roots[r], path);
-          if (x) v.push_back(*x);
-          else ++missing;
-        }
-        if (v.empty()) {
-          std::cout << " - |";
-          continue;
-        }
-        double sum = 0;
-        for (double x : v) sum += x;
-        const double worst = higherIsBetter(key) ? *std::min_element(v.begin(), v.end())
-                                                 : *std::max_element(v.begin(), v.end());
-        char buf[64];
-        std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()), worst);
-        std::cout << buf;
+  // One row: per key the mean (worst) over the runs given (seed -> that run's JSON roots).
+  using Runs = std::vector<const std::vector<YAML::Node>*>;
+  auto printRow = [&](const std::string& label, const std::string& count, const Method& method, const Runs& rows) {
+    std::cout << "| " << label << " |" << (by_method ? " " + method.name + " |" : "") << " " << count << " |";
+    int missing = 0;
+    for (const std::string& key : keys) {
+      const std::string path = method.prefix.empty() ? key : method.prefix + "." + key;
+      std::vector<double> v;
+      for (const std::vector<YAML::Node>* roots : rows) {
+        std::optional<double> x;
+        for (size_t r = 0; r < roots->size() && !x; ++r) x = lookup((*roots)[r], path);
+        if (x) v.push_back(*x);
+        else ++missing;
       }
-      std::cout << " " << missing << " |\n";
+      if (v.empty()) {
+        std::cout << " - |";
+        continue;
+      }
+      double sum = 0;
+      for (double x : v) sum += x;
+      const double worst = higherIsBetter(key) ? *std::min_element(v.begin(), v.end())
+                                               : *std::max_element(v.begin(), v.end());
+      char buf[64];
+      std::snprintf(buf, sizeof(buf), " %.3f (%.3f) |", sum / static_cast<double>(v.size()), worst);
+      std::cout << buf;
     }
+    std::cout << " " << missing << " |\n";
+  };
+  Runs all;
+  for (const std::string& name : order) {
+    Runs scene;
+    for (const auto& [seed, roots] : runs[name]) scene.push_back(&roots);
+    all.insert(all.end(), scene.begin(), scene.end());
+    for (const Method& method : methods) printRow(name, std::to_string(scene.size()), method, scene);
   }
+  if (summary)
+    for (const Method& method : methods)
+      printRow("**all " + std::to_string(order.size()) + " scenes**", std::to_string(all.size()) + " runs", method,
+               all);
   return status;
 }

@@ -7,6 +7,7 @@
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file and a bad baselines value exit 2 and name the file and key path;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
+#     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
 set -euo pipefail
 
@@ -90,3 +91,21 @@ done
   die "--methods without NAME=PREFIX was accepted"
 grep -qF "'nameless' is not NAME=PREFIX" "$tmp/t2.err" || die "--methods: the error does not name the bad entry"
 echo "$test_name: (4b) ok: one row per method, a run's files of both folders read together"
+
+# (4c) --summary: one more row over every run of every scene; --targets: runs and scenes meeting.
+printf '{"sector_map": {"missed_rate": 0.10, "x_recall": 0.5}, "lo": 0.05}\n' >"$tmp/table/hall-s1.json"
+"$bin/lasonic-eval-table" "$tmp"/table/*.json --summary --keys sector_map.missed_rate >"$tmp/sum.md" ||
+  die "lasonic-eval-table --summary failed"
+grep -qF '| **all 2 scenes** | 3 runs | 0.053 (0.100) | 0 |' "$tmp/sum.md" ||
+  die "--summary: expected '| **all 2 scenes** | 3 runs | 0.053 (0.100) | 0 |' in: $(cat "$tmp/sum.md")"
+"$bin/lasonic-eval-table" "$tmp"/table/*.json \
+  --targets "sector_map.missed_rate<=0.03,sector_map.x_recall>=0.75,sector_map.missed_rate<lo" >"$tmp/tg.md" ||
+  die "lasonic-eval-table --targets failed"
+for want in '| sector_map.missed_rate<=0.03 | 1 of 3 | 0 of 2 |' '| sector_map.x_recall>=0.75 | 1 of 3 | 0 of 2 |' \
+  '| sector_map.missed_rate<lo | 0 of 3 | 0 of 2 |' '| all of them | 0 of 3 | 0 of 2 |'; do
+  grep -qF -- "$want" "$tmp/tg.md" || die "--targets: no line '$want' in: $(cat "$tmp/tg.md")"
+done
+"$bin/lasonic-eval-table" "$tmp"/table/*.json --targets "sector_map.missed_rate" >/dev/null 2>"$tmp/tg.err" &&
+  die "--targets without a comparison was accepted"
+grep -qF "'sector_map.missed_rate' is not KEY<=VALUE" "$tmp/tg.err" || die "--targets: the error does not name the bad entry"
+echo "$test_name: (4c) ok: --summary over every run, --targets counts runs and scenes"
