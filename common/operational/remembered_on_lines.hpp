@@ -9,6 +9,13 @@
 // nearer than it is, a false alarm by the 0.10 m rule. So a cell centre within `radius` of a line
 // -- its perpendicular foot on the segment -- is replaced by that foot (the nearest line's); the
 // cells no line takes (too few for a line, a pole) stay where they are.
+//
+// Between two cells that one line took, the line is the surface too: the memory holds a cell
+// where an echo was placed, not every cell the surface spans (one echo answers from a patch a few
+// centimetres wide), so a pane heard at a few places leaves gaps of a cell or two in the grid, and
+// the sector map reports what lies behind them (through glass: the laser's far wall). The line
+// says the cells on either side are one surface (the navigator splits a line at every gap the
+// robot fits through), so the gap between them is filled along the line.
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -17,7 +24,15 @@ namespace lasonic {
 
 // Moves each point within `radius` (> 0) of a segment onto its foot on the nearest such segment;
 // a point whose foot lies beyond a segment's ends is not taken by that segment. Zero-length
-// segments take nothing. radius <= 0: nothing moves.
-void moveOntoLines(std::vector<geom::Vec2>& points, const std::vector<geom::Segment>& lines, double radius);
+// segments take nothing. radius <= 0: nothing moves. Returns, per point, the index of the segment
+// that took it, or -1.
+std::vector<int> moveOntoLines(std::vector<geom::Vec2>& points, const std::vector<geom::Segment>& lines,
+                               double radius);
+
+// Points every `step` (> 0) along each segment between consecutive feet it took (`taken_by` as
+// moveOntoLines returns it for `points`) that lie more than `step` apart; not beyond the first and
+// last foot. step <= 0: none.
+std::vector<geom::Vec2> fillBetweenOnLines(const std::vector<geom::Vec2>& points, const std::vector<int>& taken_by,
+                                           const std::vector<geom::Segment>& lines, double step);
 
 }  // namespace lasonic

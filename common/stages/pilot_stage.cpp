@@ -53,7 +53,7 @@ PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
-                                   "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m",
+                                   "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
@@ -83,6 +83,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
   p.remembered_on_lines_m = c.get("remembered_on_lines_m", p.remembered_on_lines_m, Range::between(0, 1));
+  p.remembered_fill_m = c.get("remembered_fill_m", p.remembered_fill_m, Range::between(0, 1));
   s.copy_over_own = c.get<bool>("copy_over_own", s.copy_over_own);
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
@@ -152,8 +153,11 @@ void PilotStage::onAgmLines(const line_map_t& m) {
 
 void PilotStage::setRemembered() {
   std::vector<geom::Vec2> points = tactical_points_;
-  if (agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_)
-    moveOntoLines(points, agm_lines_, cfg_.remembered_on_lines_m);
+  if (agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_) {
+    const std::vector<int> taken_by = moveOntoLines(points, agm_lines_, cfg_.remembered_on_lines_m);
+    const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, agm_lines_, cfg_.remembered_fill_m);
+    points.insert(points.end(), fill.begin(), fill.end());
+  }
   sector_map_.setRemembered(*last_tactical_utime_, std::move(points));
 }
 

@@ -81,6 +81,9 @@ struct PilotConfig {
   // the line (operational/remembered_on_lines.hpp); 0: cells at their centres, AGM_LINES not
   // subscribed.
   double remembered_on_lines_m = 0.15;
+  // [m] Between two remembered cells one line took, the line is remembered too, a point at most
+  // this far apart (operational/remembered_on_lines.hpp); 0: only the cells.
+  double remembered_fill_m = 0.05;
   // Beyond the paper: the laser's returns of people moved to where they are now
   // (operational/mover_prediction.hpp); false: every return where the scan saw it (the paper).
   bool predict_movers = true;

@@ -47,11 +47,11 @@ PilotConfig nearestPointPilot() {
 
 struct PilotFixture : ::testing::Test {
   Node node{"t", "memq://", Node::Options{false, false}};
-  PilotStage stage{node, nearestPointPilot()};
+  PilotStage stage;
   std::vector<sector_map_t> maps;
   std::vector<grid_map_t> grids;
 
-  PilotFixture() {
+  explicit PilotFixture(const PilotConfig& config = nearestPointPilot()) : stage(node, config) {
     node.subscribe<sector_map_t>(channels::SECTOR_MAP, [this](const sector_map_t& m) { maps.push_back(m); });
     node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [this](const grid_map_t& m) { grids.push_back(m); });
   }
@@ -537,8 +537,11 @@ TEST(PilotStage, ValidReturnsKeepsTheValidInOrderWithTheirTimes) {
 // a bad one leaves the cells at their centres.
 struct PilotRememberedFixture : PilotFixture {
   int sectorAhead = 23;  // the cell lies 2.7 deg right of ahead
-  // AGM_TACTICAL with one occupied cell, global (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
-  void tactical(int64_t utime) {
+  PilotRememberedFixture() = default;
+  explicit PilotRememberedFixture(const PilotConfig& config) : PilotFixture(config) {}
+  // AGM_TACTICAL with occupied cells (ix, iy) of 0.1 m from the origin; by default one, global
+  // (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
+  void tactical(int64_t utime, const std::vector<std::pair<int, int>>& cells = {{20, 19}}) {
     grid_map_t g{};
     g.utime = utime;
     g.robot_pose = {1.0, 2.0, 0.0};
@@ -549,7 +552,7 @@ struct PilotRememberedFixture : PilotFixture {
     g.g.assign(1600, 0);
     g.h.assign(1600, 0);
     g.gp.assign(1600, 0);
-    g.gp[19 * 40 + 20] = 9;
+    for (const auto& [ix, iy] : cells) g.gp[static_cast<size_t>(iy * 40 + ix)] = 9;
     node.publish(channels::AGM_TACTICAL, g);
     drain();
   }
@@ -625,6 +628,40 @@ TEST_F(PilotRememberedFixture, BadLineMapsAreReportedAndDropped) {
   EXPECT_EQ(node.counter("rejected.agm_lines_backwards"), 1);
   EXPECT_NEAR(rememberedAhead(540'000), std::hypot(1.12, 0.05) - 0.35, 1e-5);
   EXPECT_EQ(node.errors(), 2);
+}
+
+// Two cells of a pane 0.7 m apart, ahead-left and ahead-right of the robot: the sector straight
+// ahead, between them, is empty in the grid; the line of their cycle fills it.
+constexpr int kPaneCellsRow0 = 16, kPaneCellsRow1 = 23;  // centres y = 1.65 and 2.35, x = 2.05
+TEST_F(PilotRememberedFixture, TheLineIsRememberedBetweenItsCells) {
+  odometry();
+  tactical(500'000, {{20, kPaneCellsRow0}, {20, kPaneCellsRow1}});
+  EXPECT_FLOAT_EQ(rememberedAhead(510'000), -1.0f);  // no lines yet: the gap stays
+  lines(500'000, 2.12);
+  // The fill along x = 2.12 between y = 1.65 and 2.35: sector 23 (-7.5..0 deg) holds its points
+  // from y = 2.0 down to y = 1.85; the nearest is the one straight ahead, 1.12 m from the centre.
+  EXPECT_NEAR(rememberedAhead(540'000), 1.12 - 0.35, 0.01);
+  // Lines of another cycle: the cells alone again.
+  tactical(1'000'000, {{20, kPaneCellsRow0}, {20, kPaneCellsRow1}});
+  EXPECT_FLOAT_EQ(rememberedAhead(1'010'000), -1.0f);
+  EXPECT_EQ(node.errors(), 0);
+}
+
+struct PilotNoFillFixture : PilotRememberedFixture {
+  static PilotConfig noFill() {
+    PilotConfig c = nearestPointPilot();
+    c.remembered_fill_m = 0;
+    return c;
+  }
+  PilotNoFillFixture() : PilotRememberedFixture(noFill()) {}
+};
+
+TEST_F(PilotNoFillFixture, RememberedFillOffKeepsTheCellsAlone) {
+  odometry();
+  tactical(500'000, {{20, kPaneCellsRow0}, {20, kPaneCellsRow1}});
+  lines(500'000, 2.12);
+  EXPECT_FLOAT_EQ(rememberedAhead(540'000), -1.0f);
+  EXPECT_EQ(node.counter("remembered.line_maps"), 1);  // the lines still move the cells
 }
 
 TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {
