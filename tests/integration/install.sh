@@ -16,7 +16,8 @@ prefix=$tmp/prefix
 cmake --install "$build" --prefix "$prefix" >"$tmp/install.out" 2>&1 || { cat "$tmp/install.out"; fail "cmake --install"; }
 
 for p in lasonic-complement lasonic-pilot lasonic-navigator lasonic-sim lasonic-sim-world lasonic-laser-driver \
-         lasonic-sonar-driver lasonic-replay lasonic-eval lasonic-eval-table lasonic-render lasonic-launch; do
+         lasonic-sonar-driver lasonic-replay lasonic-eval lasonic-eval-table lasonic-render lasonic-launch \
+         lasonic-scenegen; do
   [[ -x $prefix/bin/$p ]] || fail "$p not installed in PREFIX/bin"
 done
 for p in "$prefix"/bin/*; do
@@ -66,6 +67,7 @@ find_package(lasonic 0.1 REQUIRED)
 add_executable(consumer main.cpp)
 target_link_libraries(consumer PRIVATE lasonic::lcmtypes)
 file(WRITE ${CMAKE_BINARY_DIR}/deploy_dir.txt "${LASONIC_DEPLOY_DIR}")
+file(WRITE ${CMAKE_BINARY_DIR}/jar.txt "${LASONIC_LCMTYPES_JAR}")
 CMAKE
 cat >"$tmp/consumer/main.cpp" <<'CPP'
 #include <lasonic/channels.hpp>
@@ -106,4 +108,11 @@ cmake -S "$tmp/consumer" -B "$tmp/consumer/build" -DCMAKE_PREFIX_PATH="$prefix" 
 cmake --build "$tmp/consumer/build" >>"$tmp/consumer.out" 2>&1 || { cat "$tmp/consumer.out"; fail "building against the installed types"; }
 "$tmp/consumer/build/consumer" || fail "the installed types' round trip (exit $?)"
 [[ $(cat "$tmp/consumer/build/deploy_dir.txt") == "$prefix/share/lasonic/deploy" ]] || fail "LASONIC_DEPLOY_DIR is not PREFIX/share/lasonic/deploy"
+# The jar variable names the installed jar, and only when one was built.
+jar=$(cat "$tmp/consumer/build/jar.txt")
+if [[ -f $build/lcmtypes.jar ]]; then
+  [[ $jar == "$prefix/share/lasonic/lcmtypes.jar" ]] || fail "LASONIC_LCMTYPES_JAR is '$jar', not PREFIX/share/lasonic/lcmtypes.jar"
+else
+  [[ -z $jar ]] || fail "LASONIC_LCMTYPES_JAR is '$jar' though no jar was built"
+fi
 echo "install.sh: PASS"
