@@ -35,7 +35,7 @@ std::vector<int> moveOntoLines(std::vector<geom::Vec2>& points, const std::vecto
 }
 
 std::vector<geom::Vec2> fillBetweenOnLines(const std::vector<geom::Vec2>& points, const std::vector<int>& taken_by,
-                                           const std::vector<geom::Segment>& lines, double step) {
+                                           const std::vector<geom::Segment>& lines, double step, double max_gap) {
   std::vector<geom::Vec2> fill;
   if (!(step > 0) || taken_by.size() != points.size()) return fill;
   // Each line's feet by their position along it, from its first end.
@@ -53,7 +53,7 @@ std::vector<geom::Vec2> fillBetweenOnLines(const std::vector<geom::Vec2>& points
     const geom::Vec2 u = d / d.norm();  // a line that took two feet has a length
     for (size_t j = 0; j + 1 < t.size(); ++j) {
       const double gap = t[j + 1] - t[j];
-      if (!(gap > step)) continue;
+      if (!(gap > step) || !(gap < max_gap)) continue;
       // n - 1 points, at most `step` apart (a gap of exactly k steps is k steps, not k + 1)
       const int n = static_cast<int>(std::ceil(gap / step - 1e-9));
       for (int m = 1; m < n; ++m) fill.push_back(lines[k].a + u * (t[j] + gap * m / n));

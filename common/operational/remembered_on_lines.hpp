@@ -30,9 +30,10 @@ std::vector<int> moveOntoLines(std::vector<geom::Vec2>& points, const std::vecto
                                double radius);
 
 // Points every `step` (> 0) along each segment between consecutive feet it took (`taken_by` as
-// moveOntoLines returns it for `points`) that lie more than `step` apart; not beyond the first and
+// moveOntoLines returns it for `points`) that lie more than `step` and less than `max_gap` apart
+// (a gap the robot could drive through is a gap: pass the robot's width); not beyond the first and
 // last foot. step <= 0: none.
 std::vector<geom::Vec2> fillBetweenOnLines(const std::vector<geom::Vec2>& points, const std::vector<int>& taken_by,
-                                           const std::vector<geom::Segment>& lines, double step);
+                                           const std::vector<geom::Segment>& lines, double step, double max_gap);
 
 }  // namespace lasonic

@@ -155,7 +155,9 @@ void PilotStage::setRemembered() {
   std::vector<geom::Vec2> points = tactical_points_;
   if (agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_) {
     const std::vector<int> taken_by = moveOntoLines(points, agm_lines_, cfg_.remembered_on_lines_m);
-    const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, agm_lines_, cfg_.remembered_fill_m);
+    // A gap the robot could drive through stays a gap (the navigator splits its lines there too).
+    const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, agm_lines_, cfg_.remembered_fill_m,
+                                                            2 * cfg_.sector_map.robot_radius);
     points.insert(points.end(), fill.begin(), fill.end());
   }
   sector_map_.setRemembered(*last_tactical_utime_, std::move(points));

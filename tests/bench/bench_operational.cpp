@@ -195,7 +195,7 @@ void BM_FillBetweenOnLines(benchmark::State& state) {
   const std::vector<int> taken_by = moveOntoLines(cells, lines, 0.15);
   size_t filled = 0;
   for (auto _ : state) {
-    const std::vector<Vec2> fill = fillBetweenOnLines(cells, taken_by, lines, 0.05);
+    const std::vector<Vec2> fill = fillBetweenOnLines(cells, taken_by, lines, 0.05, 0.7);
     filled = fill.size();
     benchmark::DoNotOptimize(fill.data());
   }

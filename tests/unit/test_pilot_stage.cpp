@@ -630,15 +630,16 @@ TEST_F(PilotRememberedFixture, BadLineMapsAreReportedAndDropped) {
   EXPECT_EQ(node.errors(), 2);
 }
 
-// Two cells of a pane 0.7 m apart, ahead-left and ahead-right of the robot: the sector straight
-// ahead, between them, is empty in the grid; the line of their cycle fills it.
-constexpr int kPaneCellsRow0 = 16, kPaneCellsRow1 = 23;  // centres y = 1.65 and 2.35, x = 2.05
+// Two cells of a pane 0.6 m apart (less than the robot's 0.7 m width), ahead-right and ahead-left
+// of the robot: the sector straight ahead, between them, is empty in the grid; the line of their
+// cycle fills it.
+constexpr int kPaneCellsRow0 = 17, kPaneCellsRow1 = 23;  // centres y = 1.75 and 2.35, x = 2.05
 TEST_F(PilotRememberedFixture, TheLineIsRememberedBetweenItsCells) {
   odometry();
   tactical(500'000, {{20, kPaneCellsRow0}, {20, kPaneCellsRow1}});
   EXPECT_FLOAT_EQ(rememberedAhead(510'000), -1.0f);  // no lines yet: the gap stays
   lines(500'000, 2.12);
-  // The fill along x = 2.12 between y = 1.65 and 2.35: sector 23 (-7.5..0 deg) holds its points
+  // The fill along x = 2.12 between y = 1.75 and 2.35: sector 23 (-7.5..0 deg) holds its points
   // from y = 2.0 down to y = 1.85; the nearest is the one straight ahead, 1.12 m from the centre.
   EXPECT_NEAR(rememberedAhead(540'000), 1.12 - 0.35, 0.01);
   // Lines of another cycle: the cells alone again.
@@ -662,6 +663,14 @@ TEST_F(PilotNoFillFixture, RememberedFillOffKeepsTheCellsAlone) {
   lines(500'000, 2.12);
   EXPECT_FLOAT_EQ(rememberedAhead(540'000), -1.0f);
   EXPECT_EQ(node.counter("remembered.line_maps"), 1);  // the lines still move the cells
+}
+
+TEST_F(PilotRememberedFixture, AGapTheRobotFitsThroughIsNotFilled) {
+  odometry();
+  // 0.8 m apart (y = 1.65 and 2.45): wider than the robot (2 x 0.35 m), a passage.
+  tactical(500'000, {{20, 16}, {20, 24}});
+  lines(500'000, 2.12);
+  EXPECT_FLOAT_EQ(rememberedAhead(540'000), -1.0f);
 }
 
 TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {

@@ -73,7 +73,7 @@ TEST(RememberedOnLines, TheGapBetweenTwoFeetOfALineIsFilled) {
   std::vector<Vec2> p = {{0.5, 0.95}, {0.2, 1.05}, {0.55, 1.0}, {1.5, 1.5}};
   const std::vector<int> taken_by = moveOntoLines(p, kWall, 0.15);
   ASSERT_EQ(taken_by, (std::vector<int>{0, 0, 0, -1}));
-  const std::vector<Vec2> fill = fillBetweenOnLines(p, taken_by, kWall, 0.05);
+  const std::vector<Vec2> fill = fillBetweenOnLines(p, taken_by, kWall, 0.05, 0.7);
   // 0.2 .. 0.5: 0.3 m in 6 steps of 0.05 m, the 5 points between the feet.
   ASSERT_EQ(fill.size(), 5u);
   for (size_t i = 0; i < fill.size(); ++i) {
@@ -88,21 +88,23 @@ TEST(RememberedOnLines, NothingIsFilledBeyondTheFeetAcrossLinesOrWithoutAStep) {
   std::vector<Vec2> p = {{0.2, 1.0}, {1.8, 2.0}};
   const std::vector<int> taken_by = moveOntoLines(p, two, 0.15);
   ASSERT_EQ(taken_by, (std::vector<int>{0, 1}));
-  EXPECT_TRUE(fillBetweenOnLines(p, taken_by, two, 0.05).empty());
-  // Two feet on one line, but no step, or indices that do not match the points: nothing.
+  EXPECT_TRUE(fillBetweenOnLines(p, taken_by, two, 0.05, 0.7).empty());
+  // Two feet on one line 1.6 m apart: a gap a 0.7 m robot drives through stays a gap; with a
+  // wider bound it is filled; no step, or indices that do not match the points: nothing.
   std::vector<Vec2> q = {{0.2, 1.0}, {1.8, 1.0}};
   const std::vector<int> on_one = moveOntoLines(q, kWall, 0.15);
-  EXPECT_FALSE(fillBetweenOnLines(q, on_one, kWall, 0.05).empty());
-  EXPECT_TRUE(fillBetweenOnLines(q, on_one, kWall, 0.0).empty());
-  EXPECT_TRUE(fillBetweenOnLines(q, {0}, kWall, 0.05).empty());
-  EXPECT_TRUE(fillBetweenOnLines(q, {0, 5}, kWall, 0.05).empty());
+  EXPECT_TRUE(fillBetweenOnLines(q, on_one, kWall, 0.05, 0.7).empty());
+  EXPECT_EQ(fillBetweenOnLines(q, on_one, kWall, 0.05, 2.0).size(), 31u);
+  EXPECT_TRUE(fillBetweenOnLines(q, on_one, kWall, 0.0, 2.0).empty());
+  EXPECT_TRUE(fillBetweenOnLines(q, {0}, kWall, 0.05, 2.0).empty());
+  EXPECT_TRUE(fillBetweenOnLines(q, {0, 5}, kWall, 0.05, 2.0).empty());
 }
 
 TEST(RememberedOnLines, ADiagonalGapIsFilledAlongItsLine) {
   const std::vector<Segment> diag = {{{0.0, 0.0}, {1.0, 1.0}}};
   std::vector<Vec2> p = {{0.1, 0.1}, {0.5, 0.5}};
   const std::vector<int> taken_by = moveOntoLines(p, diag, 0.15);
-  const std::vector<Vec2> fill = fillBetweenOnLines(p, taken_by, diag, 0.05);
+  const std::vector<Vec2> fill = fillBetweenOnLines(p, taken_by, diag, 0.05, 0.7);
   // 0.566 m between the feet: 12 steps of 0.047 m, 11 points, each on the line.
   ASSERT_EQ(fill.size(), 11u);
   for (const Vec2& f : fill) {
