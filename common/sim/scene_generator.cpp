@@ -67,6 +67,14 @@ class Draw {
   std::mt19937_64 rng_;
 };
 
+// Points from a to b at most `step` apart, both ends included.
+std::vector<Vec2> along(const Vec2& a, const Vec2& b, double step) {
+  std::vector<Vec2> out;
+  const int n = std::max(1, static_cast<int>((b - a).norm() / step));
+  for (int i = 0; i <= n; ++i) out.push_back(a + (b - a) * (static_cast<double>(i) / n));
+  return out;
+}
+
 // An obstacle's outline for the clearance checks: segments and at most one disc.
 struct Outline {
   std::vector<geom::Segment> segments;
@@ -79,22 +87,13 @@ struct Outline {
   }
   std::vector<Vec2> samples(double step) const {
     std::vector<Vec2> out;
-    for (const auto& s : segments) {
-      const int n = std::max(1, static_cast<int>((s.b - s.a).norm() / step));
-      for (int i = 0; i <= n; ++i) out.push_back(s.a + (s.b - s.a) * (static_cast<double>(i) / n));
-    }
+    for (const auto& s : segments)
+      for (const Vec2& q : along(s.a, s.b, step)) out.push_back(q);
     for (const auto& c : circles)
       for (int i = 0; i < 16; ++i) out.push_back(c.center + c.radius * geom::unitVector(i * geom::kPi / 8));
     return out;
   }
 };
-
-std::vector<Vec2> along(const Vec2& a, const Vec2& b, double step) {
-  std::vector<Vec2> out;
-  const int n = std::max(1, static_cast<int>((b - a).norm() / step));
-  for (int i = 0; i <= n; ++i) out.push_back(a + (b - a) * (static_cast<double>(i) / n));
-  return out;
-}
 
 double nearest(const std::vector<Outline>& outlines, const Vec2& p) {
   double d = std::numeric_limits<double>::infinity();
