@@ -10,6 +10,7 @@
 #include <lasonic/sector_map_t.hpp>
 
 #include "complement/messages.hpp"
+#include "complement/dark_continuation.hpp"
 #include "complement/radar_map.hpp"
 #include "core/int_scan.hpp"
 #include "operational/remembered_on_lines.hpp"
@@ -41,6 +42,12 @@ SectorMapParams PilotConfig::sectorMapDefaults() {
   return s;
 }
 
+complement::DarkContinuationConfig PilotConfig::darkContinuationDefaults() {
+  complement::DarkContinuationConfig d;
+  d.length = 0.10;  // what a scan point stands for (laser_explains_radius)
+  return d;
+}
+
 namespace {
 LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
   // Beyond the sector map's reach a point is never reported; it comes back only by driving
@@ -55,7 +62,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s"};
+                                   "laser_memory_coast_s", "dark_continuation_m"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -88,6 +95,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
   p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
+  p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
     const Config m = c.section("mover_prediction");
     m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "agree_speed"});
@@ -315,6 +323,17 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
         if (movers_.still()[i]) still.push_back(timed_[i].p);
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
+  }
+  if (cfg_.dark_continuation.length > 0) {
+    // Where a straight run of returns ends in readings that came back empty, its surface goes on
+    // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
+    // scan's alone.
+    no_return_.resize(m.flags.size());
+    for (size_t i = 0; i < m.flags.size(); ++i) no_return_[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN ? 1 : 0;
+    const size_t before = points.size();
+    complement::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); },
+                                 complement::RadarMapConfig{}, cfg_.dark_continuation, points);
+    if (points.size() > before) node_.count("laser.dark_continuation", static_cast<int64_t>(points.size() - before));
   }
   if (no_pose > 0) {
     node_.reportError("rejected.laser_no_odometry", "LASER_SCAN utime " + std::to_string(m.utime) +

@@ -46,6 +46,7 @@
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
+#include "complement/dark_continuation.hpp"
 #include "complement/shared_placement.hpp"
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
@@ -95,9 +96,14 @@ struct PilotConfig {
   // A person the laser saw walking, who walked on where it does not look, is reported where they
   // would be by now for this long after the laser last saw them (LaserMemoryParams::coast_s).
   double laser_memory_coast_s = 1.0;
+  // Beyond the paper: a straight run of returns that ends in readings with no return is continued
+  // along its line into them, up to `length` past its last return (complement/dark_continuation.hpp):
+  // a return stands for its surface 0.10 m around it, as for laser_explains_radius. 0: off (the paper).
+  complement::DarkContinuationConfig dark_continuation = darkContinuationDefaults();
 
   static AgmParams operationalAgmDefaults();
   static SectorMapParams sectorMapDefaults();
+  static complement::DarkContinuationConfig darkContinuationDefaults();
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
@@ -156,7 +162,8 @@ class PilotStage {
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<geom::Vec2> laser_points_;  // (the sector map's previous list, handed back: storage reused)
-  std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
+  std::vector<complement::ScanPoint> own_placed_;
+  std::vector<uint8_t> no_return_;  // (per reading of the scan: FLAG_NO_RETURN; storage reused)  // (without placement_: the scan's points, storage reused)
 };
 
 }  // namespace lasonic

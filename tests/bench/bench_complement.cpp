@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "complement/dark_continuation.hpp"
 #include "complement/hypothetical_scan.hpp"
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
@@ -48,6 +49,35 @@ void BM_RadarMap720(benchmark::State& state) {
   state.counters["segments"] = static_cast<double>(segments);
 }
 BENCHMARK(BM_RadarMap720)->Unit(benchmark::kMicrosecond);
+
+// The pilot's dark continuation on the same scan with twelve dark stretches: every 30 deg the
+// readings of a 5 deg window come back empty (a dark face between lit ones), so 24 runs are
+// continued at the shipped 0.10 m.
+void BM_DarkContinuation720(benchmark::State& state) {
+  const auto traj = fixture::moving({4.0, 3.0, 0.0}, 0, 0.5, 0.1, 0.3);
+  std::vector<InputProblem> problems;
+  LaserScan scan = *laserScanFromMessage(fixture::simulateScan(office(), traj, 0, 100'000), problems);
+  std::vector<uint8_t> no_return(scan.readings.size(), 0);
+  for (size_t i = 0; i < scan.readings.size(); ++i)
+    if (i % 60 < 10) {
+      scan.readings[i].valid = false;
+      no_return[i] = 1;
+    }
+  PoseHistory odo;
+  for (int64_t t = -100'000; t <= 300'000; t += 20'000) odo.add(t, traj(t));
+  const std::vector<ScanPoint> placed = placeReadings(scan, odo);
+  const PoseLookup pose_at = [&odo](int64_t t) { return odo.at(t); };
+  DarkContinuationConfig cfg;
+  cfg.length = 0.10;
+  std::vector<geom::Vec2> out;
+  for (auto _ : state) {
+    out.clear();
+    darkContinuation(scan, placed, no_return, pose_at, RadarMapConfig{}, cfg, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["points"] = static_cast<double>(out.size());
+}
+BENCHMARK(BM_DarkContinuation720)->Unit(benchmark::kMicrosecond);
 
 void BM_HypotheticalScan24x50(benchmark::State& state) {
   // 50 segments around the robot: a ring of short walls at 0.8..2.5 m.

@@ -1,5 +1,5 @@
 # Complement extraction: RadarMap, HypotheticalScan, classification, the stage.
-foreach(t test_radar_map test_hypothetical_scan test_complement test_pole_tracker)
+foreach(t test_radar_map test_hypothetical_scan test_complement test_pole_tracker test_dark_continuation)
   lasonic_add_gtest(${t} SOURCES ${t}.cpp LIBS lasonic_complement)
 endforeach()
 lasonic_add_gtest(test_complement_stage SOURCES test_complement_stage.cpp LIBS lasonic_stages)

@@ -685,3 +685,59 @@ TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {
   }
   EXPECT_EQ(node.counter("remembered.line_maps"), 0);
 }
+
+// A dark face 1 m ahead (x = 2, the robot at (1, 2) facing +x): the scan sees it from -20 to
+// +6 deg; beyond +6 deg nothing comes back (it turns too dark to detect). Returns the SECTOR_MAP
+// and the continuation points counted.
+namespace {
+std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig cfg;
+  cfg.dark_continuation.length = continuation_m;
+  PilotStage stage{node, cfg};
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, 0.0};
+    node.publish(channels::ODOMETRY, o);
+  }
+  laser_scan_t s = noReturnScan(100'000, -kPi, 2 * kPi / 720, 720, 200'000);
+  for (int i = 360 - 40; i <= 360 + 12; ++i) {  // reading 360 is straight ahead
+    s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 360))));
+    s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+  }
+  node.publish(channels::LASER_SCAN, s);
+  while (node.spinOnce(0) > 0) {
+  }
+  EXPECT_EQ(maps.size(), 1u);
+  EXPECT_EQ(node.errors(), 0);
+  return {maps.empty() ? sector_map_t{} : maps.back(), node.counter("laser.dark_continuation")};
+}
+}  // namespace
+
+// The face goes on past its last return at +6 deg: with the continuation (0.10 m along it, to
+// +11.6 deg) sector 25 (7.5-15 deg) holds it as a laser value at its 7.5 deg edge; without it
+// (the paper) sector 25 has nothing. Beyond the continuation (sector 26) nothing either way.
+TEST(PilotDarkContinuation, ADarkFaceGoesOnPastItsLastReturn) {
+  const int seen = 24, dark = 25, beyond = 26;
+  {
+    const auto [m, points] = mapOfADarkFace(0.10);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_EQ(m.source[seen], kLaser);
+    EXPECT_NEAR(m.laser_distance[seen], 1.0 - 0.35, 1e-4);
+    EXPECT_EQ(m.source[dark], kLaser);
+    EXPECT_NEAR(m.laser_distance[dark], 1.0 / std::cos(geom::deg2rad(7.5)) - 0.35, 0.01);
+    EXPECT_EQ(m.source[beyond], kNone);
+    EXPECT_GT(points, 10);  // both ends of the face
+  }
+  {
+    const auto [m, points] = mapOfADarkFace(0.0);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_EQ(m.source[seen], kLaser);
+    EXPECT_EQ(m.source[dark], kNone);
+    EXPECT_FLOAT_EQ(m.laser_distance[dark], -1.0f);
+    EXPECT_EQ(points, 0);
+  }
+}
