@@ -45,7 +45,7 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
   if (static_cast<int>(last_piece.size()) < rm.min_points) return;
   const RmSegment line = fitLine(run, last_piece);
   const Vec2 along = line.seg.a - line.seg.b;  // from the piece's far end towards the last return
-  if (!(along.norm() > 0)) return;
+  if (!(along.norm() >= rm.min_length) || !(along.norm() > 0)) return;
   const Vec2 u = along.normalized();
   const Vec2 normal(-u.y(), u.x());
   const Vec2 foot = line.seg.a;  // the last return's projection onto the line

@@ -30,7 +30,7 @@ struct DarkContinuationConfig {
   // The run a continuation starts from: consecutive returns by the Radar Map's jump rule, up to
   // this far back from its last return [m]; its last piece of the Radar Map's end-point fit
   // (split_threshold) gives the line, if it holds at least RadarMapConfig::min_points returns
-  // (what the Radar Map would call a segment).
+  // and is at least its min_length long (what the Radar Map would call a segment).
   double fit_span = 0.30;
   // Readings meeting that line more obliquely than this from its normal [rad] are not continued
   // (the intersection runs away along the line): 80 deg.
