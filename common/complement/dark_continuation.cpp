@@ -50,8 +50,20 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
   const Vec2 normal(-u.y(), u.x());
   const Vec2 foot = line.seg.a;  // the last return's projection onto the line
   const double cos_max = std::cos(cfg.max_incidence);
+  double reach = cfg.length;  // along the line from the foot
   for (long j = neighbour(last, step, n, circle); j >= 0 && j != last; j = neighbour(j, step, n, circle)) {
-    if (no_return[static_cast<size_t>(j)] == 0) return;  // a return (or a rejected reading): the gap ends
+    if (no_return[static_cast<size_t>(j)] == 0) {
+      // A return on the line (within split_threshold, farther along it) is the same surface seen
+      // again: near the detection limit a dark surface flickers, a return here and there among
+      // empty readings. The continuation goes on from it. Any other return, or a rejected
+      // reading, ends the gap.
+      const ScanPoint& q = placed[static_cast<size_t>(j)];
+      if (!q.valid) return;
+      const double along_q = (q.p - foot).dot(u);
+      if (std::abs((q.p - foot).dot(normal)) > rm.split_threshold || !(along_q >= 0)) return;
+      reach = std::max(reach, along_q + cfg.length);
+      continue;
+    }
     const LaserReading& r = scan.readings[static_cast<size_t>(j)];
     const auto robot = pose_at(r.utime);
     if (!robot) return;
@@ -64,7 +76,7 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
     const Vec2 w = foot - o;
     const double t = (w.x() * u.y() - w.y() * u.x()) / den;
     const double s = (w.x() * d.y() - w.y() * d.x()) / den;
-    if (!(t > 0) || !(s >= 0) || s > cfg.length) return;  // behind the scanner, back along the run, or too far
+    if (!(t > 0) || !(s >= 0) || s > reach) return;  // behind the scanner, back along the run, or too far
     out.push_back(o + t * d);
   }
 }

@@ -14,8 +14,9 @@
 //
 // The continuation is short: a return stands for its surface `length` around it (the 0.10 m the
 // Sector Map already lets a scan point explain an AGM cell by), continued along the line its own
-// run of returns fits, only into readings that came back empty (a reading that returned
-// contradicts it) and never at grazing incidence. The Radar Map is untouched: its gaps stay gaps
+// run of returns fits, only into readings that came back empty and never at grazing incidence.
+// A return among them that lies on that line is the same surface flickering near its detection
+// limit, and the continuation goes on from it; any other return contradicts it and ends it. The Radar Map is untouched: its gaps stay gaps
 // (radar_map.hpp), so the sonar's echoes there stay complementary.
 #include <cstdint>
 #include <vector>
@@ -38,7 +39,8 @@ struct DarkContinuationConfig {
 };
 
 // Points (global frame) where the no-return readings next to the end of a straight run of
-// returns cross that run's line, at most cfg.length past the run's last return. `placed` is the
+// returns cross that run's line, at most cfg.length past the run's last return (or past a later
+// return on the line, within split_threshold of it). `placed` is the
 // scan placed with `pose_at` (placeReadings); no_return[i] != 0 where reading i came back empty
 // (FLAG_NO_RETURN; not a reading rejected as malformed, which says nothing). The rays of the
 // empty readings use the pose at their own time; a reading without a pose ends a continuation.

@@ -133,6 +133,33 @@ TEST(DarkContinuation, BothSidesOfAGapAreContinuedAndAReturnEndsIt) {
   EXPECT_TRUE(from_right);
 }
 
+// Near its detection limit a dark face flickers: a return here and there among the empty
+// readings. A return on the continued line is the same surface: the continuation goes on past it,
+// up to `length` beyond it; a return off the line ends it.
+TEST(DarkContinuation, AFlickerOnTheLineCarriesItOn) {
+  // The face along y = 1, seen for x <= 0.3, then dark except one return at x = 0.35.
+  const auto flicker = [](double off_line) {
+    return makeScan(geom::deg2rad(50), 141, [off_line](double a) {
+      const double range = 1.0 / std::sin(a), x = range * std::cos(a);
+      if (x <= 0.3) return Ray{true, false, range};
+      if (std::abs(x - 0.35) < 0.0045) return Ray{true, false, range + off_line};
+      return Ray{};
+    });
+  };
+  double farthest = -1e9;
+  const std::vector<Vec2> on_line = continued(flicker(0.0), 0.10);
+  for (const Vec2& p : on_line) {
+    EXPECT_NEAR(p.y(), 1.0, 1e-9);
+    farthest = std::max(farthest, p.x());
+  }
+  EXPECT_GT(farthest, 0.40) << "beyond 0.10 m past the first run";
+  EXPECT_LE(farthest, 0.35 + 0.10 + 0.01) << "at most 0.10 m past the flicker";
+  // The same return 0.3 m behind the face's line: something else; the gap ends there.
+  farthest = -1e9;
+  for (const Vec2& p : continued(flicker(0.3), 0.10)) farthest = std::max(farthest, p.x());
+  EXPECT_LT(farthest, 0.351);
+}
+
 // What the Radar Map would not call a segment is not continued: too few returns (a thin
 // object's glint), or too short a face.
 TEST(DarkContinuation, OnlyARunOfEnoughReturns) {
