@@ -690,7 +690,8 @@ TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {
 // +6 deg; beyond +6 deg nothing comes back (it turns too dark to detect). Returns the SECTOR_MAP
 // and the continuation points counted.
 namespace {
-std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m) {
+// With bad_offsets, the empty readings past +6 deg carry a negative time offset (rejected).
+std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m, bool bad_offsets = false) {
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotConfig cfg;
   cfg.dark_continuation.length = continuation_m;
@@ -708,11 +709,13 @@ std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m) {
     s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 360))));
     s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
   }
+  if (bad_offsets)
+    for (int i = 360 + 13; i <= 360 + 40; ++i) s.offset_us[static_cast<size_t>(i)] = -1;
   node.publish(channels::LASER_SCAN, s);
   while (node.spinOnce(0) > 0) {
   }
   EXPECT_EQ(maps.size(), 1u);
-  EXPECT_EQ(node.errors(), 0);
+  EXPECT_EQ(node.errors(), bad_offsets ? 28 : 0);
   return {maps.empty() ? sector_map_t{} : maps.back(), node.counter("laser.dark_continuation")};
 }
 }  // namespace
@@ -739,5 +742,15 @@ TEST(PilotDarkContinuation, ADarkFaceGoesOnPastItsLastReturn) {
     EXPECT_EQ(m.source[dark], kNone);
     EXPECT_FLOAT_EQ(m.laser_distance[dark], -1.0f);
     EXPECT_EQ(points, 0);
+  }
+  {
+    // Readings rejected as malformed are no gap, whatever their flag: the +6 deg end is not
+    // continued (the -20 deg end still is).
+    const auto [m, points] = mapOfADarkFace(0.10, true);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_EQ(m.source[seen], kLaser);
+    EXPECT_EQ(m.source[dark], kNone);
+    EXPECT_GT(points, 0);
+    EXPECT_LT(points, mapOfADarkFace(0.10).second);
   }
 }
