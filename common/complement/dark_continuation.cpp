@@ -22,18 +22,23 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
                   long step, std::vector<Vec2>& out) {
   const long n = static_cast<long>(placed.size());
   const bool circle = scan.full_circle;
-  // The run behind the last return: consecutive returns by the Radar Map's jump rule, within
+  // The run behind the last return: returns consecutive by the Radar Map's jump rule, empty
+  // readings between them skipped (a dark face flickers near its detection limit), within
   // fit_span of it.
   const Vec2 end = placed[static_cast<size_t>(last)].p;
   std::vector<Vec2> run{end};
   for (long i = last, j = neighbour(last, -step, n, circle); j >= 0 && j != last && run.size() < placed.size();
-       i = j, j = neighbour(j, -step, n, circle)) {
+       j = neighbour(j, -step, n, circle)) {
     const ScanPoint& a = placed[static_cast<size_t>(i)];
     const ScanPoint& b = placed[static_cast<size_t>(j)];
-    if (!b.valid) break;
+    if (!b.valid) {
+      if (no_return[static_cast<size_t>(j)] != 0) continue;  // flicker within the run
+      break;
+    }
     if ((a.p - b.p).norm() > rm.jump_abs + rm.jump_rel * std::min(a.range, b.range)) break;
     if ((b.p - end).norm() > cfg.fit_span) break;
     run.push_back(b.p);
+    i = j;
   }
   if (static_cast<int>(run.size()) < rm.min_points) return;
   // The run's last straight piece, as the Radar Map's end-point fit cuts it (a corner within the

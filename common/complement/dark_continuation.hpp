@@ -28,8 +28,9 @@ namespace lasonic::complement {
 
 struct DarkContinuationConfig {
   double length = 0;  // [m] how far past its last return a surface is continued; 0: off (the paper)
-  // The run a continuation starts from: consecutive returns by the Radar Map's jump rule, up to
-  // this far back from its last return [m]; its last piece of the Radar Map's end-point fit
+  // The run a continuation starts from: returns consecutive by the Radar Map's jump rule (empty
+  // readings between them skipped: a dark face flickers), up to this far back from its last
+  // return [m]; its last piece of the Radar Map's end-point fit
   // (split_threshold) gives the line, if it holds at least RadarMapConfig::min_points returns
   // and is at least its min_length long (what the Radar Map would call a segment).
   double fit_span = 0.30;

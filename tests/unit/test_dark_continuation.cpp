@@ -160,6 +160,27 @@ TEST(DarkContinuation, AFlickerOnTheLineCarriesItOn) {
   EXPECT_LT(farthest, 0.351);
 }
 
+// The same flicker within the run: a face that returns only two readings in three is still one
+// straight run of returns, and is continued.
+TEST(DarkContinuation, AFlickeringRunIsStillARun) {
+  int k = 0;
+  const Scan s = makeScan(geom::deg2rad(60), 121, [&k](double a) {
+    const Ray r = wallThenDark(a, 0.3);
+    return r.returned && ++k % 3 == 0 ? Ray{} : r;
+  });
+  const std::vector<Vec2> pts = continued(s, 0.10);
+  ASSERT_FALSE(pts.empty());
+  double last_seen = -1e9;
+  for (const auto& r : s.scan.readings)
+    if (r.valid) last_seen = std::max(last_seen, r.range * std::cos(r.angle));
+  int past = 0;
+  for (const Vec2& p : pts) {
+    EXPECT_NEAR(p.y(), 1.0, 1e-9);
+    past += p.x() > last_seen ? 1 : 0;
+  }
+  EXPECT_GE(past, 8) << "past the face's last return";
+}
+
 // What the Radar Map would not call a segment is not continued: too few returns (a thin
 // object's glint), or too short a face.
 TEST(DarkContinuation, OnlyARunOfEnoughReturns) {
