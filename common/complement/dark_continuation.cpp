@@ -1,5 +1,6 @@
 #include "complement/dark_continuation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lasonic::complement {
@@ -35,7 +36,7 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
       if (no_return[static_cast<size_t>(j)] != 0) continue;  // flicker within the run
       break;
     }
-    if ((a.p - b.p).norm() > rm.jump_abs + rm.jump_rel * std::min(a.range, b.range)) break;
+    if (rangeJump(a, b, rm)) break;
     if ((b.p - end).norm() > cfg.fit_span) break;
     run.push_back(b.p);
     i = j;
@@ -50,8 +51,9 @@ void continueFrom(const LaserScan& scan, const std::vector<ScanPoint>& placed, c
   if (static_cast<int>(last_piece.size()) < rm.min_points) return;
   const RmSegment line = fitLine(run, last_piece);
   const Vec2 along = line.seg.a - line.seg.b;  // from the piece's far end towards the last return
-  if (!(along.norm() >= rm.min_length) || !(along.norm() > 0)) return;
-  const Vec2 u = along.normalized();
+  const double length = along.norm();
+  if (!(length >= rm.min_length) || !(length > 0)) return;
+  const Vec2 u = along / length;
   const Vec2 normal(-u.y(), u.x());
   const Vec2 foot = line.seg.a;  // the last return's projection onto the line
   const double cos_max = std::cos(cfg.max_incidence);

@@ -16,8 +16,9 @@
 // Sector Map already lets a scan point explain an AGM cell by), continued along the line its own
 // run of returns fits, only into readings that came back empty and never at grazing incidence.
 // A return among them that lies on that line is the same surface flickering near its detection
-// limit, and the continuation goes on from it; any other return contradicts it and ends it. The Radar Map is untouched: its gaps stay gaps
-// (radar_map.hpp), so the sonar's echoes there stay complementary.
+// limit, and the continuation goes on from it; any other return contradicts it and ends it. The
+// Radar Map is untouched: its gaps stay gaps (radar_map.hpp), so the sonar's echoes there stay
+// complementary.
 #include <cstdint>
 #include <vector>
 
@@ -30,9 +31,9 @@ struct DarkContinuationConfig {
   double length = 0;  // [m] how far past its last return a surface is continued; 0: off (the paper)
   // The run a continuation starts from: returns consecutive by the Radar Map's jump rule (empty
   // readings between them skipped: a dark face flickers), up to this far back from its last
-  // return [m]; its last piece of the Radar Map's end-point fit
-  // (split_threshold) gives the line, if it holds at least RadarMapConfig::min_points returns
-  // and is at least its min_length long (what the Radar Map would call a segment).
+  // return [m]. The last piece of the Radar Map's end-point fit (split_threshold) gives the line,
+  // if it holds at least RadarMapConfig::min_points returns and is at least its min_length long
+  // (what the Radar Map would call a segment).
   double fit_span = 0.30;
   // Readings meeting that line more obliquely than this from its normal [rad] are not continued
   // (the intersection runs away along the line): 80 deg.
@@ -41,8 +42,8 @@ struct DarkContinuationConfig {
 
 // Points (global frame) where the no-return readings next to the end of a straight run of
 // returns cross that run's line, at most cfg.length past the run's last return (or past a later
-// return on the line, within split_threshold of it). `placed` is the
-// scan placed with `pose_at` (placeReadings); no_return[i] != 0 where reading i came back empty
+// return on the line, within split_threshold of it). `placed` is the scan placed with `pose_at`
+// (placeReadings); no_return[i] != 0 where reading i came back empty
 // (FLAG_NO_RETURN; not a reading rejected as malformed, which says nothing). The rays of the
 // empty readings use the pose at their own time; a reading without a pose ends a continuation.
 // Appends to `out`.

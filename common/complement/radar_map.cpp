@@ -424,6 +424,8 @@ void jumpBreaks(const ScanPoint* points, size_t n, const RadarMapConfig& cfg, ui
 }
 }  // namespace
 
+bool rangeJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg) { return isJump(a, b, cfg); }
+
 namespace {
 // The clusters of splitClusters, flat: cluster k is flat[starts[k] .. starts[k + 1]) (no vector
 // per cluster: a scan has dozens). `closed`: the one cluster of a full circle without a break.

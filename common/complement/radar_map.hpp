@@ -141,6 +141,10 @@ std::vector<RmSegment> clusterSegments(const Cluster& cluster, const RadarMapCon
 // squared norm of closestPoint(chord, p) - p): the end-point fit's distances.
 void chordSquaredDistances(const geom::Segment& chord, const geom::Vec2* points, size_t count, double* out);
 
+// Two consecutive returns farther apart than jump_abs + jump_rel * the nearer range: a new cluster
+// (the threshold grows with range because neighbouring rays diverge).
+bool rangeJump(const ScanPoint& a, const ScanPoint& b, const RadarMapConfig& cfg);
+
 // Iterative end-point fit of points[r]: split at the point farthest from the chord until every
 // point lies within `threshold` of it. The split point belongs to both halves (a corner).
 std::vector<IndexRange> iterativeEndPointFit(const std::vector<geom::Vec2>& points, IndexRange r,
