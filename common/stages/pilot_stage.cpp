@@ -328,7 +328,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
     // scan's alone. (A reading the message layer rejected -- a negative time offset -- is no gap,
-    // whatever its flag.)
+    // whatever its flag.) The run's jump and fit rules are the Radar Map's code defaults, which
+    // are the shipped `complement.radar_map` values (test_shipped_config): the pilot does not
+    // read the complement's section.
     no_return_.resize(m.flags.size());
     for (size_t i = 0; i < m.flags.size(); ++i)
       no_return_[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 ? 1 : 0;
