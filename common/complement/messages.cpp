@@ -38,6 +38,7 @@ LASONIC_AVX2 bool fourReadingsAvx2(size_t i, int64_t utime, double angle_min, do
   if (four_flags != 0) return false;
   const __m128i off = _mm_loadu_si128(reinterpret_cast<const __m128i*>(offset_us + i));
   if (_mm_movemask_ps(_mm_castsi128_ps(off)) != 0) return false;  // a negative offset
+  if (_mm_movemask_epi8(_mm_cmpgt_epi32(off, _mm_set1_epi32(input_limits::kMaxLaserOffsetUs))) != 0) return false;
   const __m128 r = _mm_loadu_ps(ranges + i);
   const __m128 ok = _mm_and_ps(_mm_cmpge_ps(r, _mm_setzero_ps()), _mm_cmple_ps(r, _mm_set1_ps(range_max)));
   if (_mm_movemask_ps(ok) != 15) return false;  // (NaN fails both)
@@ -250,13 +251,15 @@ bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& 
     r.range = ranges[i];
     r.valid = false;
     // The common case first: a return within [range_min, range_max] (or below range_min).
-    if (offset_us[i] >= 0 && flags[i] == laser_scan_t::FLAG_OK && ranges[i] >= 0 && ranges[i] <= range_max) {
+    if (offset_us[i] >= 0 && offset_us[i] <= input_limits::kMaxLaserOffsetUs && flags[i] == laser_scan_t::FLAG_OK &&
+        ranges[i] >= 0 && ranges[i] <= range_max) {
       r.valid = ranges[i] >= range_min;
       continue;
     }
-    if (m.offset_us[i] < 0) {
+    if (m.offset_us[i] < 0 || m.offset_us[i] > input_limits::kMaxLaserOffsetUs) {
       problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", i) + " = " +
-                                                       std::to_string(m.offset_us[i]) + " (must be >= 0)"});
+                                                       std::to_string(m.offset_us[i]) + " (must be in [0, " +
+                                                       std::to_string(input_limits::kMaxLaserOffsetUs) + "])"});
       continue;
     }
     if (m.flags[i] == laser_scan_t::FLAG_NO_RETURN) continue;

@@ -33,6 +33,10 @@ inline constexpr double kMaxSonarRange = 50.0;
 // [m] The longest-range laser scanners reach a few hundred metres: a larger range_max is not a
 // scanner's.
 inline constexpr double kMaxLaserRange = 1000.0;
+// [us] A reading's time within its scan (offset_us): a rotating 2D scanner sweeps in 0.01-0.2 s
+// (100-5 Hz), so a reading a second or more after the scan's first is not that scan's; it would
+// put the Radar Map's time, and the pose it is seen from, where no odometry is.
+inline constexpr int32_t kMaxLaserOffsetUs = 1000000;
 // [m] Positions (odometry, mounts, end points, sensor poses): 1000 km from the frame's origin is
 // beyond any robot's local frame, and keeps squares and products of coordinates (line fits,
 // intersections) far from overflow.

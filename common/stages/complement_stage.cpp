@@ -60,15 +60,29 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 
   int returns = 0, no_pose = 0;
   for (const auto& r : scan->readings) returns += r.valid ? 1 : 0;
+  // Every reading malformed (each reported above) is a broken scan, not an empty room: an empty
+  // Radar Map would make every echo complementary. (Gaps and readings inside the scanner's
+  // blind zone are readings, and an empty map from them is right.)
+  if (returns == 0 && !scan->readings.empty() && problems.size() >= scan->readings.size()) {
+    node_.reportError("rejected.laser_scan", "LASER_SCAN utime " + std::to_string(m.utime) +
+                                                 ": every reading malformed; previous Radar Map kept");
+    return;
+  }
   cp::RadarMap rm = placement_ ? cp::radarMapFromPlaced(*scan, placement_->place(*scan, poses_, &no_pose), poses_,
                                                          cfg_.radar_map)
                                : cp::extractRadarMap(*scan, poses_, cfg_.radar_map, &no_pose);
-  if (no_pose > 0) {
+  // The map is seen from the robot's pose at the scan's last reading (its view, the pole
+  // tracker's motion across the line of sight); without that pose it would be seen from the
+  // odometry origin.
+  const bool seen_from_known_pose = poses_.at(rm.utime).has_value();
+  if (no_pose > 0 || !seen_from_known_pose) {
     node_.reportError("rejected.laser_no_odometry",
                       "LASER_SCAN utime " + std::to_string(m.utime) + ": no odometry for " +
-                          std::to_string(no_pose) + " of " + std::to_string(returns) + " readings");
-    // Without any placed reading the scan says nothing; keep the previous Radar Map.
-    if (no_pose == returns) return;
+                          std::to_string(no_pose) + " of " + std::to_string(returns) + " readings" +
+                          (seen_from_known_pose ? "" : " nor at its last reading; previous Radar Map kept"));
+    // Without any placed reading, or without the pose it is seen from, the scan says nothing;
+    // keep the previous Radar Map (it ages).
+    if (no_pose == returns || !seen_from_known_pose) return;
   }
   rm.poles = poles_.update(rm.utime, rm.robot_pose.position(), rm.pole_candidates);
   line_map_t out = cp::radarMapToMessage(rm);

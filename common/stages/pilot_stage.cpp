@@ -327,13 +327,16 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
-    // scan's alone. (A reading the message layer rejected -- a negative time offset -- is no gap,
-    // whatever its flag.) The run's jump and fit rules are the Radar Map's code defaults, which
+    // scan's alone. (A reading the message layer rejected -- a time offset outside the scan's
+    // sweep -- is no gap, whatever its flag.) The run's jump and fit rules are the Radar Map's code defaults, which
     // are the shipped `complement.radar_map` values (test_shipped_config): the pilot does not
     // read the complement's section.
     no_return_.resize(m.flags.size());
     for (size_t i = 0; i < m.flags.size(); ++i)
-      no_return_[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 ? 1 : 0;
+      no_return_[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 &&
+                               m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
+                           ? 1
+                           : 0;
     const size_t before = points.size();
     complement::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); },
                                  complement::RadarMapConfig{}, cfg_.dark_continuation, points);

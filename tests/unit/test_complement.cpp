@@ -247,13 +247,16 @@ TEST(Messages, BadLaserReadingsBecomeGapsBadScansAreRefused) {
   m.ranges[11] = 99.f;  // beyond range_max 15
   m.flags[12] = 7;
   m.offset_us[13] = -5;
+  m.offset_us[14] = 2'000'000;  // two seconds into a scan: no scanner sweeps that slowly
   std::vector<InputProblem> problems;
   auto s = laserScanFromMessage(m, problems);
   ASSERT_TRUE(s.has_value());
-  EXPECT_EQ(problems.size(), 4u);
-  for (size_t i = 10; i <= 13; ++i) EXPECT_FALSE(s->readings[i].valid) << i;
-  EXPECT_TRUE(s->readings[14].valid);
+  ASSERT_EQ(problems.size(), 5u);
+  for (size_t i = 10; i <= 14; ++i) EXPECT_FALSE(s->readings[i].valid) << i;
+  EXPECT_TRUE(s->readings[15].valid);
   EXPECT_NE(problems[0].message.find("LASER_SCAN.ranges[10] = nan"), std::string::npos);
+  EXPECT_EQ(problems[4].counter, "rejected.laser_offset");
+  EXPECT_NE(problems[4].message.find("LASER_SCAN.offset_us[14] = 2000000"), std::string::npos);
   EXPECT_EQ(s->readings[100].utime, m.offset_us[100]);
 
   laser_scan_t mismatched = m;

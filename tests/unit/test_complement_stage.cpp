@@ -134,3 +134,42 @@ TEST_F(StageTest, MissingOdometryMakesTheGroupInvalidAndKeepsTheRadarMap) {
   EXPECT_TRUE(maps.empty());
   EXPECT_EQ(node.counter("rejected.laser_no_odometry"), 1);
 }
+
+TEST_F(StageTest, AScanWithoutAPoseAtItsLastReadingKeepsThePreviousRadarMap) {
+  odometry(0, 300'000);
+  scan(0);
+  ASSERT_EQ(maps.size(), 1u);
+  // Odometry stops at 0.3 s; the poses are held 0.2 s beyond. The next scan's readings are all
+  // placed but its last one, a gap, comes 0.6 s later: the map would be seen from nowhere
+  // (the odometry origin) and its view and poles placed there.
+  laser_scan_t s = fixture::simulateScan(fixture::fig4Room(), traj, 200'000, 100'000);
+  s.flags.back() = laser_scan_t::FLAG_NO_RETURN;
+  s.offset_us.back() = 700'000;
+  send(channels::LASER_SCAN, s);
+  EXPECT_EQ(maps.size(), 1u);
+  EXPECT_EQ(node.counter("rejected.laser_no_odometry"), 1);
+  ring(250'000, {kDoor, kWall}, {1.5, 1.7});  // classified on the first map
+  EXPECT_EQ(comps.back().radar_map_utime, maps[0].utime);
+  EXPECT_EQ(cls(0), kComplementary);
+  EXPECT_EQ(cls(1), kRedundant);
+}
+
+TEST_F(StageTest, AScanOfMalformedReadingsOnlyKeepsThePreviousRadarMap) {
+  odometry(0, 300'000);
+  scan(0);
+  ASSERT_EQ(maps.size(), 1u);
+  laser_scan_t s = fixture::simulateScan(fixture::fig4Room(), traj, 100'000, 100'000);
+  for (auto& f : s.flags) f = 7;  // no such flag
+  send(channels::LASER_SCAN, s);
+  EXPECT_EQ(maps.size(), 1u);
+  EXPECT_EQ(node.counter("rejected.laser_flag"), static_cast<int64_t>(s.flags.size()));
+  EXPECT_EQ(node.counter("rejected.laser_scan"), 1);
+  ring(150'000, {kWall}, {1.7});  // an empty map would make the wall's echo complementary
+  EXPECT_EQ(cls(0), kRedundant);
+  // A scan of gaps only is a reading of an empty room, not a broken one: it replaces the map.
+  s = fixture::simulateScan(fixture::fig4Room(), traj, 200'000, 100'000);
+  for (auto& f : s.flags) f = laser_scan_t::FLAG_NO_RETURN;
+  send(channels::LASER_SCAN, s);
+  EXPECT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps.back().nsegments, 0);
+}

@@ -832,7 +832,7 @@ TEST(IterativeEndPointFit, ChordDistancesOfEveryVectorPathAreTheDefinitionBitFor
 // reading-by-reading loop: the same scan (every field of every reading) and the same problems,
 // for random messages of 1..60 readings with returns at range_min and range_max and one ulp
 // either side, zero of both signs, negative, NaN and infinite ranges, no-return and unknown
-// flags, negative offsets.
+// flags, negative offsets, offsets at the limit of a scan's sweep and one beyond.
 TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
   RestoreVectorPath restore;
   if (vectorPath() != VectorPath::Avx2) std::cout << "(no AVX2 on this CPU: the scalar loop only)\n";
@@ -867,6 +867,7 @@ TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
         else if (pick < 0.8) flag = laser_scan_t::FLAG_NO_RETURN;
         else if (pick < 0.85) flag = static_cast<int8_t>(2 + static_cast<int>(coin(rng) * 100));
         else if (pick < 0.9) off = -1 - static_cast<int32_t>(coin(rng) * 1000);
+        else if (pick < 0.95) off = input_limits::kMaxLaserOffsetUs + (coin(rng) < 0.5 ? 0 : 1);
       }
       m.ranges.push_back(r);
       m.flags.push_back(flag);
@@ -899,8 +900,8 @@ TEST(LaserScanFromMessage, VectorPathGivesTheSameScanAndProblems) {
     for (int i = 0; i + 4 <= n; i += 4) {  // groups the vector loop can take
       bool common = true;
       for (int k = i; k < i + 4; ++k)
-        common = common && m.flags[k] == laser_scan_t::FLAG_OK && m.offset_us[k] >= 0 && m.ranges[k] >= 0 &&
-                 m.ranges[k] <= m.range_max;
+        common = common && m.flags[k] == laser_scan_t::FLAG_OK && m.offset_us[k] >= 0 &&
+                 m.offset_us[k] <= input_limits::kMaxLaserOffsetUs && m.ranges[k] >= 0 && m.ranges[k] <= m.range_max;
       vector_groups += common;
     }
   }
