@@ -47,7 +47,10 @@ constexpr double kPioneerShare = 0.25;
 constexpr double kMobotRadius = 0.35, kPioneerRadius = 0.27;
 
 // Uniform draws from the raw 64-bit stream (the standard's distributions differ between
-// library implementations; mt19937_64's output does not).
+// library implementations; mt19937_64's output does not). Every draw is a statement of its own
+// or an init-declarator, which C++ sequences in order; never two draws as arguments of one call,
+// whose order the compiler chooses (GCC right to left, Clang left to right). Where a point's
+// coordinates are drawn, y comes first: the order the published scenes were generated in.
 class Draw {
  public:
   explicit Draw(uint64_t index) : rng_(0x6c61736f6e6963ULL ^ index) {}
@@ -125,7 +128,8 @@ std::optional<Placed> drawObstacle(Draw& d, double W, double H) {
   if (pipe_material && d.chance(0.6)) {
     // A pipe, pole or table leg: 2-10 cm across.
     static const std::vector<double> kRadii{0.01, 0.015, 0.025, 0.05};
-    const Vec2 c(d.uniform(0.5, W - 0.5), d.uniform(0.5, H - 0.5));
+    const double c_y = d.uniform(0.5, H - 0.5), c_x = d.uniform(0.5, W - 0.5);
+    const Vec2 c(c_x, c_y);
     const double r = d.pick(kRadii);
     p.line = "{shape: circle, material: " + p.material + ", center: " + pt(c) + ", radius: " + fmt(r, 3) + "}";
     p.outline.circles.push_back({c, r});
@@ -133,8 +137,10 @@ std::optional<Placed> drawObstacle(Draw& d, double W, double H) {
   }
   if (p.material != "glass" && p.material != "mesh") {
     // A box: a cabinet, a crate, a bin, a black cardboard box; at any angle.
-    const Vec2 c(d.uniform(0.6, W - 0.6), d.uniform(0.6, H - 0.6));
-    const Vec2 size(d.uniform(0.3, 1.2), d.uniform(0.3, 0.8));
+    const double c_y = d.uniform(0.6, H - 0.6), c_x = d.uniform(0.6, W - 0.6);
+    const Vec2 c(c_x, c_y);
+    const double size_y = d.uniform(0.3, 0.8), size_x = d.uniform(0.3, 1.2);
+    const Vec2 size(size_x, size_y);
     const double yaw_deg = d.uniform(0, 90);
     // The corners as the scenario loader makes them (README "Scenario format": box).
     const double cy = std::cos(geom::deg2rad(yaw_deg)), sy = std::sin(geom::deg2rad(yaw_deg));
@@ -153,7 +159,8 @@ std::optional<Placed> drawObstacle(Draw& d, double W, double H) {
   const double length = d.uniform(1.0, 4.0);
   const int orientation = d.integer(0, 2);
   const double angle = orientation == 0 ? 0.0 : orientation == 1 ? geom::kPi / 2 : d.uniform(0, geom::kPi);
-  const Vec2 a(d.uniform(0.3, W - 0.3), d.uniform(0.3, H - 0.3));
+  const double a_y = d.uniform(0.3, H - 0.3), a_x = d.uniform(0.3, W - 0.3);
+  const Vec2 a(a_x, a_y);
   const Vec2 b = a + length * geom::unitVector(angle);
   const double g = kPartitionWallGap;
   if (!(b.x() > g && b.x() < W - g && b.y() > g && b.y() < H - g)) return std::nullopt;
@@ -207,7 +214,8 @@ std::optional<GeneratedScene> generateScene(uint64_t index) {
   const double lo = kPathWallGap + 0.1;
   std::vector<Vec2> path;
   for (int attempt = 0; attempt < 2000 && path.empty(); ++attempt) {
-    std::vector<Vec2> wp{Vec2(d.uniform(lo, W - lo), d.uniform(lo, H - lo))};
+    const double w0_y = d.uniform(lo, H - lo), w0_x = d.uniform(lo, W - lo);
+    std::vector<Vec2> wp{Vec2(w0_x, w0_y)};
     if (nearest(outlines, wp[0]) < clearance) continue;
     const int legs = d.integer(kMinLegs, kMaxLegs);
     bool ok = true;
@@ -217,7 +225,8 @@ std::optional<GeneratedScene> generateScene(uint64_t index) {
       std::optional<Vec2> next;
       int clear = 0;
       for (int t = 0; t < 100 && clear < 3; ++t) {
-        const Vec2 n(d.uniform(lo, W - lo), d.uniform(lo, H - lo));
+        const double n_y = d.uniform(lo, H - lo), n_x = d.uniform(lo, W - lo);
+        const Vec2 n(n_x, n_y);
         if ((n - wp.back()).norm() > kMinLeg && legClear(wp.back(), n)) {
           ++clear;
           if (!next || (n - wp.back()).norm() > (*next - wp.back()).norm()) next = n;
@@ -249,8 +258,10 @@ std::optional<GeneratedScene> generateScene(uint64_t index) {
   const int people = u < 0.4 ? 0 : u < 0.8 ? 1 : 2;
   for (int k = 0; k < people; ++k) {
     for (int t = 0; t < 400; ++t) {
-      const Vec2 a(d.uniform(0.5, W - 0.5), d.uniform(0.5, H - 0.5));
-      const Vec2 b(d.uniform(0.5, W - 0.5), d.uniform(0.5, H - 0.5));
+      const double a_y = d.uniform(0.5, H - 0.5), a_x = d.uniform(0.5, W - 0.5);
+      const Vec2 a(a_x, a_y);
+      const double b_y = d.uniform(0.5, H - 0.5), b_x = d.uniform(0.5, W - 0.5);
+      const Vec2 b(b_x, b_y);
       if ((b - a).norm() < kPersonMinWalk) continue;
       bool ok = true;
       for (const Vec2& q : along(a, b, 0.1)) {
@@ -260,12 +271,12 @@ std::optional<GeneratedScene> generateScene(uint64_t index) {
         if (!ok) break;
       }
       if (!ok) continue;
+      const double delay = d.uniform(0, kPersonMaxDelay), speed = d.uniform(kPersonMinSpeed, kPersonMaxSpeed);
       char line[256];
       std::snprintf(line, sizeof(line),
                     "{shape: circle, radius: %.2f, material: person, speed: %.2f, path: [%s, %s], "
                     "mode: pingpong, start_delay_s: %.1f}",
-                    kPersonRadius, d.uniform(kPersonMinSpeed, kPersonMaxSpeed), pt(a).c_str(), pt(b).c_str(),
-                    d.uniform(0, kPersonMaxDelay));
+                    kPersonRadius, speed, pt(a).c_str(), pt(b).c_str(), delay);
       movers.push_back(line);
       break;
     }
