@@ -2,6 +2,7 @@
 #include "sim/sonar_physical.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -216,6 +217,14 @@ double PhysicalSonar::aspectDb(const Primitive& p, const geom::Vec2& from) const
   return -m.sonar_aspect_db * std::abs(cross(v.normalized(), los.normalized()));
 }
 
+const Primitive* PhysicalSonar::inWorld(const WorldGeometry& world, const Primitive* stat) const {
+  if (!stat) return nullptr;  // (an edge's free end)
+  // WorldGeometry copies the scenario's statics first, in order (world_geometry.cpp).
+  const auto i = static_cast<size_t>(stat - scenario_->statics.data());
+  assert(i < scenario_->statics.size() && i < world.primitives().size());
+  return &world.primitives()[i];
+}
+
 std::vector<const Primitive*> PhysicalSonar::near(const WorldGeometry& world, const geom::Vec2& p, double reach) const {
   std::vector<const Primitive*> out;
   for (const Primitive& prim : world.primitives()) {
@@ -358,7 +367,7 @@ std::vector<Echo> PhysicalSonar::ownEchoes(const WorldGeometry& world, const geo
     double margin = budget_.planeMargin(range) + 2 * tx_.oneWayDb(offAxis(c.vertex)) + ma.sonar_reflect_db +
                     mb.sonar_reflect_db + coherentDb(ma) + coherentDb(mb);
     if (margin < 0) continue;
-    margin += 2 * transmission(prims, s, c.vertex, c.a, c.b);
+    margin += 2 * transmission(prims, s, c.vertex, inWorld(world, c.a), inWorld(world, c.b));
     if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_CORNER, c.a, c.vertex});
   }
 
@@ -368,7 +377,7 @@ std::vector<Echo> PhysicalSonar::ownEchoes(const WorldGeometry& world, const geo
     double margin = budget_.planeMargin(range) + 2 * tx_.oneWayDb(offAxis(e.point)) +
                     acoustics::edgeDb(tx_.wavelength(), range) + e.a->material->sonar_reflect_db;
     if (margin < 0) continue;
-    margin += 2 * transmission(prims, s, e.point, e.a, e.b);
+    margin += 2 * transmission(prims, s, e.point, inWorld(world, e.a), inWorld(world, e.b));
     if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_EDGE, e.a, e.point});
   }
 
@@ -437,10 +446,13 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
     if (L < lo || L > hi) continue;
     const Material& ma = *cr.a->material;
     const Material& mb = *cr.b->material;
-    double margin = budget(L) + dirDb(ping.pose, cr.vertex) + dirDb(listener, image) + ma.sonar_reflect_db +
+    // Twice reflected, the sound comes back parallel to how it left: the emitter sends it towards
+    // the listener's image (2v - p), the listener hears it from the emitter's (2v - e).
+    double margin = budget(L) + dirDb(ping.pose, 2 * cr.vertex - p) + dirDb(listener, image) + ma.sonar_reflect_db +
                     mb.sonar_reflect_db + coherentDb(ma) + coherentDb(mb);
     if (margin < 0) continue;
-    margin += transmission(prims, e, cr.vertex, cr.a, cr.b) + transmission(prims, cr.vertex, p, cr.a, cr.b);
+    const Primitive *wa = inWorld(world, cr.a), *wb = inWorld(world, cr.b);
+    margin += transmission(prims, e, cr.vertex, wa, wb) + transmission(prims, cr.vertex, p, wa, wb);
     if (margin >= 0) keep(L, margin, cr.a, sonar_cause_t::REFLECTOR_CORNER, cr.vertex);
   }
   return out;

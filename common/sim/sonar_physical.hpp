@@ -121,6 +121,9 @@ class PhysicalSonar {
                       const Primitive* skip_a = nullptr, const Primitive* skip_b = nullptr) const;
   // Static + mover primitives within `reach` of p.
   std::vector<const Primitive*> near(const WorldGeometry& world, const geom::Vec2& p, double reach) const;
+  // A reflector's surface (one of the scenario's statics) as `world` holds it: the ray casts of
+  // transmission() skip a surface by its address in the world.
+  const Primitive* inWorld(const WorldGeometry& world, const Primitive* stat) const;
   // The coherent and incoherent terms of a material [dB].
   double coherentDb(const Material& m) const;
   double incoherentDb(const Material& m, double beta, double range) const;

@@ -286,6 +286,39 @@ TEST(SonarPhysical, ArrivalsOfAnotherPingFollowTheMirrorPath) {
   EXPECT_TRUE(model.arrivals(w, {1'000'000, 0, a}, {0, 0.1, geom::kPi}, 1'000'000, 1).empty());
 }
 
+TEST(SonarPhysical, ACornerSendsAPingBackToANeighbourParallelToHowItLeft) {
+  // A right-angled corner at v = (3, 3). Twice reflected, a ray comes back parallel to how it
+  // left, so the path emitter e -> corner -> listener p has length |(2v - e) - p|, and it leaves
+  // e towards p's image 2v - p while p hears it from e's image 2v - e: for e = (0.5, 1.5) and
+  // p = (1.5, 0.5) both directions are 45 deg, although v itself lies 31 deg from e.
+  const Scenario s = scenario("obstacles:\n  - {shape: polyline, material: wall, points: [[3, -1], [3, 3], [-1, 3]]}\n");
+  const SonarConfig c = clean();
+  WorldGeometry w(s);
+  PhysicalSonar model(s, c, 1);
+  const geom::Vec2 v(3, 3), e(0.5, 1.5), p(1.5, 0.5);
+  const geom::Pose2 listener{p.x(), p.y(), deg2rad(45)};
+  auto corner = [&](double emitter_heading_deg) -> std::optional<Echo> {
+    for (const Echo& x : model.arrivals(w, {1'000'000, 0, {e.x(), e.y(), deg2rad(emitter_heading_deg)}}, listener,
+                                        1'000'000, 1))
+      if (x.reflector == kCorner) return x;
+    return std::nullopt;
+  };
+  const auto along = corner(45);  // the emitter's axis on the way the sound leaves
+  ASSERT_TRUE(along.has_value()) << "the corner's walls must not block the path from the corner itself";
+  EXPECT_EQ(along->cause, kCrosstalk);
+  EXPECT_NEAR(along->range, 0.5 * ((2 * v - e) - p).norm(), 1e-9);
+  EXPECT_NEAR(along->hit.x(), 3.0, 1e-9);
+  // Aimed at the corner point instead, the emitter sends the sound 14 deg off its axis.
+  const auto at_vertex = corner(31);
+  EXPECT_TRUE(!at_vertex || at_vertex->margin < along->margin - 3.0);
+  // The same ping heard 5 ms later by the same listener: a late echo, 0.86 m shorter.
+  bool late = false;
+  for (const Echo& x : model.arrivals(w, {1'000'000, 0, {e.x(), e.y(), deg2rad(45)}}, listener, 1'005'000, 1))
+    late = late || (x.reflector == kCorner && x.cause == kLateEcho &&
+                    std::abs(x.range - 0.5 * (((2 * v - e) - p).norm() - 343.0 * 0.005)) < 1e-9);
+  EXPECT_TRUE(late);
+}
+
 TEST(SonarPhysical, BlankedEchoesAreLostAndTheNextOneIsRead) {
   // A pipe 6 cm from the transducer (inside range_min = 0.10 m), 10° off the axis, and a wall
   // at 1.5 m: the pipe's echo arrives while the receiver is blanked; the wall's is read. The
