@@ -36,6 +36,43 @@ bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const L
   return true;
 }
 
+bool RmCorner::inside(const geom::Vec2& p) const {
+  const geom::Vec2 d = p - vertex;
+  const auto cross = [](const geom::Vec2& a, const geom::Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
+  const double turn = cross(arm_a, arm_b);  // the side of arm_a on which arm_b lies
+  return cross(arm_a, d) * turn > 0 && cross(d, arm_b) * turn > 0;
+}
+
+std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join, double angle_tol) {
+  std::vector<RmCorner> out;
+  const double max_cos = std::sin(angle_tol);  // |cos(angle)| <= sin(tol) <=> |angle - 90 deg| <= tol
+  for (size_t i = 0; i < segments.size(); ++i)
+    for (size_t j = i + 1; j < segments.size(); ++j) {
+      const geom::Segment &s = segments[i].seg, &t = segments[j].seg;
+      for (int ei = 0; ei < 2; ++ei)
+        for (int ej = 0; ej < 2; ++ej) {
+          const geom::Vec2& a = ei ? s.b : s.a;
+          const geom::Vec2& b = ej ? t.b : t.a;
+          if ((a - b).norm() > join) continue;
+          const geom::Vec2 v = 0.5 * (a + b);
+          const geom::Vec2 ua = (ei ? s.a : s.b) - v, ub = (ej ? t.a : t.b) - v;
+          if (ua.norm() < join || ub.norm() < join) continue;
+          RmCorner c{v, ua.normalized(), ub.normalized()};
+          if (std::abs(c.arm_a.dot(c.arm_b)) <= max_cos) out.push_back(c);
+        }
+    }
+  return out;
+}
+
+std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, const geom::Vec2& axis_e,
+                                     const geom::Vec2& p, const geom::Vec2& axis_p) {
+  if (!c.inside(e) || !c.inside(p)) return std::nullopt;
+  // Sent towards the listener's image 2v - p, heard from the emitter's image 2v - e: one direction.
+  const geom::Vec2 path = 2.0 * c.vertex - e - p;
+  if (path.dot(axis_e) <= 0 || path.dot(axis_p) <= 0) return std::nullopt;
+  return 0.5 * path.norm();
+}
+
 bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {
   // Either direction: a map built long before or after the firing shows another scene.
   return rm == nullptr || std::llabs(utime - rm->utime) > max_rm_age_us;
@@ -55,6 +92,11 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
   // sin and cos of the robot's heading once for the group's sensors (Pose2::compose's values).
   const double rc = robot_pose ? std::cos(robot_pose->theta) : 1.0, rs = robot_pose ? std::sin(robot_pose->theta) : 0.0;
   out.readings.reserve(g.readings.size());
+  // Where a laser line meets another at a right angle (the 5 cm of the lines' fit; 10 deg turns
+  // the returned sound by 20 deg, still within a neighbour's side lobes).
+  const std::vector<RmCorner> corners =
+      p.crosstalk_corners && rm && g.readings.size() > 1 ? rightAngleCorners(segments, 0.05, geom::deg2rad(10.0))
+                                                          : std::vector<RmCorner>{};
   for (const SonarReading& r : g.readings) {
     ClassifiedReading c;
     c.sensor_id = r.sensor_id;
@@ -94,11 +136,32 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
         c.hypothetical_range = *d;
         c.by_pole = true;
       }
-    if (p.outside_view_complementary && rm && c.end && c.sensor_pose &&
+    out.readings.push_back(c);
+  }
+  // Crosstalk by way of a corner: the group's sensors fired together, each heard by the others.
+  for (ClassifiedReading& c : out.readings) {
+    if (corners.empty() || c.cls != SonarClass::Complementary || !c.sensor_pose) continue;
+    const geom::Vec2 pp = c.sensor_pose->position(), axis_p = geom::unitVector(c.sensor_pose->theta);
+    for (const ClassifiedReading& emitter : out.readings) {
+      if (&emitter == &c || !emitter.sensor_pose || c.by_crosstalk) continue;
+      const geom::Vec2 e = emitter.sensor_pose->position(), axis_e = geom::unitVector(emitter.sensor_pose->theta);
+      for (const RmCorner& corner : corners)
+        if (const auto x = crosstalkRange(corner, e, axis_e, pp, axis_p); x && std::abs(c.range - *x) <= p.tolerance) {
+          c.cls = SonarClass::Redundant;
+          c.hypothetical_range = *x;
+          c.by_crosstalk = true;
+          break;
+        }
+    }
+  }
+  for (size_t i = 0; i < out.readings.size(); ++i) {
+    ClassifiedReading& c = out.readings[i];
+    const SonarReading& r = g.readings[i];
+    // (Crosstalk is explained whatever the listener's arc covers: it is not an echo from there.)
+    if (p.outside_view_complementary && rm && c.end && c.sensor_pose && !c.by_crosstalk &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
         !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))
       c.cls = SonarClass::OutsideView;
-    out.readings.push_back(c);
   }
   return out;
 }

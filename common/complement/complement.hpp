@@ -60,7 +60,28 @@ struct ComplementParams {
   // there, where the laser has nothing to say, so the levels use it as a complementary echo.
   // false: the paper's rule everywhere. A full-circle scanner sees everywhere: no effect.
   bool outside_view_complementary = true;
+  // A complementary reading at the range a ping of another sensor of the same group would read
+  // by way of a right-angled corner of the Radar Map (twice reflected: rightAngleCorners,
+  // crosstalkRange) is that crosstalk, explained by what the laser sees: Redundant. false: the
+  // paper's rule (such a reading stays complementary).
+  bool crosstalk_corners = true;
 };
+
+// A corner of the Radar Map: two of its segments that meet (end points within `join`) at a
+// right angle (within `angle_tol`). A right-angled corner sends sound back parallel to how it
+// came (twice reflected), so a neighbouring transducer can hear another's ping by way of it.
+struct RmCorner {
+  geom::Vec2 vertex;
+  geom::Vec2 arm_a, arm_b;  // unit vectors along the two walls, away from the vertex
+  // True if p lies inside the corner (in front of both walls' faces that look into it).
+  bool inside(const geom::Vec2& p) const;
+};
+std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join, double angle_tol);
+// The range a listener at p reads for a ping sent from e by way of the corner: half the length of
+// the path e -> corner -> p, |(2v - e) - p| / 2; nullopt if either lies outside the corner or
+// the path leaves or reaches either transducer from behind (heading along `axis_*`, unit vectors).
+std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, const geom::Vec2& axis_e,
+                                     const geom::Vec2& p, const geom::Vec2& axis_p);
 
 // True if the scanner's view covers the whole arc at `range` across the sensor's beam.
 bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const LaserView& view);
@@ -74,6 +95,7 @@ struct ClassifiedReading {
   std::optional<geom::Pose2> sensor_pose;  // global, at firing time
   std::optional<geom::Vec2> end;           // Segment Map point (echo readings only)
   bool by_pole = false;  // Redundant because it matched a pole of the Radar Map (poleEcho)
+  bool by_crosstalk = false;  // Redundant because it matched crosstalk by way of a corner
 };
 
 struct GroupComplement {

@@ -5,7 +5,8 @@
 namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
-  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles"});
+  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles",
+               "crosstalk"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
   p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
@@ -17,6 +18,7 @@ ComplementConfig complementConfig(const Config& c) {
 
   p.outside_view_complementary = c.getChoice("outside_laser_view", p.outside_view_complementary,
                                               {{"complementary", true}, {"paper", false}});
+  p.crosstalk_corners = c.getChoice("crosstalk", p.crosstalk_corners, {{"corners", true}, {"paper", false}});
 
   const Config rm = c.section("radar_map");
   rm.allowOnly({"jump_abs", "jump_rel", "split_threshold", "min_points", "min_length"});

@@ -99,6 +99,63 @@ TEST(ExtractComplement, AReadingAtAPolesDistanceIsThatPolesAndALongerOneIsNotFal
   EXPECT_FALSE(wall.readings[0].by_pole);
 }
 
+TEST(RightAngleCorners, WhereTwoLinesMeetSquare) {
+  // An L (in either order and direction), a 60 deg bend, two lines 0.2 m apart, a straight run.
+  const auto corners = [](std::vector<RmSegment> segs) { return rightAngleCorners(segs, 0.05, geom::deg2rad(10)); };
+  const std::vector<RmSegment> l = {{{{1.2, -1.0}, {1.2, 1.2}}, 20, 0}, {{{1.21, 1.2}, {0.6, 1.2}}, 10, 0}};
+  const auto found = corners(l);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NEAR(found[0].vertex.x(), 1.205, 1e-12);
+  EXPECT_NEAR(found[0].vertex.y(), 1.2, 1e-12);
+  EXPECT_EQ(corners({l[1], {{{1.2, 1.2}, {1.2, -1.0}}, 20, 0}}).size(), 1u);
+  EXPECT_TRUE(corners({l[0], {{{1.2, 1.2}, {1.2 - 0.5, 1.2 + 0.5 * std::sqrt(3.0)}}, 10, 0}}).empty());  // 60 deg
+  EXPECT_EQ(corners({l[0], {{{1.2, 1.2}, {1.2 - 0.5, 1.2 + 0.5 * std::tan(geom::deg2rad(8))}}, 10, 0}}).size(), 1u);
+  EXPECT_TRUE(corners({l[0], {{{1.0, 1.2}, {0.4, 1.2}}, 10, 0}}).empty());                  // 0.2 m apart
+  EXPECT_TRUE(corners({l[0], {{{1.2, 1.2}, {1.2, 2.0}}, 10, 0}}).empty());                  // straight on
+  // Inside: in front of both walls' inner faces.
+  EXPECT_TRUE(found[0].inside({0, 0}));
+  EXPECT_FALSE(found[0].inside({1.5, 0}));  // behind the first wall
+  EXPECT_FALSE(found[0].inside({0, 1.5}));  // behind the second
+}
+
+TEST(ExtractComplement, CrosstalkByWayOfACornerIsTheCornersNotComplementary) {
+  // A corner at (1.2, 1.2) whose second wall ends at x = 0.6, so the listener's beam (up, +y,
+  // from (0, 0.05)) sees nothing within the 2.20 m limit. The group's other sensor, at (0.05, 0)
+  // facing +x, pings; the corner sends it back towards the listener: path |2v - e - p|.
+  RadarMap rm;
+  rm.utime = 1'000'000;
+  rm.segments = {{{{1.2, -1.0}, {1.2, 1.2}}, 20, 0}, {{{1.2, 1.2}, {0.6, 1.2}}, 10, 0}};
+  const geom::Vec2 v(1.2, 1.2), e(0.05, 0), p(0, 0.05);
+  const double crosstalk = 0.5 * (2 * v - e - p).norm();  // 1.66 m
+  const auto group = [&](double listener_range) {
+    SonarGroup g;
+    g.utime = 1'100'000;
+    g.readings.push_back({0, 0, true, {e.x(), e.y(), 0}, true});                            // the emitter: no echo
+    g.readings.push_back({6, listener_range, false, {p.x(), p.y(), geom::kPi / 2}, true});  // the listener
+    return g;
+  };
+  ComplementParams params;
+  const auto heard = extractComplement(group(crosstalk + 0.03), Pose2{}, &rm, params);
+  ASSERT_EQ(heard.readings.size(), 2u);
+  EXPECT_EQ(heard.readings[1].cls, SonarClass::Redundant);
+  EXPECT_TRUE(heard.readings[1].by_crosstalk);
+  EXPECT_NEAR(heard.readings[1].hypothetical_range, crosstalk, 1e-12);
+  // Another range is something the laser does not see.
+  const auto other = extractComplement(group(1.2), Pose2{}, &rm, params);
+  EXPECT_EQ(other.readings[1].cls, SonarClass::Complementary);
+  EXPECT_FALSE(other.readings[1].by_crosstalk);
+  // Alone in its group, or with the paper's rule, the same reading stays complementary.
+  SonarGroup alone = group(crosstalk);
+  alone.readings.erase(alone.readings.begin());
+  EXPECT_EQ(extractComplement(alone, Pose2{}, &rm, params).readings[0].cls, SonarClass::Complementary);
+  params.crosstalk_corners = false;
+  EXPECT_EQ(extractComplement(group(crosstalk), Pose2{}, &rm, params).readings[1].cls, SonarClass::Complementary);
+  // A corner that is not right-angled sends nothing back to a neighbour.
+  params.crosstalk_corners = true;
+  rm.segments[1].seg.b = {1.2 - 0.6, 1.2 + 0.6 * std::tan(geom::deg2rad(30))};
+  EXPECT_EQ(extractComplement(group(crosstalk), Pose2{}, &rm, params).readings[1].cls, SonarClass::Complementary);
+}
+
 // extractComplement takes the robot's sin and cos once per group and the axis direction from the
 // beam's edges: every reading's sensor pose, segment-map point and hypothesis must be bit for bit
 // what Pose2::compose, segmentMapPoint and hypotheticalRange give, for any pose and mount.
@@ -390,6 +447,10 @@ TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
   EXPECT_FALSE(complementConfig(Config::fromString("complement: {outside_laser_view: paper}").section("complement"))
                    .params.outside_view_complementary);
   EXPECT_NE(err("complement: {outside_laser_view: maybe}").find("complement.outside_laser_view"), std::string::npos);
+  EXPECT_TRUE(def.params.crosstalk_corners);
+  EXPECT_FALSE(complementConfig(Config::fromString("complement: {crosstalk: paper}").section("complement"))
+                   .params.crosstalk_corners);
+  EXPECT_NE(err("complement: {crosstalk: no}").find("complement.crosstalk"), std::string::npos);
 }
 
 TEST(ExtractComplement, EachReadingsHypothesisUsesItsOwnBeam) {
