@@ -41,10 +41,10 @@ std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp
 std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp_threshold, int ix0, int iy0, int w,
                                           const std::function<int64_t(int64_t)>& support_of) {
   std::vector<CandidateCell> out;
-  agm.forEachPositiveCell(ix0, iy0, ix0 + w - 1, iy0 + w - 1, [&](int ix, int iy, int /*g*/, int gp) {
+  agm.forEachPositiveCell(ix0, iy0, ix0 + w - 1, iy0 + w - 1, [&](int ix, int iy, int g, int gp) {
     if (gp < gp_threshold) return;
     const int64_t cycle = agm.lastHitCycle(ix, iy);
-    out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle});
+    out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle, g});
   });
   return out;
 }
@@ -193,20 +193,20 @@ std::vector<geom::Vec2> centres(const std::vector<const CandidateCell*>& cells) 
   return out;
 }
 
-// Total least squares with each cell weighted by its Gp; the segment spans the projections of the
+// Total least squares with each cell weighted by its own G; the segment spans the projections of the
 // first and last cell (cells ordered along the line). rms: weighted, as the fit.
 complement::RmSegment fitWeighted(const std::vector<const CandidateCell*>& cells) {
   double wsum = 0;
   geom::Vec2 c = geom::Vec2::Zero();
   for (const CandidateCell* k : cells) {
-    const double w = std::max(1, k->gp);
+    const double w = std::max(1, k->g);
     c += w * k->centre;
     wsum += w;
   }
   c /= wsum;
   double sxx = 0, syy = 0, sxy = 0;
   for (const CandidateCell* k : cells) {
-    const double w = std::max(1, k->gp);
+    const double w = std::max(1, k->g);
     const geom::Vec2 d = k->centre - c;
     sxx += w * d.x() * d.x();
     syy += w * d.y() * d.y();
@@ -215,7 +215,7 @@ complement::RmSegment fitWeighted(const std::vector<const CandidateCell*>& cells
   const geom::Vec2 dir = geom::unitVector(0.5 * std::atan2(2.0 * sxy, sxx - syy));
   const geom::Vec2 nrm(-dir.y(), dir.x());
   double ss = 0;
-  for (const CandidateCell* k : cells) ss += std::max(1, k->gp) * std::pow((k->centre - c).dot(nrm), 2);
+  for (const CandidateCell* k : cells) ss += std::max(1, k->g) * std::pow((k->centre - c).dot(nrm), 2);
   complement::RmSegment s;
   s.seg = {c + dir * (cells.front()->centre - c).dot(dir), c + dir * (cells.back()->centre - c).dot(dir)};
   s.npoints = static_cast<int>(cells.size());

@@ -44,7 +44,8 @@ struct LineGenerationParams {
   // deep, has its surface in the band's middle, not on the face nearest to the robot.
   enum class RefitCells { Run, Band } refit_cells = RefitCells::Band;
   // How the band refit weighs its cells. Cells: each cell once (every cell is one point). Echoes:
-  // each cell by its Gp, the echoes that agree on it, and the band chosen again around the
+  // each cell by its own G, the echoes placed in it (not Gp: a stray cell beside a wall takes
+  // the wall's echoes into its neighbourhood sum), and the band chosen again around the
   // weighted line until it no longer changes: the line is where most echoes put the surface, so
   // a few stray cells beside a two-cell-deep band (an edge's echoes placed off the surface) do
   // not tilt it.
@@ -69,8 +70,9 @@ LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams 
 
 struct CandidateCell {
   geom::Vec2 centre = geom::Vec2::Zero();  // global (odometry) frame: where the cell's evidence is
-  int gp = 0;
+  int gp = 0;           // propagated weight: the candidate test (Gp >= G_T)
   int64_t support = 0;  // when the cell was last hit (the caller's time unit, e.g. utime)
+  int g = 0;            // the cell's own weight G, the echoes placed in it: the refit's weight
 };
 
 struct PolarCell {

@@ -193,13 +193,19 @@ TEST(LineGeneration, BandRefitPutsTheLineInTheMiddleOfATwoDeepBand) {
 }
 
 TEST(LineGeneration, EchoWeightedRefitFollowsTheHeavyRowsNotStrayCells) {
-  // A mesh at y = 1.05 heard from both sides many times (rows 1.0 and 1.1, Gp 50), and at its
-  // left end five cells 0.1 m in front of it from a few stray echoes (Gp 5; an edge's echoes
-  // placed off the surface). They are nearest per angle there, so the run's line is tilted.
+  // A mesh at y = 1.05 heard from both sides many times (rows 1.0 and 1.1, G 50 each), and at
+  // its left end five cells 0.1 m in front of it from one stray echo each (G 1; an edge's echoes
+  // placed off the surface). They are nearest per angle there, so the run's line is tilted. Their
+  // Gp is as large as the rows' (a 3 x 3 neighbourhood sum takes in the row beside them): the
+  // weight is the cell's own G.
   std::vector<CandidateCell> cells = join(along({-1, 1.0}, {1, 1.0}), along({-1, 1.1}, {1, 1.1}));
-  for (CandidateCell& c : cells) c.gp = 50;
+  for (CandidateCell& c : cells) {
+    c.g = 50;
+    c.gp = 300;
+  }
   for (CandidateCell c : along({-1, 0.9}, {-0.6, 0.9})) {
-    c.gp = 5;
+    c.g = 1;
+    c.gp = 150;
     cells.push_back(c);
   }
   auto endsOff = [](const AgmLine& l) {  // the line's distance from the mesh at x = -1 and x = 1
@@ -317,6 +323,7 @@ TEST(LineGeneration, CandidatesComeFromTheGridAboveThreshold) {
   EXPECT_NEAR(cells[0].centre.x(), 1.02, 1e-6);
   EXPECT_NEAR(cells[0].centre.y(), 1.03, 1e-6);
   EXPECT_EQ(cells[0].gp, 3);
+  EXPECT_EQ(cells[0].g, 3);
   EXPECT_EQ(cells[0].support, 3000);  // last hit in cycle 3
 }
 
