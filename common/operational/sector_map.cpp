@@ -514,8 +514,9 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, double ct, double st, 
     hint = k;
     Value& v = out[static_cast<size_t>(k)];
     if (known(v.d) && !(dist < v.d)) continue;
-    // The laser reports it, at its own bearing.
-    if (p_.remembered_explains_radius > 0 ? check_laser && laserNear(p, p_.remembered_explains_radius) : explained(p))
+    // The laser reports it, at its own bearing (a stale scan explains nothing away).
+    if (check_laser &&
+        (p_.remembered_explains_radius > 0 ? laserNear(p, p_.remembered_explains_radius) : explained(p)))
       continue;
     v = {static_cast<float>(dist), SectorSource::Remembered};
   }

@@ -409,6 +409,21 @@ TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
     // 0.2 m: the scan explains it.
     EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
   }
+  // A stale scan explains nothing away, with either radius: a cell on its point is remembered.
+  for (const double radius : {0.0, 0.2}) {
+    SectorMapParams p;
+    p.laser_explains_radius = 0.10;
+    p.remembered_explains_radius = radius;
+    SectorMap s(p);
+    AccumulativeGridMap agm(agmParams01());
+    agm.centreOn({0.0, 0.0});
+    s.setSonarTime(900'000);
+    s.setLaserPoints(0, {seen});
+    s.setRemembered(900'000, {seen + Vec2(-0.02, 0.0)});
+    const auto& m = s.update(1'000'000, pose, agm);
+    ASSERT_TRUE(m.laser_stale);
+    EXPECT_NEAR(m.remembered[24], 0.98, 1e-3) << radius;  // (pointAt: from the boundary)
+  }
 }
 
 // The laser values against the definition computed naively: every point moved into the pose,
