@@ -107,7 +107,7 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   for (const auto& r : result.readings) {
     node_.count(classCounter(r.cls));
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
-    if (r.by_pole) node_.count("redundant.pole");
+    if (r.by_pole && r.cls == cp::SonarClass::Redundant) node_.count("redundant.pole");  // (not if outside_view)
     if (r.by_crosstalk) node_.count("redundant.crosstalk");
   }
   cp::hypothesisToMessageInto(hyp_msg_, result, cfg_.params);
