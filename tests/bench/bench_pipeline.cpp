@@ -4,13 +4,15 @@
 // Input: fig7_lab (deploy/scenarios) simulated in memory with the shipped configuration
 // (deploy/config/lasonic.yaml), then run once through the real ComplementStage, PilotStage and
 // NavigatorStage (on a LocalBus, as lasonic-replay does) to record every message in order,
-// AGM_TACTICAL included (the pilot's remembered obstacles). The timed loop then replays the
+// AGM_TACTICAL and AGM_LINES included (the pilot's remembered obstacles, taken onto their lines).
+// The timed loop then replays the
 // sensor messages, in order, through the same library calls the two stages make, without the
 // message layer (encoding, publishing; decoding the sensor messages into their structs is in):
 //   BM_Fig7LabFiringGroup: one iteration = one firing group: hypothetical scan + classification
 //     (extractComplement) + AGM cycle (echo placement, follow, update) + sector map;
 //   BM_Fig7LabLaserScan: one iteration = one laser scan: Radar Map (extractRadarMap) + the
-//     pilot's scan handling (placeReadings, the first sector map after the scan);
+//     pilot's scan handling (placeReadings, movers, the dark continuation, the first sector map
+//     after the scan);
 //   BM_Fig7LabLaserScanOneProcess: the same with the scan decoded and its readings placed once
 //     for both stages (SharedPlacement, as lasonic-replay runs them), the pilot keeping its own
 //     pose history.
@@ -30,9 +32,11 @@
 #include <vector>
 
 #include <lasonic/grid_map_t.hpp>
+#include <lasonic/line_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
 #include "complement/complement.hpp"
+#include "complement/dark_continuation.hpp"
 #include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "complement/shared_placement.hpp"
@@ -41,6 +45,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/local_bus.hpp"
 #include "lcmio/node.hpp"
+#include "operational/remembered_on_lines.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
 #include "stages/complement_stage.hpp"
@@ -65,7 +70,7 @@ T decodeAs(const std::vector<uint8_t>& data) {
 // The scene's messages in the order the pilot sees them.
 struct Run {
   Config root;
-  using Event = std::variant<odometry_t, laser_scan_t, sonar_ring_t, grid_map_t>;
+  using Event = std::variant<odometry_t, laser_scan_t, sonar_ring_t, grid_map_t, line_map_t>;
   std::vector<Event> inputs;
   std::vector<sector_map_t> sector_maps;  // what the real PilotStage published, in order
   int64_t groups = 0, scans = 0;
@@ -87,6 +92,7 @@ const Run& recordedRun() {
       const auto* p = static_cast<const uint8_t*>(rb->data);
       const std::vector<uint8_t> data(p, p + rb->data_size);
       if (ch == channels::AGM_TACTICAL) r.inputs.emplace_back(decodeAs<grid_map_t>(data));
+      if (ch == channels::AGM_LINES) r.inputs.emplace_back(decodeAs<line_map_t>(data));
       if (ch == channels::SECTOR_MAP) r.sector_maps.push_back(decodeAs<sector_map_t>(data));
     });
     sim::WorldCore world(setup.scenario, sim::odometryConfigFor(setup));
@@ -175,6 +181,16 @@ class Replayer {
             movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
         takeOutMovers(timed_, runs, points, moving);
       }
+      if (pcfg_.dark_continuation.length > 0) {  // (as PilotStage: a surface that goes dark goes on)
+        no_return_.resize(ls->flags.size());
+        for (size_t i = 0; i < ls->flags.size(); ++i)
+          no_return_[i] = ls->flags[i] == laser_scan_t::FLAG_NO_RETURN && ls->offset_us[i] >= 0 &&
+                                  ls->offset_us[i] <= cp::input_limits::kMaxLaserOffsetUs
+                              ? 1
+                              : 0;
+        cp::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); }, cp::RadarMapConfig{},
+                             pcfg_.dark_continuation, points);
+      }
       points_ = sector_map_.setLaserPoints(newest, std::move(points));
       sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);
       now_ = std::max(now_, newest);
@@ -198,14 +214,22 @@ class Replayer {
       benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
       return true;
     }
+    if (const auto* l = std::get_if<line_map_t>(&ev)) {  // PilotStage::onAgmLines
+      lines_.clear();
+      for (const line_segment_t& seg : l->segments) lines_.push_back({{seg.x0, seg.y0}, {seg.x1, seg.y1}});
+      lines_utime_ = l->utime;
+      if (tactical_utime_ == lines_utime_) setRemembered();
+      return false;
+    }
     const auto& g = std::get<grid_map_t>(ev);  // PilotStage::onTacticalMap: the occupied cells' centres
-    std::vector<geom::Vec2> points;
+    tactical_points_.clear();
     const int threshold = std::max(1, g.gp_threshold);
     for (int iy = 0; iy < g.height; ++iy)
       for (int ix = 0; ix < g.width; ++ix)
         if (g.gp[static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix)] >= threshold)
-          points.emplace_back(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
-    sector_map_.setRemembered(g.utime, std::move(points));
+          tactical_points_.emplace_back(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+    tactical_utime_ = g.utime;
+    setRemembered();
     return false;
   }
 
@@ -216,6 +240,19 @@ class Replayer {
   }
 
  private:
+  // PilotStage::setRemembered: the cells taken onto the lines of the same navigator cycle, and
+  // the line filled between them.
+  void setRemembered() {
+    std::vector<geom::Vec2> points = tactical_points_;
+    if (lines_utime_ == tactical_utime_) {
+      const std::vector<int> taken_by = moveOntoLines(points, lines_, pcfg_.remembered_on_lines_m);
+      const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, lines_, pcfg_.remembered_fill_m,
+                                                              2 * pcfg_.sector_map.robot_radius);
+      points.insert(points.end(), fill.begin(), fill.end());
+    }
+    sector_map_.setRemembered(tactical_utime_, std::move(points));
+  }
+
   const std::vector<GroupReading>& groupReadings(size_t i, const cp::GroupComplement& result) {
     auto& all = prepared();
     if (i >= all.size()) {
@@ -246,6 +283,10 @@ class Replayer {
   std::optional<cp::LaserScan> own_scan_;  // (as the stages without SharedPlacement: storage reused)
   std::vector<cp::ScanPoint> own_placed_;
   std::vector<geom::Vec2> points_;  // (handed back by SectorMap::setLaserPoints)
+  std::vector<uint8_t> no_return_;
+  std::vector<geom::Vec2> tactical_points_;
+  std::vector<geom::Segment> lines_;
+  int64_t tactical_utime_ = -1, lines_utime_ = -2;
 };
 
 // One pass that checks the replayer against the real stages (and prepares the group readings),
