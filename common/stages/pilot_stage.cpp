@@ -323,6 +323,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
         if (movers_.still()[i]) still.push_back(timed_[i].p);
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
+  } else if (remember) {
+    still = points;  // every return, before the dark continuation adds its points below
   }
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
@@ -353,7 +355,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // that pose nothing tells what the scan covered: nothing is remembered or recalled.
   if (const auto robot = poses_.at(newest); remember && robot) {
     const complement::LaserView view = complement::laserViewOf(*scan, *robot);
-    laser_memory_.update(newest, robot->position(), cfg_.predict_movers ? still : points, moving,
+    laser_memory_.update(newest, robot->position(), still, moving,
                          [&view](const geom::Vec2& p) { return view.covers(p); });
     const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
     if (!coasting.empty()) {

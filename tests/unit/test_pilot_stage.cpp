@@ -395,10 +395,11 @@ TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
 // scanner's blind wedge, and the next scan has no return. Returns the last SECTOR_MAP and the
 // remembered returns counted.
 namespace {
-std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width) {
+std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width, bool predict_movers = true) {
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotConfig cfg;
   cfg.laser_memory_s = memory_s;
+  cfg.predict_movers = predict_movers;
   PilotStage stage{node, cfg};
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
@@ -449,6 +450,17 @@ TEST(PilotLaserMemory, AWallLeftBehindA270DegreeScannerStaysInTheSectorMap) {
     EXPECT_EQ(m.source[behind], kNone);
     EXPECT_FLOAT_EQ(m.laser_distance[behind], -1.0f);
     EXPECT_EQ(remembered, 0);
+  }
+}
+
+// What the memory keeps is returns: the dark continuation's points (the face goes on 0.10 m past
+// each end, into the empty readings) are the newest scan's alone. Without the mover prediction
+// every return is kept, so exactly the face's 161.
+TEST(PilotLaserMemory, TheDarkContinuationIsNotRemembered) {
+  ASSERT_GT(PilotConfig{}.dark_continuation.length, 0.0);
+  for (const bool predict : {true, false}) {
+    const auto [m, remembered] = mapAfterTurningAway(3.0, 80, predict);
+    EXPECT_EQ(remembered, 161) << "predict_movers " << predict;
   }
 }
 
