@@ -5,7 +5,9 @@
 // Out: RADAR_MAP per laser scan; SONAR_HYPOTHESIS and SONAR_COMPLEMENT per firing group.
 // Counters (PROCESS_STATUS): class.<complementary|redundant|false|unverifiable|invalid>,
 // unverifiable.stale_radar_map, redundant.pole (of the redundant ones, those a pole of the
-// Radar Map explained: complement/pole_tracker.hpp), rejected.* for every kind of bad input.
+// Radar Map explained: complement/pole_tracker.hpp), redundant.crosstalk (those a right-angled
+// Radar Map corner explained as another sensor's ping: rightAngleCorners), rejected.* for every
+// kind of bad input.
 //
 // Time comes only from the messages, never from the wall clock, so a replay is deterministic.
 //
