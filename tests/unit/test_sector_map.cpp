@@ -393,36 +393,29 @@ TEST(SectorMap, RememberedOnlyAddsAndIsUnusedWhenStale) {
 TEST(SectorMap, RememberedCellsTheScanExplainsAreNotUsed) {
   const Pose2 pose{0.0, 0.0, 0.0};
   const Vec2 seen = pointAt(pose, 3.75 * kDeg, 1.0);
-  const Vec2 cell = seen + Vec2(-0.15, 0.0);  // a remembered cell 0.15 m in front of what the laser sees
-  for (const double radius : {0.0, 0.2}) {
+  // The scan (at time 0) sees `seen`; the memory (at `t_memory`) holds `cell`; the map at `now`.
+  const auto mapWith = [&](double radius, const Vec2& cell, int64_t t_memory, int64_t now) {
     SectorMapParams p;
     p.laser_explains_radius = 0.10;
     p.remembered_explains_radius = radius;
     SectorMap s(p);
     AccumulativeGridMap agm(agmParams01());
     agm.centreOn({0.0, 0.0});
-    s.setSonarTime(0);
+    s.setSonarTime(t_memory);
     s.setLaserPoints(0, {seen});
-    s.setRemembered(0, {cell});
-    const auto& m = s.update(0, pose, agm);
-    // 0: laser_explains_radius (0.10 m) applies, the cell is 0.15 m away: used, nearer than the laser.
-    // 0.2 m: the scan explains it.
+    s.setRemembered(t_memory, {cell});
+    return SectorMapState(s.update(now, pose, agm));
+  };
+  for (const double radius : {0.0, 0.2}) {
+    // A remembered cell 0.15 m in front of what the laser sees. 0: laser_explains_radius
+    // (0.10 m) applies, the cell is 0.15 m away: used, nearer than the laser. 0.2 m: the scan
+    // explains it.
+    const SectorMapState m = mapWith(radius, seen + Vec2(-0.15, 0.0), 0, 0);
     EXPECT_EQ(m.source[24], radius > 0 ? SectorSource::Laser : SectorSource::Remembered) << radius;
-  }
-  // A stale scan explains nothing away, with either radius: a cell on its point is remembered.
-  for (const double radius : {0.0, 0.2}) {
-    SectorMapParams p;
-    p.laser_explains_radius = 0.10;
-    p.remembered_explains_radius = radius;
-    SectorMap s(p);
-    AccumulativeGridMap agm(agmParams01());
-    agm.centreOn({0.0, 0.0});
-    s.setSonarTime(900'000);
-    s.setLaserPoints(0, {seen});
-    s.setRemembered(900'000, {seen + Vec2(-0.02, 0.0)});
-    const auto& m = s.update(1'000'000, pose, agm);
-    ASSERT_TRUE(m.laser_stale);
-    EXPECT_NEAR(m.remembered[24], 0.98, 1e-3) << radius;  // (pointAt: from the boundary)
+    // A stale scan explains nothing away, with either radius: a cell on its point is remembered.
+    const SectorMapState late = mapWith(radius, seen + Vec2(-0.02, 0.0), 900'000, 1'000'000);
+    ASSERT_TRUE(late.laser_stale);
+    EXPECT_NEAR(late.remembered[24], 0.98, 1e-3) << radius;  // (pointAt: from the boundary)
   }
 }
 
