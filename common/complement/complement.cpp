@@ -36,34 +36,6 @@ bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const L
   return true;
 }
 
-bool RmCorner::inside(const geom::Vec2& p) const {
-  const geom::Vec2 d = p - vertex;
-  const auto cross = [](const geom::Vec2& a, const geom::Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
-  const double turn = cross(arm_a, arm_b);  // the side of arm_a on which arm_b lies
-  return cross(arm_a, d) * turn > 0 && cross(d, arm_b) * turn > 0;
-}
-
-std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join, double angle_tol) {
-  std::vector<RmCorner> out;
-  const double max_cos = std::sin(angle_tol);  // |cos(angle)| <= sin(tol) <=> |angle - 90 deg| <= tol
-  for (size_t i = 0; i < segments.size(); ++i)
-    for (size_t j = i + 1; j < segments.size(); ++j) {
-      const geom::Segment &s = segments[i].seg, &t = segments[j].seg;
-      for (int ei = 0; ei < 2; ++ei)
-        for (int ej = 0; ej < 2; ++ej) {
-          const geom::Vec2& a = ei ? s.b : s.a;
-          const geom::Vec2& b = ej ? t.b : t.a;
-          if ((a - b).norm() > join) continue;
-          const geom::Vec2 v = 0.5 * (a + b);
-          const geom::Vec2 ua = (ei ? s.a : s.b) - v, ub = (ej ? t.a : t.b) - v;
-          if (ua.norm() < join || ub.norm() < join) continue;
-          RmCorner c{v, ua.normalized(), ub.normalized()};
-          if (std::abs(c.arm_a.dot(c.arm_b)) <= max_cos) out.push_back(c);
-        }
-    }
-  return out;
-}
-
 std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, const geom::Vec2& axis_e,
                                      const geom::Vec2& p, const geom::Vec2& axis_p) {
   if (!c.inside(e) || !c.inside(p)) return std::nullopt;
@@ -92,11 +64,8 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
   // sin and cos of the robot's heading once for the group's sensors (Pose2::compose's values).
   const double rc = robot_pose ? std::cos(robot_pose->theta) : 1.0, rs = robot_pose ? std::sin(robot_pose->theta) : 0.0;
   out.readings.reserve(g.readings.size());
-  // Where a laser line meets another at a right angle (the 5 cm of the lines' fit; 10 deg turns
-  // the returned sound by 20 deg, still within a neighbour's side lobes).
-  const std::vector<RmCorner> corners =
-      p.crosstalk_corners && rm && g.readings.size() > 1 ? rightAngleCorners(segments, 0.05, geom::deg2rad(10.0))
-                                                          : std::vector<RmCorner>{};
+  static const std::vector<RmCorner> kNoCorners;
+  const std::vector<RmCorner>& corners = p.crosstalk_corners && rm ? rm->corners : kNoCorners;
   for (const SonarReading& r : g.readings) {
     ClassifiedReading c;
     c.sensor_id = r.sensor_id;

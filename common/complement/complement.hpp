@@ -61,22 +61,12 @@ struct ComplementParams {
   // false: the paper's rule everywhere. A full-circle scanner sees everywhere: no effect.
   bool outside_view_complementary = true;
   // A complementary reading at the range a ping of another sensor of the same group would read
-  // by way of a right-angled corner of the Radar Map (twice reflected: rightAngleCorners,
+  // by way of a right-angled corner of the Radar Map (twice reflected: RadarMap::corners,
   // crosstalkRange) is that crosstalk, explained by what the laser sees: Redundant. false: the
   // paper's rule (such a reading stays complementary).
   bool crosstalk_corners = true;
 };
 
-// A corner of the Radar Map: two of its segments that meet (end points within `join`) at a
-// right angle (within `angle_tol`). A right-angled corner sends sound back parallel to how it
-// came (twice reflected), so a neighbouring transducer can hear another's ping by way of it.
-struct RmCorner {
-  geom::Vec2 vertex;
-  geom::Vec2 arm_a, arm_b;  // unit vectors along the two walls, away from the vertex
-  // True if p lies inside the corner (in front of both walls' faces that look into it).
-  bool inside(const geom::Vec2& p) const;
-};
-std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join, double angle_tol);
 // The range a listener at p reads for a ping sent from e by way of the corner: half the length of
 // the path e -> corner -> p, |(2v - e) - p| / 2; nullopt if either lies outside the corner or
 // the path leaves or reaches either transducer from behind (heading along `axis_*`, unit vectors).

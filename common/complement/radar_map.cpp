@@ -819,12 +819,41 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
       rm.pole_candidates.emplace_back(clusters.flat.begin() + static_cast<std::ptrdiff_t>(first),
                                       clusters.flat.begin() + static_cast<std::ptrdiff_t>(first + count));
   }
+  rm.corners = rightAngleCorners(rm.segments);
   return rm;
 }
 int64_t lastReadingTime(const LaserScan& scan) {
   return scan.readings.empty() ? scan.utime : scan.readings.back().utime;
 }
 }  // namespace
+
+bool RmCorner::inside(const geom::Vec2& p) const {
+  const geom::Vec2 d = p - vertex;
+  const auto cross = [](const geom::Vec2& a, const geom::Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
+  const double turn = cross(arm_a, arm_b);  // the side of arm_a on which arm_b lies
+  return cross(arm_a, d) * turn > 0 && cross(d, arm_b) * turn > 0;
+}
+
+std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join, double angle_tol) {
+  std::vector<RmCorner> out;
+  const double max_cos = std::sin(angle_tol);  // |cos(angle)| <= sin(tol) <=> |angle - 90 deg| <= tol
+  for (size_t i = 0; i < segments.size(); ++i)
+    for (size_t j = i + 1; j < segments.size(); ++j) {
+      const geom::Segment &s = segments[i].seg, &t = segments[j].seg;
+      for (int ei = 0; ei < 2; ++ei)
+        for (int ej = 0; ej < 2; ++ej) {
+          const geom::Vec2& a = ei ? s.b : s.a;
+          const geom::Vec2& b = ej ? t.b : t.a;
+          if ((a - b).norm() > join) continue;
+          const geom::Vec2 v = 0.5 * (a + b);
+          const geom::Vec2 ua = (ei ? s.a : s.b) - v, ub = (ej ? t.a : t.b) - v;
+          if (ua.norm() < join || ub.norm() < join) continue;
+          RmCorner c{v, ua.normalized(), ub.normalized()};
+          if (std::abs(c.arm_a.dot(c.arm_b)) <= max_cos) out.push_back(c);
+        }
+    }
+  return out;
+}
 
 RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
                          int* no_pose) {

@@ -85,6 +85,20 @@ struct LaserView {
 // The view of `scan` with the robot at `robot` (the pose at the scan's last reading).
 LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot);
 
+// A corner of the Radar Map: two of its segments that meet (end points within `join`) at a
+// right angle (within `angle_tol`). A right-angled corner sends sound back parallel to how it
+// came (twice reflected), so a neighbouring transducer can hear another's ping by way of it.
+struct RmCorner {
+  geom::Vec2 vertex;
+  geom::Vec2 arm_a, arm_b;  // unit vectors along the two walls, away from the vertex
+  // True if p lies inside the corner (in front of both walls' faces that look into it).
+  bool inside(const geom::Vec2& p) const;
+};
+// Defaults: the lines' 5 cm fit threshold; 10 deg off square turns the returned sound by 20 deg,
+// still within a neighbour's side lobes.
+std::vector<RmCorner> rightAngleCorners(const std::vector<RmSegment>& segments, double join = 0.05,
+                                        double angle_tol = geom::deg2rad(10.0));
+
 struct RadarMap {
   int64_t utime = 0;          // [us] time of the scan's last reading
   int64_t source_utime = 0;   // [us] time of the scan's first reading
@@ -95,6 +109,7 @@ struct RadarMap {
   // RADAR_MAP).
   std::vector<std::vector<geom::Vec2>> pole_candidates;
   std::vector<geom::Vec2> poles;
+  std::vector<RmCorner> corners;  // rightAngleCorners(segments), once per map (not in RADAR_MAP)
   LaserView view;
 };
 

@@ -159,16 +159,22 @@ void PilotStage::onAgmLines(const line_map_t& m) {
   if (last_tactical_utime_ && *last_tactical_utime_ == m.utime) setRemembered();
 }
 
+std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const std::vector<geom::Segment>& lines,
+                                         const PilotConfig& cfg) {
+  if (lines.empty()) return cells;
+  const std::vector<int> taken_by = moveOntoLines(cells, lines, cfg.remembered_on_lines_m);
+  // A gap the robot could drive through stays a gap (the navigator splits its lines there too).
+  const std::vector<geom::Vec2> fill =
+      fillBetweenOnLines(cells, taken_by, lines, cfg.remembered_fill_m, 2 * cfg.sector_map.robot_radius);
+  cells.insert(cells.end(), fill.begin(), fill.end());
+  return cells;
+}
+
 void PilotStage::setRemembered() {
-  std::vector<geom::Vec2> points = tactical_points_;
-  if (agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_) {
-    const std::vector<int> taken_by = moveOntoLines(points, agm_lines_, cfg_.remembered_on_lines_m);
-    // A gap the robot could drive through stays a gap (the navigator splits its lines there too).
-    const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, agm_lines_, cfg_.remembered_fill_m,
-                                                            2 * cfg_.sector_map.robot_radius);
-    points.insert(points.end(), fill.begin(), fill.end());
-  }
-  sector_map_.setRemembered(*last_tactical_utime_, std::move(points));
+  static const std::vector<geom::Segment> kNoLines;
+  const bool same_cycle = agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_;
+  sector_map_.setRemembered(*last_tactical_utime_,
+                            rememberedPoints(tactical_points_, same_cycle ? agm_lines_ : kNoLines, cfg_));
 }
 
 void PilotStage::onTacticalMap(const grid_map_t& m) {
@@ -233,6 +239,15 @@ void PilotStage::onOdometry(const odometry_t& m) {
     node_.count("sector_map.on_odometry");
     publishSectorMap();
   }
+}
+
+void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
+  mask.resize(m.flags.size());
+  for (size_t i = 0; i < m.flags.size(); ++i)
+    mask[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 &&
+                      m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
+                  ? 1
+                  : 0;
 }
 
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
@@ -329,16 +344,10 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
-    // scan's alone. (A reading the message layer rejected -- a time offset outside the scan's
-    // sweep -- is no gap, whatever its flag.) The run's jump and fit rules are the Radar Map's code defaults, which
+    // scan's alone. The run's jump and fit rules are the Radar Map's code defaults, which
     // are the shipped `complement.radar_map` values (test_shipped_config): the pilot does not
     // read the complement's section.
-    no_return_.resize(m.flags.size());
-    for (size_t i = 0; i < m.flags.size(); ++i)
-      no_return_[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 &&
-                               m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
-                           ? 1
-                           : 0;
+    noReturnMask(m, no_return_);
     const size_t before = points.size();
     complement::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); },
                                  complement::RadarMapConfig{}, cfg_.dark_continuation, points);

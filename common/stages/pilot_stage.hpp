@@ -120,6 +120,17 @@ void validReturns(const std::vector<complement::ScanPoint>& placed, const std::v
 void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
                    std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving);
 
+// The readings of `m` that came back empty (1) -- the gaps the dark continuation may go into; a
+// reading the message layer rejected (a time offset outside the scan's sweep) is no gap,
+// whatever its flag. (Storage reused.)
+void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask);
+
+// The remembered obstacles from the navigator's cells: moved onto the AGM_LINES lines of the same
+// cycle (`lines` empty: left at their centres) and the line filled between them, as the pilot
+// sets them (remembered_on_lines_m, remembered_fill_m; a gap the robot could drive through stays).
+std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const std::vector<geom::Segment>& lines,
+                                         const PilotConfig& cfg);
+
 class PilotStage {
  public:
   PilotStage(Node& node, const PilotConfig& cfg);

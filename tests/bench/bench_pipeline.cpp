@@ -45,7 +45,6 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/local_bus.hpp"
 #include "lcmio/node.hpp"
-#include "operational/remembered_on_lines.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
 #include "stages/complement_stage.hpp"
@@ -182,12 +181,7 @@ class Replayer {
         takeOutMovers(timed_, runs, points, moving);
       }
       if (pcfg_.dark_continuation.length > 0) {  // (as PilotStage: a surface that goes dark goes on)
-        no_return_.resize(ls->flags.size());
-        for (size_t i = 0; i < ls->flags.size(); ++i)
-          no_return_[i] = ls->flags[i] == laser_scan_t::FLAG_NO_RETURN && ls->offset_us[i] >= 0 &&
-                                  ls->offset_us[i] <= cp::input_limits::kMaxLaserOffsetUs
-                              ? 1
-                              : 0;
+        noReturnMask(*ls, no_return_);
         cp::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); }, cp::RadarMapConfig{},
                              pcfg_.dark_continuation, points);
       }
@@ -240,18 +234,12 @@ class Replayer {
   }
 
  private:
-  // PilotStage::setRemembered: the cells taken onto the lines of the same navigator cycle, and
-  // the line filled between them.
+  // PilotStage::setRemembered: the cells taken onto the lines of the same navigator cycle.
   void setRemembered() {
-    std::vector<geom::Vec2> points = tactical_points_;
-    if (lines_utime_ == tactical_utime_) {
-      const std::vector<int> taken_by = moveOntoLines(points, lines_, pcfg_.remembered_on_lines_m);
-      const std::vector<geom::Vec2> fill = fillBetweenOnLines(points, taken_by, lines_, pcfg_.remembered_fill_m,
-                                                              2 * pcfg_.sector_map.robot_radius);
-      points.insert(points.end(), fill.begin(), fill.end());
-    }
-    sector_map_.setRemembered(tactical_utime_, std::move(points));
+    sector_map_.setRemembered(tactical_utime_, rememberedPoints(tactical_points_,
+                                                                lines_utime_ == tactical_utime_ ? lines_ : kNoLines, pcfg_));
   }
+  static inline const std::vector<geom::Segment> kNoLines;
 
   const std::vector<GroupReading>& groupReadings(size_t i, const cp::GroupComplement& result) {
     auto& all = prepared();

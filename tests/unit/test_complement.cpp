@@ -125,6 +125,7 @@ TEST(ExtractComplement, CrosstalkByWayOfACornerIsTheCornersNotComplementary) {
   RadarMap rm;
   rm.utime = 1'000'000;
   rm.segments = {{{{1.2, -1.0}, {1.2, 1.2}}, 20, 0}, {{{1.2, 1.2}, {0.6, 1.2}}, 10, 0}};
+  rm.corners = rightAngleCorners(rm.segments);  // (as every Radar Map the library builds)
   const geom::Vec2 v(1.2, 1.2), e(0.05, 0), p(0, 0.05);
   const double crosstalk = 0.5 * (2 * v - e - p).norm();  // 1.66 m
   const auto group = [&](double listener_range) {
@@ -153,6 +154,7 @@ TEST(ExtractComplement, CrosstalkByWayOfACornerIsTheCornersNotComplementary) {
   // A corner that is not right-angled sends nothing back to a neighbour.
   params.crosstalk_corners = true;
   rm.segments[1].seg.b = {1.2 - 0.6, 1.2 + 0.6 * std::tan(geom::deg2rad(30))};
+  rm.corners = rightAngleCorners(rm.segments);
   EXPECT_EQ(extractComplement(group(crosstalk), Pose2{}, &rm, params).readings[1].cls, SonarClass::Complementary);
 }
 
