@@ -123,6 +123,7 @@ void EchoPlacer::spread(const geom::Vec2& sensor, double range, double beam_widt
 std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm) {
   std::vector<geom::Vec2> hits;
   hits.reserve(group.size());  // (one hit per reading, but for waiting echoes and surface fill)
+  last_placed_.clear();
   if (cfg_.surface_fill) {
     const int64_t keep = std::max(1, cfg_.arc_wait_cycles);
     placed_.erase(std::remove_if(placed_.begin(), placed_.end(),
@@ -141,6 +142,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
       int ix = 0, iy = 0;
       if (b && agm.cellAt(p, ix, iy) && agm.g(ix, iy) > 0) {
         hits.push_back(p);
+        last_placed_.push_back({p, w.echo.sensor, w.echo.range, w.echo.beam_width});
         spread(w.echo.sensor.position(), w.echo.range, w.echo.beam_width, p, agm, hits);
       } else
         waiting_[still++] = w;
@@ -178,6 +180,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     // On the axis: exactly the paper's point (the reading's own end point).
     hits.push_back(b == echo.sensor.theta ? r.axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
     const geom::Vec2 p = hits.back();
+    last_placed_.push_back({p, echo.sensor, echo.range, echo.beam_width});
     spread(echo.sensor.position(), echo.range, echo.beam_width, p, agm, hits);
   }
   for (const auto& [id, echo] : latest) tracker_.record(id, echo);

@@ -81,6 +81,14 @@ struct GroupReading {
   bool hit = true;
 };
 
+// An echo place() put into the grid: its point and what heard it (global frame).
+struct PlacedEcho {
+  geom::Vec2 point = geom::Vec2::Zero();
+  geom::Pose2 sensor;     // the transducer: position and acoustic axis
+  double range = 0;       // [m]
+  double beam_width = 0;  // [rad] the transducer's full opening (0: the config's)
+};
+
 class EchoPlacer {
  public:
   explicit EchoPlacer(const EchoPlacementConfig& c) : cfg_(c), tracker_(c.params) {}
@@ -90,6 +98,9 @@ class EchoPlacer {
   // that later arcs now place (oldest first); agm.cycle() is the clock. An echo whose sensor pose is not finite is put at its axis end point and is
   // no neighbour to others.
   std::vector<geom::Vec2> place(const std::vector<GroupReading>& group, AccumulativeGridMap& agm);
+  // The echoes the last place() put in (waiting ones first, as in its result), each with its
+  // sensor: not the surface fill's extra points, nor echoes without a finite sensor pose.
+  const std::vector<PlacedEcho>& lastPlaced() const { return last_placed_; }
 
  private:
   struct Waiting {
@@ -108,6 +119,7 @@ class EchoPlacer {
     int64_t cycle = 0;
   };
   std::vector<Placed> placed_;  // surface fill: recently placed echoes
+  std::vector<PlacedEcho> last_placed_;
   std::vector<std::pair<int, std::optional<SonarEcho>>> latest_;  // (place's scratch: each sensor's latest)
   // Surface fill: the extra points for the echo placed at p, heard from `sensor`, appended to `hits`.
   void spread(const geom::Vec2& sensor, double range, double beam_width, const geom::Vec2& p,

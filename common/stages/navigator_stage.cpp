@@ -33,7 +33,7 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
-                                   "hit_weight_speed", "published_size"};
+                                   "hit_weight_speed", "published_size", "laser_join", "laser_join_min_line_m"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -47,6 +47,8 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
+  p.laser_join = c.get<bool>("laser_join", p.laser_join);
+  p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
   if (p.published_size > p.agm.size)
     c.fail("published_size", std::to_string(p.published_size) + " cells, more than the tactical AGM's size (agm.size " +
@@ -189,6 +191,7 @@ void NavigatorStage::flushPending() {
 
 void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
+  if (cfg_.laser_join) joinToLaserLines(hits);
   const auto pose = poses_.at(utime);
   if (look_weight_.refSpeed() > 0) {
     // The robot's mean speed since the previous group (its newest odometry speed when there is
@@ -209,6 +212,32 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
   node_.count("agm.hits", inside);
   if (inside < static_cast<int>(hits.size()))
     node_.count("agm.hits_outside_window", static_cast<int64_t>(hits.size()) - inside);
+}
+
+void NavigatorStage::joinToLaserLines(std::vector<geom::Vec2>& hits) {
+  if (rm_.empty() || placer_.lastPlaced().empty()) return;
+  std::vector<geom::Segment> lines;
+  lines.reserve(rm_.size());
+  for (const auto& s : rm_) lines.push_back(s.seg);
+  const LaserJoinParams jp{agm_.cellSize(), cfg_.laser_join_min_line_m};
+  const size_t before = hits.size();
+  std::vector<std::pair<int, int>> cells;  // one hit per cell and echo; not the echo's own cell again
+  for (const PlacedEcho& e : placer_.lastPlaced()) {
+    const double beam = geom::plausibleBeamWidth(e.beam_width) ? e.beam_width : cfg_.placement.params.beam_width;
+    const auto join = laserJoinPoints(e.sensor, e.range, beam, lines, jp);
+    if (join.empty()) continue;
+    cells.clear();
+    int fx = 0, fy = 0;
+    if (agm_.cellAt(e.point, fx, fy)) cells.emplace_back(fx, fy);
+    for (const geom::Vec2& q : join) {
+      int ix = 0, iy = 0;
+      if (!agm_.cellAt(q, ix, iy) || std::find(cells.begin(), cells.end(), std::make_pair(ix, iy)) != cells.end())
+        continue;
+      cells.emplace_back(ix, iy);
+      hits.push_back(q);
+    }
+  }
+  if (hits.size() > before) node_.count("agm.laser_join_hits", static_cast<int64_t>(hits.size() - before));
 }
 
 int64_t NavigatorStage::cycleUtime(int64_t cycle) const {

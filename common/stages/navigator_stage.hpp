@@ -9,7 +9,7 @@
 //      CURRENT_SENSOR_MAP  the Radar Map's lines and the AGM's lines, tagged by source, each with
 //                          the time it was last supported (line_map_t)
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
-// agm.look_weight_hits (the hits the look weight added),
+// agm.look_weight_hits (the hits the look weight added), agm.laser_join_hits (the laser join's),
 // lines.published, publish.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -56,6 +56,7 @@
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
 #include "tactical/current_sensor_map.hpp"
+#include "tactical/laser_join.hpp"
 #include "tactical/line_generation.hpp"
 #include "tactical/look_weight.hpp"
 
@@ -79,6 +80,11 @@ struct NavigatorConfig {
   // [m/s] Look weight (tactical/look_weight.hpp): above this robot speed an echo counts for
   // speed / hit_weight_speed hits in the tactical AGM. 0: one hit per echo (the paper).
   double hit_weight_speed = 0.4;
+  // Laser join (tactical/laser_join.hpp): a complementary echo of a plane that continues a Radar
+  // Map line within the beam's footprint of the line's end also hits the cells from its foot to
+  // that end. false: one cell per echo (the paper).
+  bool laser_join = true;
+  double laser_join_min_line_m = 0.5;  // [m] LaserJoinParams::min_line_length
 
   // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
   static AgmParams tacticalAgmDefaults();
@@ -98,6 +104,7 @@ class NavigatorStage {
   void onComplement(const complement_t& m);
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, int64_t utime);
+  void joinToLaserLines(std::vector<geom::Vec2>& hits);
   void flushPending();
   void advance(int64_t utime);
   void publish();

@@ -52,9 +52,11 @@ struct PipelineRun {
 
 // The simulated run through complement, pilot and (optionally) navigator on one memq:// bus.
 PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = true, bool remembered = true,
-                        double robot_speed = 0.2, bool predict_movers = PilotConfig{}.predict_movers) {
-  std::string text = kScenario;
-  text.replace(text.find("speed: 0.2"), 10, "speed: " + std::to_string(robot_speed));
+                        double robot_speed = 0.2, bool predict_movers = PilotConfig{}.predict_movers,
+                        const char* scenario = kScenario) {
+  std::string text = scenario;
+  if (const auto at = text.find("speed: 0.2"); at != std::string::npos)
+    text.replace(at, 10, "speed: " + std::to_string(robot_speed));
   const sim::Scenario sc = sim::parseScenario(Config::fromString(text));
   auto lcm = std::make_shared<lcm::LCM>("memq://");
   const Node::Options offline{false, false};
@@ -136,6 +138,52 @@ TEST(NavigatorStage, KeepsTheGlassPaneAndNotThePersonWhomThePilotSees) {
   for (const auto& m : run.sector_maps)
     for (const int8_t src : m.source) remembered += src == sector_map_t::SOURCE_REMEMBERED;
   EXPECT_GT(remembered, 0);
+}
+
+// A glass door in a wall, driven past once: the door (x 0.8-1.7) in line with the wall on both
+// sides, 0.85 m from the transducers on the robot's left.
+const char* kDoorScenario = R"(
+name: door_in_wall
+duration_s: 16
+seed: 3
+obstacles:
+  - {shape: polyline, material: wall, points: [[-2.0, 1.2], [0.8, 1.2]]}
+  - {shape: segment, material: glass, from: [0.8, 1.2], to: [1.7, 1.2]}
+  - {shape: polyline, material: wall, points: [[1.7, 1.2], [5.0, 1.2]]}
+  - {shape: segment, material: wall, from: [-2.0, -1.6], to: [5.0, -1.6]}
+robot:
+  radius: 0.35
+  path: [[-1.0, 0.0], [3.5, 0.0]]
+  speed: 0.3
+)";
+
+// The nearest occupied cell of the last map to p.
+double nearestCell(const grid_map_t& g, const Vec2& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& c : occupied(g)) best = std::min(best, (c - p).norm());
+  return best;
+}
+
+TEST(NavigatorStage, TheLaserJoinReachesBothEndsOfAGlassDoorInAWall) {
+  // The door's last r tan(beam/2) before each wall end is never heard as complementary (the
+  // wall's end is in the beam, as near as the glass): with the paper's rule the door's cells stop
+  // short of at least one end; with the laser join they reach both, and nothing is added along
+  // the walls themselves.
+  NavigatorConfig paper;
+  paper.laser_join = false;
+  const PipelineRun with = runPipeline(NavigatorConfig{}, true, true, 0.3, PilotConfig{}.predict_movers, kDoorScenario);
+  const PipelineRun without = runPipeline(paper, true, true, 0.3, PilotConfig{}.predict_movers, kDoorScenario);
+  ASSERT_FALSE(with.tactical.empty());
+  ASSERT_FALSE(without.tactical.empty());
+  const grid_map_t& g = with.tactical.back();
+  const grid_map_t& g0 = without.tactical.back();
+  const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);  // the evaluation's one-cell tolerance
+  for (const double x : {0.8, 1.7}) EXPECT_LE(nearestCell(g, {x, 1.2}), tol) << "door end x = " << x;
+  EXPECT_GT(std::max(nearestCell(g0, {0.8, 1.2}), nearestCell(g0, {1.7, 1.2})), tol);
+  for (const auto& c : occupied(g)) {
+    EXPECT_NEAR(c.y(), 1.2, 0.15) << c.transpose();
+    EXPECT_TRUE(c.x() > 0.8 - 0.25 && c.x() < 1.7 + 0.25) << "a cell along the wall: " << c.transpose();
+  }
 }
 
 TEST(NavigatorStage, ThePapersRulesAloneWouldKeepThePerson) {
