@@ -93,6 +93,33 @@ TEST(EchoPlacer, WaitingEchoesJoinTheCellLaterArcsConfirm) {
   EXPECT_EQ(agm.g(ix, iy), 3);
 }
 
+TEST(EchoPlacer, LastPlacedNamesEachPlacedEchoWithItsTransducer) {
+  // What the tactical level's laser join needs: every echo the last place() put in, waiting ones
+  // included, with the transducer that heard it and its range; none for an echo still waiting.
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  EchoPlacer placer(waiting(100));
+  placer.place(echoAt(0, {0, 0}, kTarget), agm);
+  EXPECT_TRUE(placer.lastPlaced().empty());  // waiting for a second arc
+  placer.place(echoAt(1, {0.3, 0.9}, kTarget), agm);
+  const auto third = placer.place(echoAt(2, {0.3, -0.9}, kTarget), agm);
+  ASSERT_EQ(third.size(), 1u);
+  ASSERT_EQ(placer.lastPlaced().size(), 1u);
+  const PlacedEcho& e = placer.lastPlaced().front();
+  EXPECT_EQ(e.point, third.front());
+  EXPECT_NEAR(e.sensor.x, 0.3, 1e-12);
+  EXPECT_NEAR(e.sensor.y, -0.9, 1e-12);
+  EXPECT_NEAR(e.range, (kTarget - Vec2(0.3, -0.9)).norm(), 1e-12);
+  EXPECT_NEAR(e.beam_width, geom::deg2rad(30), 1e-12);
+  agm.update(third);
+  // The next cycle places the two that waited, from their own transducers.
+  const auto later = placer.place({}, agm);
+  ASSERT_EQ(later.size(), 2u);
+  ASSERT_EQ(placer.lastPlaced().size(), 2u);
+  EXPECT_NEAR(placer.lastPlaced()[0].sensor.y, 0.0, 1e-12);
+  EXPECT_NEAR(placer.lastPlaced()[1].sensor.y, 0.9, 1e-12);
+}
+
 TEST(EchoPlacer, AWaitingEchoNeverStartsACellOfItsOwn) {
   // Later arcs cross the waiting echo's arc at the target, but no echo was placed there: the
   // waiting echo stays out until the grid holds that cell, and is dropped after arc_wait_cycles.
