@@ -70,6 +70,18 @@ std::optional<int64_t> messageTime(Kind k, const std::vector<uint8_t>& d) {
   return std::nullopt;
 }
 
+// The sectors of a SECTOR_MAP message whose source is the sonar (own, copied) or the memory;
+// 0 for a message that does not decode.
+int sonarSectors(const std::vector<uint8_t>& d) {
+  const auto m = safeDecode<sector_map_t>(d);
+  if (!m) return 0;
+  int n = 0;
+  for (const int8_t src : m->source)
+    n += src == sector_map_t::SOURCE_SONAR || src == sector_map_t::SOURCE_SONAR_COPIED ||
+         src == sector_map_t::SOURCE_REMEMBERED;
+  return n;
+}
+
 }  // namespace
 
 const std::vector<std::string>& drawnChannels() {
@@ -102,6 +114,13 @@ LogInfo scanLog(const std::string& path) {
       continue;
     }
     ++info.messages[r->channel];
+    if (k == Kind::SectorMap) {
+      const int n = sonarSectors(r->data);
+      if (n > info.most_sonar_sectors || (n == info.most_sonar_sectors && *t < info.most_sonar_utime)) {
+        info.most_sonar_sectors = n;
+        info.most_sonar_utime = *t;
+      }
+    }
     if (first || *t < info.start_utime) info.start_utime = *t;
     if (first || *t > info.end_utime) info.end_utime = *t;
     first = false;

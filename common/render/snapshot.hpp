@@ -42,6 +42,11 @@ struct LogInfo {
   std::map<std::string, int64_t> messages;     // drawn channel -> messages that decoded
   std::map<std::string, int64_t> undecodable;  // drawn channel -> events that did not decode
                                                // (or carried a time <= 0)
+  // The SECTOR_MAP with the most sectors the sonar decided (its own value, a copy, or the
+  // navigator's memory): the moment the laser alone would have shown least of what is there.
+  // Ties go to the earliest; most_sonar_sectors is -1 when the log has no SECTOR_MAP.
+  int64_t most_sonar_utime = 0;
+  int most_sonar_sectors = -1;
   bool has(const std::string& channel) const { return messages.count(channel) > 0; }
   bool empty() const { return messages.empty(); }
   double durationS() const { return static_cast<double>(end_utime - start_utime) * 1e-6; }

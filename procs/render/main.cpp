@@ -1,9 +1,10 @@
-// lasonic-render --log LOG --out PNG [--time S] [--every S] [--scenario FILE]
+// lasonic-render --log LOG --out PNG [--time S | --most-sonar] [--every S] [--scenario FILE]
 //
 // Draws the paper's Fig. 8 (section 4) for one moment of a log, or a frame sequence: the Radar
 // Map, the hypothetical and the real sonar scan, the complementary readings, the operational and
 // the tactical Accumulative Grid Map, the Current Sensor Map and the Sector Map, with the true
-// obstacles beneath when the log has SIM_STATE and --scenario is given. Time is message time,
+// obstacles beneath when the log has SIM_STATE and --scenario is given. --most-sonar picks the
+// moment whose Sector Map holds the most sectors from the sonar (own, copied or remembered). Time is message time,
 // in seconds from the earliest message on a drawn channel. The log is read twice (its span,
 // then the pictures) and only a short history is kept, so any length of log works.
 //
@@ -67,12 +68,19 @@ int main(int argc, char** argv) {
                "for one moment of an LCM log, as a PNG"};
   std::string log_path, out_path, scenario_path;
   std::optional<double> time_s, every_s;
+  bool most_sonar = false;
   RenderOptions ro;
   app.add_option("--log", log_path, "LCM log (lasonic-replay output, or recorded live with lcm-logger)")->required();
   app.add_option("--out", out_path, "PNG to write; with --every, frames go to OUT with -00000, -00001, ... before its .png")->required();
   app.add_option("--time", time_s,
                  "moment to draw [s of message time from the log's start]; default: the end (with --every: the start)");
   app.add_option("--every", every_s, "write a frame every S seconds of message time, from --time to the end");
+  app.add_flag("--most-sonar", most_sonar,
+               "draw the moment whose SECTOR_MAP holds the most sectors from the sonar (its own value, a copy or "
+               "the navigator's memory): where the laser alone shows least (instead of --time; the end if the "
+               "log has no SECTOR_MAP)")
+      ->excludes("--time")
+      ->excludes("--every");
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from: true obstacles drawn faintly");
   app.add_option("--view", ro.view_m, "ground shown across each panel [m] (default 7)");
   app.add_option("--panel", ro.panel_px, "panel size [px] (default 400; the image is 4 x 2 panels)");
@@ -132,6 +140,12 @@ int main(int argc, char** argv) {
                          " frames (at most " + std::to_string(kMaxFrames) + "): choose a larger step");
     for (int64_t k = 0; k < static_cast<int64_t>(n); ++k) frames.push_back(start + static_cast<double>(k) * *every_s);
   } else {
+    if (most_sonar) {
+      if (info.most_sonar_sectors < 0)
+        std::cerr << kName << ": --most-sonar: the log has no SECTOR_MAP; drawing its end\n";
+      else
+        time_s = static_cast<double>(info.most_sonar_utime - info.start_utime) * 1e-6;
+    }
     const double t = time_s.value_or(duration);
     if (t > duration + 1e-6) {
       char buf[160];
@@ -161,6 +175,8 @@ int main(int argc, char** argv) {
     ++written;
     const auto size = fig8Size(ro);
     std::printf("%s: wrote %s (%d x %d px, t = %.2f s)\n", kName, path.c_str(), size.width, size.height, s.t_s);
+    if (most_sonar && info.most_sonar_sectors >= 0)
+      std::printf("  the moment of the most sectors from the sonar: %d of the Sector Map's\n", info.most_sonar_sectors);
     if (!every_s || k == 0)
       for (const auto& p : status)
         if (!p.drawn) std::printf("  panel %s %s: %s\n", p.letter.c_str(), p.title.c_str(), p.note.c_str());

@@ -5,6 +5,8 @@
 #     lasonic-render-check), and every panel whose channel the log lacks says so.
 #  2. --every 1: one frame per second of the log, each a valid PNG.
 #  3. The raw simulator log (no pipeline channels): still a picture, the panels say what is missing.
+#     --most-sonar: on the replayed log a moment inside it with its count of sonar sectors; on the
+#     raw log (no SECTOR_MAP) a warning and the end; with --time, exit 2.
 #  4. Bad input: missing, random and empty logs, a time outside the log, a bad scenario, bad
 #     numbers (exit 2); an unwritable output (exit 1); a log with undecodable, truncated and
 #     invalid messages at the moment drawn (exit 0, warned, the invalid panels say so).
@@ -56,6 +58,20 @@ done
   die "lasonic-render failed on the raw simulator log"
 grep -q "no RADAR_MAP in log" "$tmp/raw.txt" || die "raw log: the Radar Map panel does not say it is missing"
 "$check" png "$tmp/raw.png" $W $H >"$tmp/raw-check.txt" 2>&1 || die "raw.png: $(cat "$tmp/raw-check.txt")"
+
+# ---- 3b. --most-sonar
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/ms.png" --most-sonar >"$tmp/ms.txt" 2>&1 || die "--most-sonar failed"
+grep -Eq "wrote $tmp/ms.png \(1600 x 878 px, t = [0-9.]+ s\)" "$tmp/ms.txt" || die "--most-sonar: no 'wrote' line"
+n=$(sed -n 's/.*the most sectors from the sonar: \([0-9]*\) of.*/\1/p' "$tmp/ms.txt")
+[[ -n $n ]] || die "--most-sonar: no count of sonar sectors"
+((n >= 1)) || die "--most-sonar: $n sonar sectors, but the lab's first 3 s hear the fence"
+"$check" png "$tmp/ms.png" $W $H >"$tmp/ms-check.txt" 2>&1 || die "ms.png: $(cat "$tmp/ms-check.txt")"
+"$render" --log "$tmp/sim.lcmlog" --out "$tmp/ms-raw.png" --most-sonar >"$tmp/ms-raw.txt" 2>&1 ||
+  die "--most-sonar failed on the raw simulator log"
+grep -q "no SECTOR_MAP; drawing its end" "$tmp/ms-raw.txt" || die "--most-sonar on a log without SECTOR_MAP did not say so"
+rc=0
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/ms2.png" --most-sonar --time 1 >"$tmp/ms2.txt" 2>&1 || rc=$?
+((rc == 2)) || die "--most-sonar with --time: exit $rc (want 2)"
 
 # ---- 4. bad input
 expect_exit() {  # CODE NAME PATTERN ARGS...: lasonic-render ARGS exits CODE, its stderr matches PATTERN

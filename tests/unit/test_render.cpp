@@ -250,6 +250,61 @@ TEST(ScanLog, SpanChannelsAndUndecodable) {
   EXPECT_THROW(scanLog("/nonexistent/x.lcmlog"), LogError);
 }
 
+// The moment of the most sonar sectors (lasonic-render --most-sonar): sonar, copied and remembered
+// sectors count, laser ones do not; equals go to the earliest; none without a SECTOR_MAP.
+TEST(ScanLog, MostSonarSectors) {
+  const auto sectors = [](int64_t t, std::vector<int8_t> src) {
+    sector_map_t m{};
+    m.utime = t;
+    m.robot_radius = 0.35f;
+    m.max_range = 3.0f;
+    m.nsectors = static_cast<int32_t>(src.size());
+    m.distance.assign(src.size(), 1.0f);
+    m.source = std::move(src);
+    m.laser_distance.assign(m.source.size(), -1.0f);
+    m.sonar_distance.assign(m.source.size(), -1.0f);
+    m.remembered_distance.assign(m.source.size(), -1.0f);
+    setLengths(m);
+    return m;
+  };
+  const int8_t L = sector_map_t::SOURCE_LASER, S = sector_map_t::SOURCE_SONAR,
+               C = sector_map_t::SOURCE_SONAR_COPIED, R = sector_map_t::SOURCE_REMEMBERED,
+               N = sector_map_t::SOURCE_NONE;
+  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_render_most_sonar.lcmlog").string();
+  {
+    LogWriter w(path);
+    auto a = sectors(1'000'000, {L, L, L, L, S, N});  // 1
+    w.write(channels::SECTOR_MAP, 1, a);
+    auto b = sectors(2'000'000, {S, C, R, L, L, L});  // 3
+    w.write(channels::SECTOR_MAP, 2, b);
+    auto c = sectors(3'000'000, {L, L, L, L, L, L});  // 0, though all sectors are known
+    w.write(channels::SECTOR_MAP, 3, c);
+    auto d = sectors(4'000'000, {R, R, C, N, N, N});  // 3 again: later, so not chosen
+    w.write(channels::SECTOR_MAP, 4, d);
+    w.writeRaw(channels::SECTOR_MAP, 5, {9, 9, 9});  // undecodable: not a moment
+  }
+  auto info = scanLog(path);
+  EXPECT_EQ(info.most_sonar_sectors, 3);
+  EXPECT_EQ(info.most_sonar_utime, 2'000'000);
+  {
+    LogWriter w(path);  // written out of order: the earlier of equals still wins
+    auto d = sectors(4'000'000, {R, R, C, N, N, N});
+    w.write(channels::SECTOR_MAP, 1, d);
+    auto b = sectors(2'000'000, {S, C, R, L, L, L});
+    w.write(channels::SECTOR_MAP, 2, b);
+  }
+  info = scanLog(path);
+  EXPECT_EQ(info.most_sonar_utime, 2'000'000);
+  {
+    LogWriter w(path);
+    auto o = odom(5'000'000, 0, 0, 0);
+    w.write(channels::ODOMETRY, 1, o);
+  }
+  info = scanLog(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(info.most_sonar_sectors, -1);
+}
+
 // ------------------------------------------------------------------------------ drawing
 
 TEST(Fig8, LayoutAndOptions) {
