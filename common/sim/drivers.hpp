@@ -36,6 +36,11 @@ struct OdometryConfig {
   double trans_noise = 0.01;      // [m/sqrt(m)] std-dev of distance error per sqrt(metre) driven
   double rot_noise = 0.005;       // [rad/sqrt(rad)] heading error per sqrt(radian) turned
   double drift_noise = 0.002;     // [rad/sqrt(m)] heading error per sqrt(metre) driven (wheel-base drift)
+  // Systematic errors (UMBmark's: Borenstein & Feng 1996), 0 by default: they grow with what was
+  // driven and turned, not with its square root, and no random walk model describes them.
+  double scale_error = 0;         // distance read = true distance * (1 + scale_error) (wheel radius)
+  double turn_scale_error = 0;    // heading change read = true * (1 + turn_scale_error) (wheel base)
+  double curvature_error = 0;     // [rad/m] heading change read per metre driven (unequal wheels)
 };
 OdometryConfig odometryConfig(const Config& c, OdometryConfig base = {});  // throws ConfigError
 

@@ -93,11 +93,15 @@ PathFollower::State PathFollower::at(double t) const {
 // ---------------------------------------------------------------- odometry config
 
 OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
-  c.allowOnly({"rate_hz", "trans_noise", "rot_noise", "drift_noise"});
+  c.allowOnly({"rate_hz", "trans_noise", "rot_noise", "drift_noise", "scale_error", "turn_scale_error",
+               "curvature_error"});
   base.rate_hz = c.get("rate_hz", base.rate_hz, Range::between(1, 1000));
   base.trans_noise = c.get("trans_noise", base.trans_noise, Range::nonNegative());
   base.rot_noise = c.get("rot_noise", base.rot_noise, Range::nonNegative());
   base.drift_noise = c.get("drift_noise", base.drift_noise, Range::nonNegative());
+  base.scale_error = c.get("scale_error", base.scale_error, Range::between(-0.5, 0.5));
+  base.turn_scale_error = c.get("turn_scale_error", base.turn_scale_error, Range::between(-0.5, 0.5));
+  base.curvature_error = c.get("curvature_error", base.curvature_error, Range::between(-1, 1));
   return base;
 }
 
@@ -151,16 +155,22 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
 
   // Odometry: the true motion increment in the robot frame, corrupted like wheel encoders do —
   // distance error and heading error growing with the square root of what was driven and
-  // turned. Three draws every step, so the stream never depends on the path taken.
+  // turned, plus the systematic errors (0 by default) growing with it. Three draws every step,
+  // so the stream never depends on the path taken.
   const double n_trans = gauss_(rng_), n_rot = gauss_(rng_), n_drift = gauss_(rng_);
   if (!started_) {
     odom_.pose = toMsg(r.pose);
   } else {
     const geom::Pose2 delta = last_true_.inverse().compose(r.pose);
     const double d = std::hypot(delta.x, delta.y);
-    const double measured_d = d + cfg_.trans_noise * std::sqrt(d) * n_trans;
+    // What the encoders read before noise: the systematic errors, only where set (a log without
+    // them stays bit for bit what it was).
+    const double read_d = cfg_.scale_error != 0 ? d * (1 + cfg_.scale_error) : d;
+    double read_dtheta = cfg_.turn_scale_error != 0 ? delta.theta * (1 + cfg_.turn_scale_error) : delta.theta;
+    if (cfg_.curvature_error != 0) read_dtheta += cfg_.curvature_error * d;
+    const double measured_d = read_d + cfg_.trans_noise * std::sqrt(d) * n_trans;
     const double scale = d > 1e-12 ? measured_d / d : 0.0;
-    const double measured_dtheta = delta.theta + cfg_.rot_noise * std::sqrt(std::abs(delta.theta)) * n_rot +
+    const double measured_dtheta = read_dtheta + cfg_.rot_noise * std::sqrt(std::abs(delta.theta)) * n_rot +
                                    cfg_.drift_noise * std::sqrt(d) * n_drift;
     const geom::Pose2 odom{odom_.pose.x, odom_.pose.y, odom_.pose.theta};
     odom_.pose = toMsg(odom.compose({delta.x * scale, delta.y * scale, measured_dtheta}));

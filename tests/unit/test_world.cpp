@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 
 #include "sim/drivers.hpp"
 #include "sim/path_follower.hpp"
@@ -178,6 +180,55 @@ TEST(WorldCore, OdometryConfigFromYaml) {
   EXPECT_EQ(c.drift_noise, 0.01);
   EXPECT_EQ(c.trans_noise, OdometryConfig{}.trans_noise);
   EXPECT_THROW(odometryConfig(Config::fromString("rate: 20\n")), ConfigError);
+}
+
+// Systematic odometry errors (UMBmark's) grow with what was driven and turned: without noise the
+// odometry reads exactly the biased motion; left at 0 they change nothing, bit for bit.
+TEST(WorldCore, SystematicOdometryErrors) {
+  const Scenario straight = parse(R"(
+name: s
+duration_s: 10
+seed: 3
+robot: {path: [[0, 0], [4, 0]], speed: 0.5, mode: once}
+)");
+  OdometryConfig exact{50, 0, 0, 0};
+  OdometryConfig c = exact;
+  c.scale_error = 0.02;  // wheels 2 % larger than the odometry assumes
+  odometry_t o = drive(straight, c);
+  EXPECT_NEAR(o.pose.x, 4.08, 1e-9);
+  EXPECT_NEAR(o.pose.y, 0.0, 1e-12);
+  EXPECT_NEAR(o.pose.theta, 0.0, 1e-12);
+  c = exact;
+  c.curvature_error = 0.01;  // [rad/m] unequal wheels: the odometry curves left by 0.04 rad in 4 m
+  o = drive(straight, c);
+  EXPECT_NEAR(o.pose.theta, 0.04, 1e-9);
+  EXPECT_NEAR(o.pose.y, (1 - std::cos(0.04)) / 0.01, 1e-3);  // an arc of radius 100 m
+  c = exact;
+  c.turn_scale_error = 0.05;  // wheel base 5 % off: every turn reads 5 % too far
+  sim_state_t truth;
+  o = drive(parse(kWorld), c, &truth);
+  EXPECT_NEAR(truth.robot_pose.theta, geom::kPi / 2, 1e-9);
+  EXPECT_NEAR(o.pose.theta, 1.05 * geom::kPi / 2, 1e-9);
+  // Zero systematic errors: the noisy odometry of before, bit for bit.
+  OdometryConfig zero;
+  zero.scale_error = zero.turn_scale_error = zero.curvature_error = 0.0;
+  const odometry_t a = drive(parse(kWorld), zero), b = drive(parse(kWorld), OdometryConfig{});
+  EXPECT_EQ(std::memcmp(&a.pose, &b.pose, sizeof a.pose), 0);
+}
+
+TEST(WorldCore, SystematicOdometryErrorsFromYaml) {
+  const OdometryConfig c =
+      odometryConfig(Config::fromString("scale_error: 0.005\nturn_scale_error: -0.01\ncurvature_error: 0.004\n"));
+  EXPECT_EQ(c.scale_error, 0.005);
+  EXPECT_EQ(c.turn_scale_error, -0.01);
+  EXPECT_EQ(c.curvature_error, 0.004);
+  EXPECT_EQ(OdometryConfig{}.curvature_error, 0.0);
+  try {
+    odometryConfig(Config::fromString("scale_error: 2\n"));
+    FAIL() << "scale_error 2 was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("scale_error"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DeriveSeed, StreamsDiffer) {
