@@ -163,10 +163,10 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
   } else {
     const geom::Pose2 delta = last_true_.inverse().compose(r.pose);
     const double d = std::hypot(delta.x, delta.y);
-    // What the encoders read before noise: the systematic errors, only where set (a log without
-    // them stays bit for bit what it was).
-    const double read_d = cfg_.scale_error != 0 ? d * (1 + cfg_.scale_error) : d;
-    double read_dtheta = cfg_.turn_scale_error != 0 ? delta.theta * (1 + cfg_.turn_scale_error) : delta.theta;
+    // What the encoders read before noise: the systematic errors. (A factor 1 is exact and the
+    // curvature term is added only where set, so a log without them stays bit for bit what it was.)
+    const double read_d = d * (1 + cfg_.scale_error);
+    double read_dtheta = delta.theta * (1 + cfg_.turn_scale_error);
     if (cfg_.curvature_error != 0) read_dtheta += cfg_.curvature_error * d;
     const double measured_d = read_d + cfg_.trans_noise * std::sqrt(d) * n_trans;
     const double scale = d > 1e-12 ? measured_d / d : 0.0;

@@ -4,9 +4,9 @@
 // Map, the hypothetical and the real sonar scan, the complementary readings, the operational and
 // the tactical Accumulative Grid Map, the Current Sensor Map and the Sector Map, with the true
 // obstacles beneath when the log has SIM_STATE and --scenario is given. --most-sonar picks the
-// moment whose Sector Map holds the most sectors from the sonar (own, copied or remembered). Time is message time,
-// in seconds from the earliest message on a drawn channel. The log is read twice (its span,
-// then the pictures) and only a short history is kept, so any length of log works.
+// moment whose Sector Map holds the most sectors from the sonar (own, copied or remembered).
+// Time is message time, in seconds from the earliest message on a drawn channel. The log is read
+// twice (its span, then the pictures) and only a short history is kept, so any length of log works.
 //
 // Exit status: 0 ok; 1 a picture could not be drawn or written; 2 bad arguments, an unreadable
 // log or scenario, or a time outside the log.
