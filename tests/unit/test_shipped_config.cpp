@@ -4,7 +4,10 @@
 // the code. (A key present in the file but read by nobody is an error of its section's allowOnly.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "complement/complement_config.hpp"
 #include "core/config.hpp"
@@ -46,4 +49,36 @@ TEST(ShippedConfig, CodeDefaultsAreTheShippedValues) {
   sim::odometryConfig(shipped().section("odometry"));
   EXPECT_TRUE(audit.mismatches().empty()) << "code defaults that differ from deploy/config/lasonic.yaml:\n"
                                           << describe(audit);
+}
+
+// Every overlay the README's experiments use (deploy/config/experiments/, and another robot's
+// deploy/config/pioneer.yaml) layered over the shipped file must parse in every process's
+// section, so a documented command cannot fail on a renamed or retired key.
+TEST(ShippedConfig, EveryOverlayParsesOverTheShippedFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(LASONIC_SOURCE_DIR) / "deploy/config";
+  std::vector<fs::path> overlays{dir / "pioneer.yaml"};
+  for (const auto& e : fs::directory_iterator(dir / "experiments"))
+    if (e.path().extension() == ".yaml") overlays.push_back(e.path());
+  std::sort(overlays.begin(), overlays.end());
+  ASSERT_GE(overlays.size(), 10u) << "experiment overlays not found under " << dir;
+  for (const auto& o : overlays) {
+    SCOPED_TRACE(o.string());
+    const Config c = Config::loadFiles({(dir / "lasonic.yaml").string(), o.string()});
+    EXPECT_NO_THROW({
+      complement::complementConfig(c.section("complement"));
+      pilotConfig(c.section("pilot"));
+      navigatorConfig(c.section("navigator"));
+      eval::baselinesConfig(c);
+      sim::laserConfig(c.section("laser"));
+      sim::sonarConfig(c.section("sonar"));
+      sim::odometryConfig(c.section("odometry"));
+    });
+  }
+}
+
+TEST(ShippedConfig, AnOverlayWithAnUnknownKeyFails) {
+  // The check above could fail: a key no process reads is an error naming it.
+  const Config c = shipped().mergedWith(Config::fromString("navigator: {publish_rate: 3}"));
+  EXPECT_THROW(navigatorConfig(c.section("navigator")), std::exception);
 }
