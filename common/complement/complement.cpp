@@ -1,5 +1,6 @@
 #include "complement/complement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -43,6 +44,22 @@ std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, con
   const geom::Vec2 path = 2.0 * c.vertex - e - p;
   if (path.dot(axis_e) <= 0 || path.dot(axis_p) <= 0) return std::nullopt;
   return 0.5 * path.norm();
+}
+
+std::vector<std::pair<int, int>> overlappingBeams(const SonarGroup& g, double default_beam_width) {
+  std::vector<std::pair<int, int>> out;
+  const auto width = [&](const SonarReading& r) { return r.beam_width > 0 ? r.beam_width : default_beam_width; };
+  for (size_t i = 0; i < g.readings.size(); ++i) {
+    const SonarReading& a = g.readings[i];
+    if (!a.valid) continue;
+    for (size_t j = i + 1; j < g.readings.size(); ++j) {
+      const SonarReading& b = g.readings[j];
+      if (!b.valid || a.sensor_id == b.sensor_id) continue;
+      const double apart = std::abs(geom::normalizeAngle(a.mount.theta - b.mount.theta));
+      if (apart <= width(a) + width(b) + 1e-9) out.emplace_back(std::min(a.sensor_id, b.sensor_id), std::max(a.sensor_id, b.sensor_id));
+    }
+  }
+  return out;
 }
 
 bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {

@@ -10,6 +10,7 @@
 // computed on the newest Radar Map (none: the limit) so that a viewer shows what was compared.
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "complement/hypothetical_scan.hpp"
@@ -95,6 +96,15 @@ struct GroupComplement {
   bool radar_map_stale = true;
   std::vector<ClassifiedReading> readings;
 };
+
+// Pairs of sensor ids of one firing group that hear each other's pings: a wall returns one
+// transducer's ping to the other from the point midway between their axes, and a near wall
+// answers up to about one full opening off a transducer's axis (its side lobes: README "Sonar",
+// +-31 deg for a 30 deg transducer within 1 m). So a pair whose axes lie no farther apart than
+// the sum of their openings (a reading's own beam, else `default_beam_width`) crosstalks. The listener
+// reads the mirror path, shorter than the nearest wall point its own beam covers, so the
+// reading passes as complementary; a ring fires such sensors in different groups.
+std::vector<std::pair<int, int>> overlappingBeams(const SonarGroup& g, double default_beam_width);
 
 // True if the Radar Map cannot verify readings fired at `utime` (missing or too old).
 bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us);

@@ -7,7 +7,9 @@
 // unverifiable.stale_radar_map, redundant.pole (of the redundant ones, those a pole of the
 // Radar Map explained: complement/pole_tracker.hpp), redundant.crosstalk (those a right-angled
 // Radar Map corner explained as another sensor's ping: rightAngleCorners), rejected.* for every
-// kind of bad input.
+// kind of bad input, ring.overlapping_beams (pairs of sensors fired in one group close enough to
+// hear each other's pings, complement::overlappingBeams; each pair reported once: their crosstalk
+// passes as complementary, a ring configuration to fix).
 //
 // Time comes only from the messages, never from the wall clock, so a replay is deterministic.
 //
@@ -40,7 +42,9 @@
 
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 
 namespace lasonic {
 
@@ -70,6 +74,7 @@ class ComplementStage {
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
+  std::set<std::pair<int, int>> overlapping_reported_;  // sensor pairs with overlapping beams, reported
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   // The per-group channels' names made once (16 characters: a heap string for each publish).
   const std::string hypothesis_channel_ = channels::SONAR_HYPOTHESIS, complement_channel_ = channels::SONAR_COMPLEMENT;

@@ -533,3 +533,31 @@ TEST(ExtractComplement, AnEchoFromBeyondTheLasersViewIsOutsideViewNotRedundant) 
   EXPECT_TRUE(back[0].usable);
   EXPECT_NEAR(back[0].range, g.readings[0].range, 1e-6);
 }
+
+// Sensors fired together whose axes lie closer than the sum of their openings hear each
+// other's pings by way of a wall; the ring's default groups (axes 90 deg apart) never do.
+TEST(OverlappingBeams, PairsOfAGroupCloserThanTheSumOfTheirOpenings) {
+  const auto reading = [](int id, double theta_deg, double beam_deg, bool valid = true) {
+    return SonarReading{id, 1.0, false, {0, 0, geom::deg2rad(theta_deg)}, valid, geom::deg2rad(beam_deg)};
+  };
+  SonarGroup ring;  // 4 of 24, 90 deg apart, 30 deg beams
+  for (int k = 0; k < 4; ++k) ring.readings.push_back(reading(6 * k, 90.0 * k, 30));
+  EXPECT_TRUE(overlappingBeams(ring, geom::deg2rad(30)).empty());
+
+  SonarGroup g;
+  g.readings = {reading(3, 170, 30), reading(1, -160, 30), reading(2, 0, 60), reading(0, 80, 25)};
+  // 3-1: 30 deg apart across +-180 (< 60); 2-0: 80 deg (< 60 + 25); 3-0: 90 (> 55).
+  const auto pairs = overlappingBeams(g, geom::deg2rad(30));
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0], std::make_pair(1, 3));
+  EXPECT_EQ(pairs[1], std::make_pair(0, 2));
+
+  // At exactly the sum the midway point lies one opening off each axis: still heard.
+  g.readings = {reading(0, -30, 30), reading(1, 30, 30)};
+  EXPECT_EQ(overlappingBeams(g, geom::deg2rad(30)).size(), 1u);
+
+  // A reading without its own beam uses the model's; rejected readings are left out.
+  g.readings = {reading(0, 0, 0), reading(1, 65, 0), reading(2, 10, 30, false)};
+  EXPECT_TRUE(overlappingBeams(g, geom::deg2rad(30)).empty());
+  EXPECT_EQ(overlappingBeams(g, geom::deg2rad(40)).size(), 1u);
+}

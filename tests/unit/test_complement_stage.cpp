@@ -173,3 +173,14 @@ TEST_F(StageTest, AScanOfMalformedReadingsOnlyKeepsThePreviousRadarMap) {
   EXPECT_EQ(maps.size(), 2u);
   EXPECT_EQ(maps.back().nsegments, 0);
 }
+
+TEST_F(StageTest, SensorsFiredTogetherWithOverlappingBeamsAreReportedOnce) {
+  odometry(0, 400'000);
+  scan(0);
+  ring(150'000, {kDoor, kWall}, {1.5, 1.7});  // 90 deg apart: fine
+  EXPECT_EQ(node.counter("ring.overlapping_beams"), 0);
+  ring(180'000, {kWall, kWall + 1}, {1.7, 1.7});  // 15 deg apart, 30 deg beams
+  ring(210'000, {kWall, kWall + 1}, {1.7, 1.7});  // the same pair again: reported once
+  EXPECT_EQ(node.counter("ring.overlapping_beams"), 1);
+  ASSERT_EQ(comps.size(), 3u);  // and still classified
+}
