@@ -51,6 +51,8 @@ class WorldCore {
 
   // The odometry noise is drawn from deriveSeed(s.seed, "odometry").
   WorldCore(const Scenario& s, const OdometryConfig& c);
+  WorldCore(const WorldCore&) = delete;  // (statics_ points into scenario_)
+  WorldCore& operator=(const WorldCore&) = delete;
   // True state at utime (robot path following, movers); utime must not go backwards
   // (std::invalid_argument). Also advances the odometry to utime.
   sim_state_t stateAt(int64_t utime);
@@ -63,9 +65,24 @@ class WorldCore {
 
  private:
   OdometryConfig cfg_;
+  // A mover's place at sim time t: on its path at t - waited, plus where it stepped aside to.
+  geom::Vec2 moverAt(size_t i, double t) const;
+  // People keep out of the robot's way (MoverSpec::avoid_robot): wait, or step aside.
+  void keepClear(size_t i, double t, double dt, const geom::Pose2& robot);
+  // True if a body of `radius` at p overlaps no static obstacle.
+  bool bodyFree(const geom::Vec2& p, double radius) const;
+
+  Scenario scenario_;      // (a copy: statics_ points into it)
+  WorldGeometry statics_;  // the static obstacles, which a mover stepping back cannot pass
   PathFollower robot_;
   std::vector<PathFollower> movers_;
   std::vector<double> mover_radius_;
+  std::vector<double> waited_;           // [s] time each mover stood waiting for the robot
+  std::vector<double> waiting_;          // [s] how long it has been waiting now
+  // [s] how long a person waits for a robot in the way before walking round it: long enough
+  // for a robot driving by to pass (its diameter at 0.3 m/s), not for ever at a standing one.
+  static constexpr double kPatienceS = 2.0;
+  std::vector<geom::Vec2> stepped_;      // [m] how far each mover stepped aside from its path
   int64_t end_utime_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> gauss_{0.0, 1.0};

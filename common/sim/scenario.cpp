@@ -293,7 +293,7 @@ void expand(const ObstacleSpec& spec, int index, const std::map<std::string, Mat
 }
 
 MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Material>& materials) {
-  m.allowOnly({"shape", "radius", "material", "speed", "path", "mode", "start_delay_s"});
+  m.allowOnly({"shape", "radius", "material", "speed", "path", "mode", "start_delay_s", "avoid_robot", "keep_clear_m"});
   MoverSpec spec;
   spec.id = id;
   const std::string shape = m.get<std::string>("shape", "circle");
@@ -304,6 +304,8 @@ MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Materi
   spec.path = requirePath(m, "path");
   spec.mode = parseMode(m, spec.mode);
   spec.start_delay_s = m.get("start_delay_s", spec.start_delay_s, Range::nonNegative());
+  spec.avoid_robot = m.get<bool>("avoid_robot", spec.avoid_robot);
+  spec.keep_clear_m = m.get("keep_clear_m", spec.keep_clear_m, Range::between(0, 5));
   return spec;
 }
 

@@ -91,6 +91,11 @@ struct MoverSpec {
   std::vector<geom::Vec2> path;
   PathMode mode = PathMode::PingPong;
   double start_delay_s = 0;
+  // People keep out of a robot's way: the mover waits rather than step within keep_clear_m of
+  // the robot's body, and steps back when the robot comes closer (WorldCore). false: it walks
+  // its path regardless, through the robot if the paths cross.
+  bool avoid_robot = true;
+  double keep_clear_m = 0.10;  // [m] a hand's width: people stop short of touching
 };
 
 struct RobotSpec {

@@ -109,12 +109,77 @@ OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
 
 WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
     : cfg_(c),
+      scenario_(s),
+      statics_(scenario_),
       robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
       end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
       rng_(deriveSeed(s.seed, "odometry")) {
   for (const MoverSpec& m : s.movers) {
     movers_.emplace_back(m.path, m.mode, m.speed, std::numeric_limits<double>::infinity(), m.start_delay_s);
     mover_radius_.push_back(m.radius);
+  }
+  waited_.assign(movers_.size(), 0.0);
+  waiting_.assign(movers_.size(), 0.0);
+  stepped_.assign(movers_.size(), geom::Vec2::Zero());
+}
+
+geom::Vec2 WorldCore::moverAt(size_t i, double t) const {
+  return movers_[i].at(t - waited_[i]).pose.position() + stepped_[i];
+}
+
+bool WorldCore::bodyFree(const geom::Vec2& p, double radius) const {
+  // 16 spokes: a wall that cut into the body deeper than 2 % of its radius crosses one of them.
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2.0 * geom::kPi * k / 16;
+    if (statics_.castRay({p, {std::cos(a), std::sin(a)}}, radius)) return false;
+  }
+  return true;
+}
+
+// A person does not walk into a robot, and steps out of the way of one that comes at them.
+// Each step of the world: the mover waits (its path time stands still) if its own step would
+// take it nearer than keep_clear_m to the robot's body — for at most kPatienceS, then it walks
+// on round the robot; if the robot has come nearer than that, the mover steps back from it to
+// that distance — straight back, else half or fully aside (to the side it is on), where no
+// static obstacle stands (if none is free it stays: nowhere to go); with the robot gone, it
+// walks back to its path. A mover that never comes near the robot keeps exactly its path.
+void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robot) {
+  const MoverSpec& spec = scenario_.movers[i];
+  const geom::Vec2 r = robot.position();
+  const double keep = scenario_.robot.radius + mover_radius_[i] + spec.keep_clear_m;
+  const geom::Vec2 before = moverAt(i, t - dt);
+  const geom::Vec2 walked = moverAt(i, t);
+  const double d_walked = (walked - r).norm();
+  const bool blocked = d_walked < keep && d_walked < (before - r).norm();
+  waiting_[i] = blocked ? waiting_[i] + dt : 0.0;
+  if (blocked && waiting_[i] <= kPatienceS) waited_[i] += dt;  // stand still this step
+  const geom::Vec2 p = moverAt(i, t);
+  const geom::Vec2 rel = p - r;
+  const double d = rel.norm();
+  if (d < keep) {
+    const geom::Vec2 heading(std::cos(robot.theta), std::sin(robot.theta));
+    const geom::Vec2 away = d > 1e-9 ? geom::Vec2(rel / d) : heading;
+    const double side = heading.x() * rel.y() - heading.y() * rel.x() >= 0 ? 1.0 : -1.0;
+    for (const double turn : {0.0, 0.25 * side, -0.25 * side, 0.5 * side, -0.5 * side}) {
+      const double c = std::cos(turn * geom::kPi), s = std::sin(turn * geom::kPi);
+      const geom::Vec2 u(c * away.x() - s * away.y(), s * away.x() + c * away.y());
+      // How far along u until the keep distance: |rel + k u| = keep.
+      const double b = u.dot(rel);
+      const double k = -b + std::sqrt(std::max(0.0, b * b - (d * d - keep * keep)));
+      if (bodyFree(p + u * k, mover_radius_[i])) {
+        stepped_[i] += u * k;
+        return;
+      }
+    }
+    return;
+  }
+  // Clear of the robot: back towards the path at walking speed, as far as stays clear.
+  const double off = stepped_[i].norm();
+  if (off > 0) {
+    const double step = std::min(off, spec.speed * dt);
+    const geom::Vec2 back_on = stepped_[i] * ((off - step) / off);
+    const geom::Vec2 q = p - stepped_[i] + back_on;
+    if ((q - r).norm() >= keep && bodyFree(q, mover_radius_[i])) stepped_[i] = back_on;
   }
 }
 
@@ -142,12 +207,14 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
   st.robot_pose = toMsg(r.pose);
   st.v = r.v;
   st.omega = r.omega;
+  const double dt = started_ ? static_cast<double>(utime - last_utime_) * 1e-6 : 0.0;
   for (size_t i = 0; i < movers_.size(); ++i) {
-    const geom::Pose2 p = movers_[i].at(t).pose;
+    if (started_ && scenario_.movers[i].avoid_robot) keepClear(i, t, dt, r.pose);
+    const geom::Vec2 p = moverAt(i, t);
     mover_state_t m;
     m.id = static_cast<int32_t>(i);
-    m.x = p.x;
-    m.y = p.y;
+    m.x = p.x();
+    m.y = p.y();
     m.radius = mover_radius_[i];
     st.movers.push_back(m);
   }
@@ -174,7 +241,6 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
                                    cfg_.drift_noise * std::sqrt(d) * n_drift;
     const geom::Pose2 odom{odom_.pose.x, odom_.pose.y, odom_.pose.theta};
     odom_.pose = toMsg(odom.compose({delta.x * scale, delta.y * scale, measured_dtheta}));
-    const double dt = static_cast<double>(utime - last_utime_) * 1e-6;
     if (dt > 0) {
       odom_.v = measured_d / dt;
       odom_.omega = measured_dtheta / dt;

@@ -1,7 +1,10 @@
 // The simulated world: path following, movers, odometry drift, ray casting.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <string>
 
 #include "sim/drivers.hpp"
@@ -101,7 +104,7 @@ seed: 3
 obstacles:
   - {shape: segment, material: wall, from: [5, -5], to: [5, 5]}
 movers:
-  - {radius: 0.25, speed: 1.0, path: [[2, -1], [2, 1]], mode: pingpong}
+  - {radius: 0.25, speed: 1.0, path: [[2, -1], [2, 1]], mode: pingpong, avoid_robot: false}
 robot: {path: [[0, 0], [4, 0], [4, 3]], speed: 0.5, turn_rate: 1.0, mode: once}
 )";
 
@@ -126,6 +129,101 @@ TEST(WorldCore, StatesFollowTheScenario) {
   EXPECT_THROW(w.stateAt(t0), std::invalid_argument);
   EXPECT_FALSE(w.finished(t0 + 10'000'000));
   EXPECT_TRUE(w.finished(t0 + 10'000'001));
+}
+
+namespace {
+
+// The closest each mover's body came to the robot's over a run sampled at 50 Hz [m, < 0:
+// overlapping], and the states.
+std::vector<double> closestGaps(const Scenario& s, std::vector<sim_state_t>* states = nullptr) {
+  WorldCore w(s, OdometryConfig{});
+  std::vector<double> gap(s.movers.size(), 1e9);
+  for (int64_t u = w.startUtime(); !w.finished(u); u += w.periodUs()) {
+    const sim_state_t st = w.stateAt(u);
+    for (size_t i = 0; i < gap.size(); ++i)
+      gap[i] = std::min(gap[i], std::hypot(st.movers[i].x - st.robot_pose.x, st.movers[i].y - st.robot_pose.y) -
+                                    s.robot.radius - st.movers[i].radius);
+    if (states) states->push_back(st);
+  }
+  return gap;
+}
+
+// A person walks across the robot's path just as it drives by (crossing), another walks
+// head-on at it down its lane, a third stands near its path's end in front of a wall.
+const char* kPeople = R"(
+name: people
+duration_s: 20
+seed: 1
+obstacles:
+  - {shape: segment, material: wall, from: [7.0, -3], to: [7.0, 3]}
+movers:
+  - {radius: 0.25, speed: 1.0, path: [[2.5, -3], [2.5, 3]], mode: once, start_delay_s: 2.5}
+  - {radius: 0.25, speed: 0.5, path: [[6.0, 0.0], [0.0, 0.0]], mode: once, start_delay_s: 4}
+  - {radius: 0.25, speed: 0.5, path: [[6.7, 0.3], [6.7, 0.31]], mode: once}
+robot: {path: [[0, 0], [6.3, 0]], speed: 0.5, mode: once}
+)";
+
+}  // namespace
+
+TEST(WorldCore, PeopleKeepClearOfTheRobot) {
+  Scenario s = parse(kPeople);
+  ASSERT_TRUE(s.movers[0].avoid_robot);
+  EXPECT_DOUBLE_EQ(s.movers[0].keep_clear_m, 0.10);
+  std::vector<sim_state_t> states;
+  const std::vector<double> gap = closestGaps(s, &states);
+  // Crossing and head-on: they wait or step back, never nearer than the gap they keep (a step
+  // of the world, 2 cm at these speeds, is the slack).
+  EXPECT_GT(gap[0], 0.10 - 0.02);
+  EXPECT_GT(gap[1], 0.10 - 0.02);
+  // The third stands 0.05 m in front of a wall, where the robot's path ends 0.5 m from it:
+  // it cannot step back through the wall, so it steps aside, and keeps clear too.
+  EXPECT_GT(gap[2], 0.10 - 0.02);
+  for (const sim_state_t& st : states) EXPECT_LE(st.movers[2].x + st.movers[2].radius, 7.0 + 0.005);
+  // And they got where they were going: the crossing person reached the far end.
+  EXPECT_NEAR(states.back().movers[0].y, 3.0, 1e-6);
+
+  // Walking their paths regardless (the simulator before), the first two walk into the robot.
+  for (MoverSpec& m : s.movers) m.avoid_robot = false;
+  const std::vector<double> through = closestGaps(s);
+  EXPECT_LT(through[0], 0.0);
+  EXPECT_LT(through[1], 0.0);
+}
+
+TEST(WorldCore, APersonFarFromTheRobotKeepsExactlyItsPath) {
+  // Bit for bit the path follower's positions: a scene whose people never come near the robot
+  // gives the same log as before people kept clear.
+  const Scenario s = parse(kWorld);  // (its mover passes 0.5 m from the robot's centre)
+  Scenario far = s;
+  far.movers[0].path = {{2, 2}, {2, 4}};
+  far.movers[0].avoid_robot = true;
+  WorldCore w(far, OdometryConfig{});
+  const PathFollower f(far.movers[0].path, far.movers[0].mode, far.movers[0].speed,
+                       std::numeric_limits<double>::infinity(), far.movers[0].start_delay_s);
+  for (int64_t u = w.startUtime(); !w.finished(u); u += w.periodUs()) {
+    const sim_state_t st = w.stateAt(u);
+    const geom::Pose2 p = f.at(static_cast<double>(u - w.startUtime()) * 1e-6).pose;
+    ASSERT_EQ(st.movers[0].x, p.x);
+    ASSERT_EQ(st.movers[0].y, p.y);
+  }
+}
+
+TEST(WorldCore, KeepClearKeysFromYaml) {
+  const Scenario s = parse(R"(
+name: k
+duration_s: 1
+movers:
+  - {radius: 0.25, speed: 1.0, path: [[2, -1], [2, 1]], avoid_robot: false, keep_clear_m: 0.3}
+robot: {path: [[0, 0], [1, 0]]}
+)");
+  EXPECT_FALSE(s.movers[0].avoid_robot);
+  EXPECT_DOUBLE_EQ(s.movers[0].keep_clear_m, 0.3);
+  EXPECT_THROW(parse(R"(
+name: k
+duration_s: 1
+movers:
+  - {radius: 0.25, speed: 1.0, path: [[2, -1], [2, 1]], keep_clear_m: -0.1}
+robot: {path: [[0, 0], [1, 0]]}
+)"), ConfigError);
 }
 
 namespace {
