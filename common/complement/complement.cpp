@@ -1,6 +1,5 @@
 #include "complement/complement.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -46,8 +45,8 @@ std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, con
   return 0.5 * path.norm();
 }
 
-std::vector<std::pair<int, int>> overlappingBeams(const SonarGroup& g, double default_beam_width) {
-  std::vector<std::pair<int, int>> out;
+std::vector<BeamOverlap> overlappingBeams(const SonarGroup& g, double default_beam_width) {
+  std::vector<BeamOverlap> out;
   const auto width = [&](const SonarReading& r) { return r.beam_width > 0 ? r.beam_width : default_beam_width; };
   for (size_t i = 0; i < g.readings.size(); ++i) {
     const SonarReading& a = g.readings[i];
@@ -56,7 +55,11 @@ std::vector<std::pair<int, int>> overlappingBeams(const SonarGroup& g, double de
       const SonarReading& b = g.readings[j];
       if (!b.valid || a.sensor_id == b.sensor_id) continue;
       const double apart = std::abs(geom::normalizeAngle(a.mount.theta - b.mount.theta));
-      if (apart <= width(a) + width(b) + 1e-9) out.emplace_back(std::min(a.sensor_id, b.sensor_id), std::max(a.sensor_id, b.sensor_id));
+      if (apart > width(a) + width(b) + 1e-9) continue;
+      const bool a_first = a.sensor_id < b.sensor_id;
+      const SonarReading& lo = a_first ? a : b;
+      const SonarReading& hi = a_first ? b : a;
+      out.push_back({lo.sensor_id, hi.sensor_id, apart, width(lo), width(hi)});
     }
   }
   return out;

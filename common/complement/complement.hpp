@@ -10,7 +10,6 @@
 // computed on the newest Radar Map (none: the limit) so that a viewer shows what was compared.
 #include <cstdint>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include "complement/hypothetical_scan.hpp"
@@ -104,7 +103,12 @@ struct GroupComplement {
 // the sum of their openings (a reading's own beam, else `default_beam_width`) crosstalks. The listener
 // reads the mirror path, shorter than the nearest wall point its own beam covers, so the
 // reading passes as complementary; a ring fires such sensors in different groups.
-std::vector<std::pair<int, int>> overlappingBeams(const SonarGroup& g, double default_beam_width);
+struct BeamOverlap {
+  int a = 0, b = 0;  // sensor ids, a < b
+  double apart = 0;  // [rad] between their axes
+  double width_a = 0, width_b = 0;  // [rad] the openings compared
+};
+std::vector<BeamOverlap> overlappingBeams(const SonarGroup& g, double default_beam_width);
 
 // True if the Radar Map cannot verify readings fired at `utime` (missing or too old).
 bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us);

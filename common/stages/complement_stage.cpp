@@ -97,23 +97,15 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   std::vector<cp::InputProblem> problems;
   const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
   reportProblems(node_, problems);
-  for (const auto& [a, b] : cp::overlappingBeams(group, cfg_.params.model.beam_width)) {
-    if (!overlapping_reported_.insert({a, b}).second) continue;
-    const auto reading_of = [&](int id) {
-      for (const auto& r : group.readings)
-        if (r.sensor_id == id) return r;
-      return cp::SonarReading{};
-    };
-    const cp::SonarReading ra = reading_of(a), rb = reading_of(b);
-    const auto deg = [](double rad) { return std::to_string(static_cast<int>(std::lround(geom::rad2deg(rad)))); };
+  for (const cp::BeamOverlap& o : cp::overlappingBeams(group, cfg_.params.model.beam_width)) {
+    if (!overlapping_reported_.insert({o.a, o.b}).second) continue;
+    const auto deg = [](double rad) { return std::to_string(std::lround(geom::rad2deg(rad))); };
     node_.reportError("ring.overlapping_beams",
-                      "SONAR_RING group " + std::to_string(m.group) + ": sensors " + std::to_string(a) + " and " +
-                          std::to_string(b) + " fire together and hear each other's pings (axes " +
-                          deg(std::abs(geom::normalizeAngle(ra.mount.theta - rb.mount.theta))) + " deg apart, beams " +
-                          deg(ra.beam_width > 0 ? ra.beam_width : cfg_.params.model.beam_width) + " and " +
-                          deg(rb.beam_width > 0 ? rb.beam_width : cfg_.params.model.beam_width) +
-                          " deg: no farther apart than the sum of the openings); that crosstalk reads short and passes as "
-                          "complementary: fire them in different groups");
+                      "SONAR_RING group " + std::to_string(m.group) + ": sensors " + std::to_string(o.a) + " and " +
+                          std::to_string(o.b) + " fire together and hear each other's pings (axes " + deg(o.apart) +
+                          " deg apart, beams " + deg(o.width_a) + " and " + deg(o.width_b) +
+                          " deg: no farther apart than the sum of the openings); that crosstalk reads short and "
+                          "passes as complementary: fire them in different groups");
   }
 
   const auto robot = poses_.at(m.utime);

@@ -549,8 +549,13 @@ TEST(OverlappingBeams, PairsOfAGroupCloserThanTheSumOfTheirOpenings) {
   // 3-1: 30 deg apart across +-180 (< 60); 2-0: 80 deg (< 60 + 25); 3-0: 90 (> 55).
   const auto pairs = overlappingBeams(g, geom::deg2rad(30));
   ASSERT_EQ(pairs.size(), 2u);
-  EXPECT_EQ(pairs[0], std::make_pair(1, 3));
-  EXPECT_EQ(pairs[1], std::make_pair(0, 2));
+  EXPECT_EQ(pairs[0].a, 1);
+  EXPECT_EQ(pairs[0].b, 3);
+  EXPECT_NEAR(pairs[0].apart, geom::deg2rad(30), 1e-12);
+  EXPECT_EQ(pairs[1].a, 0);
+  EXPECT_EQ(pairs[1].b, 2);
+  EXPECT_NEAR(pairs[1].width_a, geom::deg2rad(25), 1e-12);  // sensor 0's own beam
+  EXPECT_NEAR(pairs[1].width_b, geom::deg2rad(60), 1e-12);
 
   // At exactly the sum the midway point lies one opening off each axis: still heard.
   g.readings = {reading(0, -30, 30), reading(1, 30, 30)};
