@@ -70,13 +70,10 @@ std::optional<int64_t> messageTime(Kind k, const std::vector<uint8_t>& d) {
   return std::nullopt;
 }
 
-// The sectors of a SECTOR_MAP message whose source is the sonar (own, copied) or the memory;
-// 0 for a message that does not decode.
-int sonarSectors(const std::vector<uint8_t>& d) {
-  const auto m = safeDecode<sector_map_t>(d);
-  if (!m) return 0;
+// The sectors of a SECTOR_MAP whose source is the sonar (own, copied) or the memory.
+int sonarSectors(const sector_map_t& m) {
   int n = 0;
-  for (const int8_t src : m->source)
+  for (const int8_t src : m.source)
     n += src == sector_map_t::SOURCE_SONAR || src == sector_map_t::SOURCE_SONAR_COPIED ||
          src == sector_map_t::SOURCE_REMEMBERED;
   return n;
@@ -108,14 +105,17 @@ LogInfo scanLog(const std::string& path) {
     ++info.events;
     const Kind k = kindOf(r->channel);
     if (k == Kind::Other) continue;
-    const auto t = messageTime(k, r->data);
+    // (A SECTOR_MAP is decoded once: its time and its sonar sectors.)
+    const auto sector_map = k == Kind::SectorMap ? safeDecode<sector_map_t>(r->data) : std::nullopt;
+    const auto t = k == Kind::SectorMap ? (sector_map ? std::optional<int64_t>(sector_map->utime) : std::nullopt)
+                                        : messageTime(k, r->data);
     if (!t || *t <= 0) {
       ++info.undecodable[r->channel];
       continue;
     }
     ++info.messages[r->channel];
-    if (k == Kind::SectorMap) {
-      const int n = sonarSectors(r->data);
+    if (sector_map) {
+      const int n = sonarSectors(*sector_map);
       if (n > info.most_sonar_sectors || (n == info.most_sonar_sectors && *t < info.most_sonar_utime)) {
         info.most_sonar_sectors = n;
         info.most_sonar_utime = *t;

@@ -75,13 +75,12 @@ class WorldCore {
   Scenario scenario_;      // (a copy: statics_ points into it)
   WorldGeometry statics_;  // the static obstacles, which a mover stepping back cannot pass
   PathFollower robot_;
-  std::vector<PathFollower> movers_;
-  std::vector<double> mover_radius_;
-  std::vector<double> waited_;           // [s] time each mover stood waiting for the robot
-  std::vector<double> waiting_;          // [s] how long it has been waiting now
+  std::vector<PathFollower> movers_;     // (their radii: scenario_.movers)
   // [s] how long a person waits for a robot in the way before walking round it: long enough
   // for a robot driving by to pass (its diameter at 0.3 m/s), not for ever at a standing one.
   static constexpr double kPatienceS = 2.0;
+  std::vector<double> waited_;           // [s] time each mover stood waiting for the robot
+  std::vector<double> waiting_;          // [s] how long it has been waiting now
   std::vector<geom::Vec2> stepped_;      // [m] how far each mover stepped aside from its path
   int64_t end_utime_;
   std::mt19937_64 rng_;

@@ -114,10 +114,8 @@ WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
       robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
       end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
       rng_(deriveSeed(s.seed, "odometry")) {
-  for (const MoverSpec& m : s.movers) {
+  for (const MoverSpec& m : s.movers)
     movers_.emplace_back(m.path, m.mode, m.speed, std::numeric_limits<double>::infinity(), m.start_delay_s);
-    mover_radius_.push_back(m.radius);
-  }
   waited_.assign(movers_.size(), 0.0);
   waiting_.assign(movers_.size(), 0.0);
   stepped_.assign(movers_.size(), geom::Vec2::Zero());
@@ -146,7 +144,7 @@ bool WorldCore::bodyFree(const geom::Vec2& p, double radius) const {
 void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robot) {
   const MoverSpec& spec = scenario_.movers[i];
   const geom::Vec2 r = robot.position();
-  const double keep = scenario_.robot.radius + mover_radius_[i] + spec.keep_clear_m;
+  const double keep = scenario_.robot.radius + spec.radius + spec.keep_clear_m;
   const geom::Vec2 before = moverAt(i, t - dt);
   const geom::Vec2 walked = moverAt(i, t);
   const double d_walked = (walked - r).norm();
@@ -166,7 +164,7 @@ void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robo
       // How far along u until the keep distance: |rel + k u| = keep.
       const double b = u.dot(rel);
       const double k = -b + std::sqrt(std::max(0.0, b * b - (d * d - keep * keep)));
-      if (bodyFree(p + u * k, mover_radius_[i])) {
+      if (bodyFree(p + u * k, spec.radius)) {
         stepped_[i] += u * k;
         return;
       }
@@ -179,7 +177,7 @@ void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robo
     const double step = std::min(off, spec.speed * dt);
     const geom::Vec2 back_on = stepped_[i] * ((off - step) / off);
     const geom::Vec2 q = p - stepped_[i] + back_on;
-    if ((q - r).norm() >= keep && bodyFree(q, mover_radius_[i])) stepped_[i] = back_on;
+    if ((q - r).norm() >= keep && bodyFree(q, spec.radius)) stepped_[i] = back_on;
   }
 }
 
@@ -215,7 +213,7 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
     m.id = static_cast<int32_t>(i);
     m.x = p.x();
     m.y = p.y();
-    m.radius = mover_radius_[i];
+    m.radius = scenario_.movers[i].radius;
     st.movers.push_back(m);
   }
   st.nmovers = static_cast<int32_t>(st.movers.size());
