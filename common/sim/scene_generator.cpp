@@ -271,12 +271,12 @@ std::optional<GeneratedScene> generateScene(uint64_t index) {
         if (!ok) break;
       }
       if (!ok) continue;
-      const double delay = d.uniform(0, kPersonMaxDelay), speed = d.uniform(kPersonMinSpeed, kPersonMaxSpeed);
+      const double delay = d.uniform(0, kPersonMaxDelay), walk = d.uniform(kPersonMinSpeed, kPersonMaxSpeed);
       char line[256];
       std::snprintf(line, sizeof(line),
                     "{shape: circle, radius: %.2f, material: person, speed: %.2f, path: [%s, %s], "
                     "mode: pingpong, start_delay_s: %.1f}",
-                    kPersonRadius, speed, pt(a).c_str(), pt(b).c_str(), delay);
+                    kPersonRadius, walk, pt(a).c_str(), pt(b).c_str(), delay);
       movers.push_back(line);
       break;
     }
