@@ -33,7 +33,7 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
-                                   "hit_weight_speed", "published_size", "laser_join", "laser_join_min_line_m"};
+                                   "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -47,6 +47,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
+  p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
@@ -61,7 +62,7 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
       cfg_(cfg),
       agm_(cfg.agm),
       placer_(cfg.placement),
-      look_weight_(cfg.hit_weight_speed),
+      look_weight_(cfg.hit_weight_speed, cfg.hit_weight_low_speed),
       cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
@@ -75,7 +76,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.agm);
   placer_ = EchoPlacer(cfg_.placement);
-  look_weight_ = LookWeight(cfg_.hit_weight_speed);
+  look_weight_ = LookWeight(cfg_.hit_weight_speed, cfg_.hit_weight_low_speed);
   last_integrated_utime_.reset();
   csm_ = CurrentSensorMap();
   std::fill(cycle_utime_.begin(), cycle_utime_.end(), 0);
@@ -193,7 +194,7 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (cfg_.laser_join) joinToLaserLines(hits);
   const auto pose = poses_.at(utime);
-  if (look_weight_.refSpeed() > 0) {
+  if (look_weight_.enabled()) {
     // The robot's mean speed since the previous group (its newest odometry speed when there is
     // none within a second): how fast it drove past what this group heard.
     double v = -1;
@@ -203,6 +204,8 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
                                   static_cast<double>(utime - *last_integrated_utime_) * 1e-6);
     if (const int added = look_weight_.apply(hits, v >= 0 ? v : speed_); added > 0)
       node_.count("agm.look_weight_hits", added);
+    else if (added < 0)
+      node_.count("agm.look_weight_dropped", -added);
   }
   last_integrated_utime_ = utime;
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");

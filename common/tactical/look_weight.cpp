@@ -6,8 +6,10 @@
 namespace lasonic {
 
 double LookWeight::weight(double speed) const {
-  if (!(ref_speed_ > 0) || !std::isfinite(speed)) return 1.0;
-  return std::max(1.0, std::abs(speed) / ref_speed_);
+  if (!std::isfinite(speed)) return 1.0;
+  const double v = std::abs(speed);
+  if (low_speed_ > 0 && v < low_speed_) return v / low_speed_;
+  return ref_speed_ > 0 ? std::max(1.0, v / ref_speed_) : 1.0;
 }
 
 int LookWeight::apply(std::vector<geom::Vec2>& hits, double speed) {

@@ -12,6 +12,13 @@
 // while the margin against people shrinks as the robot approaches their walking speed (the
 // next-scan check and the laser still see them).
 //
+// Optionally also below a low speed (off by default): w = v / v_low below v_low, so a robot
+// standing or turning on the spot adds no hits. From one place the ring hears the same surfaces
+// every cycle; their range arcs coincide instead of crossing, so the repeats are no new looks, yet
+// they would confirm whatever cell the arc placement picked along the arc (README "Between
+// drives": the memory of a waiting robot fills with such streaks). What was confirmed while
+// driving stays until forgotten as usual.
+//
 // Integer G stays integer: each hit is copied floor(carry + w) - floor(carry) times with the
 // fractional part carried to the next hit, so over many hits the mean is w, and the result depends
 // only on the order of the hits (deterministic).
@@ -24,13 +31,17 @@ namespace lasonic {
 
 class LookWeight {
  public:
-  // ref_speed [m/s]: the speed at which one echo is one hit; 0: always one hit (the paper).
-  explicit LookWeight(double ref_speed) : ref_speed_(ref_speed) {}
+  // ref_speed [m/s]: the speed at or below which one echo is one hit; 0: never more (the paper).
+  // low_speed [m/s]: below it an echo counts for speed / low_speed hits; 0: never fewer.
+  explicit LookWeight(double ref_speed, double low_speed = 0) : ref_speed_(ref_speed), low_speed_(low_speed) {}
   double refSpeed() const { return ref_speed_; }
-  // The weight at robot speed `speed` [m/s]: max(1, |speed| / ref_speed); 1 when off or when the
-  // speed is not finite.
+  double lowSpeed() const { return low_speed_; }
+  bool enabled() const { return ref_speed_ > 0 || low_speed_ > 0; }
+  // The weight at robot speed `speed` [m/s]: |speed| / low_speed below low_speed, else
+  // max(1, |speed| / ref_speed); 1 when both are off or when the speed is not finite.
   double weight(double speed) const;
-  // Replaces every hit by its copies (in order) at weight(speed). Returns how many were added.
+  // Replaces every hit by its copies (in order) at weight(speed). Returns how many were added
+  // (negative: how many were dropped, at a weight below one).
   int apply(std::vector<geom::Vec2>& hits, double speed);
   // Mean speed [m/s] between two poses `dt_s` apart; nullopt-like -1 when dt_s is not positive
   // or the result not finite.
@@ -38,6 +49,7 @@ class LookWeight {
 
  private:
   double ref_speed_ = 0;
+  double low_speed_ = 0;
   double carry_ = 0;  // fractional hits owed, in [0, 1)
 };
 

@@ -1,4 +1,5 @@
-// LookWeight: an echo counts for max(1, v / v_ref) hits, dithered deterministically.
+// LookWeight: an echo counts for max(1, v / v_ref) hits (and, with a low speed, v / v_low below
+// it), dithered deterministically.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -69,4 +70,30 @@ TEST(LookWeight, BadSpeedsCountOneAndHugeOnesAreCapped) {
   EXPECT_EQ(LookWeight::meanSpeed({0, 0}, {1, 0}, 0.0), -1);
   EXPECT_EQ(LookWeight::meanSpeed({0, 0}, {std::numeric_limits<double>::quiet_NaN(), 0}, 1.0), -1);
   EXPECT_DOUBLE_EQ(LookWeight::meanSpeed({0, 0}, {0.3, 0.4}, 0.5), 1.0);
+}
+
+TEST(LookWeight, BelowTheLowSpeedEchoesCountLessAndStandingAddsNone) {
+  // Standing (and turning on the spot): no hit at all.
+  LookWeight w(0.4, 0.2);
+  auto standing = points(6);
+  EXPECT_EQ(w.apply(standing, 0.0), -6);
+  EXPECT_TRUE(standing.empty());
+  // Half the low speed: every other echo, in order, the same every time.
+  LookWeight a(0.4, 0.2), b(0.4, 0.2);
+  auto ha = points(6), hb = points(6);
+  EXPECT_EQ(a.apply(ha, 0.1), -3);
+  b.apply(hb, -0.1);  // backwards the same
+  EXPECT_EQ(ha, hb);
+  ASSERT_EQ(ha.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(ha[i], points(6)[2 * i + 1]) << i;
+  // Between the two speeds one echo is one hit; above the reference more.
+  EXPECT_DOUBLE_EQ(w.weight(0.2), 1.0);
+  EXPECT_DOUBLE_EQ(w.weight(0.3), 1.0);
+  EXPECT_DOUBLE_EQ(w.weight(0.8), 2.0);
+  // The low speed alone, without the reference.
+  EXPECT_DOUBLE_EQ(LookWeight(0, 0.2).weight(0.05), 0.25);
+  EXPECT_DOUBLE_EQ(LookWeight(0, 0.2).weight(3.0), 1.0);
+  EXPECT_TRUE(LookWeight(0, 0.2).enabled());
+  EXPECT_FALSE(LookWeight(0, 0).enabled());
+  EXPECT_DOUBLE_EQ(w.weight(std::numeric_limits<double>::quiet_NaN()), 1.0);
 }
