@@ -400,6 +400,36 @@ TEST(NavigatorStage, PublishesTheMiddleOfItsLargerWindow) {
   EXPECT_GT(occupied_cells, 0);
 }
 
+// hit_weight_low_speed: the robot drives past the pane at 0.6 m/s (5 s) and then stands at its
+// end for the rest of the run. Standing, its echoes add no weight to the tactical map with the
+// key, while without it the map's weight keeps growing; what was confirmed while driving stays.
+TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
+  NavigatorConfig low;
+  low.hit_weight_low_speed = 0.2;
+  const PipelineRun with = runPipeline(low, true, true, 0.6);
+  const PipelineRun without = runPipeline(NavigatorConfig{}, true, true, 0.6);
+  const auto total_g = [](const grid_map_t& g) {
+    int64_t sum = 0;
+    for (const int16_t v : g.g) sum += v;
+    return sum;
+  };
+  // The tactical maps from 1 s after the stop (t0 + 6 s) to the end.
+  const auto standing = [](const PipelineRun& r) {
+    std::vector<grid_map_t> out;
+    const int64_t t0 = r.truth.front().utime;
+    for (const grid_map_t& g : r.tactical)
+      if (g.utime >= t0 + 6'000'000) out.push_back(g);
+    return out;
+  };
+  const std::vector<grid_map_t> a = standing(with), b = standing(without);
+  ASSERT_GE(a.size(), 4u);
+  ASSERT_GE(b.size(), 4u);
+  EXPECT_LE(total_g(a.back()), total_g(a.front()));
+  EXPECT_GT(total_g(b.back()), total_g(b.front()));
+  // The pane heard while driving is still there.
+  EXPECT_GT(countCells({a.back()}, nearPane), 0);
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);
@@ -413,6 +443,8 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_FALSE(c.verify_with_next_scan);
   EXPECT_DOUBLE_EQ(d.hit_weight_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_speed: 0}").section("navigator")).hit_weight_speed, 0);
+  EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0);
+  EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
   EXPECT_EQ(d.published_size, 100);
   EXPECT_EQ(navigatorConfig(Config::fromString("navigator: {agm: {size: 100}, published_size: 0}").section("navigator"))
                 .published_size, 0);
@@ -422,7 +454,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("navigator.published_size"), std::string::npos) << e.what();
   }
-  for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
+  for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {hit_weight_low_speed: -1}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
                           "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {agm_bearing: cone}",
                           "navigator: {published_size: 201}", "navigator: {published_size: -1}",
                           "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",
