@@ -336,4 +336,6 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
 // this check's 0.15 m; the scene is kept as it was measured.)
 // Scenes outside the suite (README "Simulator"): the same checks; in people_in_the_way the
 // people's paths cross the robot's, and they keep clear of it.
-INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario, ::testing::Values("experiments/people_in_the_way"));
+INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
+                         ::testing::Values("experiments/people_in_the_way", "experiments/creeping_mesh_corridor",
+                                           "experiments/creeping_glass_corridor", "experiments/angled_mesh_room"));
