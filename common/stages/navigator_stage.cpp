@@ -33,7 +33,8 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
-                                   "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m"};
+                                   "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
+                                   "laser_glints"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -50,6 +51,22 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
+  if (c.has("laser_glints")) {
+    const Config g = c.section("laser_glints");
+    g.allowOnly({"max_incidence_deg", "max_rms_m", "end_gap_m", "min_points", "max_range_m", "confirm_s", "min_move_m",
+                 "move_tol_m", "line_tol_m"});
+    LaserGlintParams& lg = p.laser_glints;
+    lg.max_incidence = geom::deg2rad(
+        g.get("max_incidence_deg", geom::rad2deg(lg.max_incidence), Range::between(0, 45)));
+    lg.max_rms = g.get("max_rms_m", lg.max_rms, Range::between(0, 1));
+    lg.end_gap = g.get("end_gap_m", lg.end_gap, Range::between(0, 5));
+    lg.min_points = g.get("min_points", lg.min_points, Range::between(1, 1000));
+    lg.max_range = g.get("max_range_m", lg.max_range, Range::nonNegative());
+    lg.confirm_s = g.get("confirm_s", lg.confirm_s, Range::between(0, 60));
+    lg.min_move = g.get("min_move_m", lg.min_move, Range::between(0, 10));
+    lg.move_tol = g.get("move_tol_m", lg.move_tol, Range::between(0, 10));
+    lg.line_tol = g.get("line_tol_m", lg.line_tol, Range::between(0, 10));
+  }
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
   if (p.published_size > p.agm.size)
     c.fail("published_size", std::to_string(p.published_size) + " cells, more than the tactical AGM's size (agm.size " +
@@ -63,6 +80,7 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
       agm_(cfg.agm),
       placer_(cfg.placement),
       look_weight_(cfg.hit_weight_speed, cfg.hit_weight_low_speed),
+      glints_(cfg.laser_glints),
       cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
@@ -83,6 +101,8 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   pending_.clear();
   rm_.clear();
   rm_source_utime_.reset();
+  glints_.clear();
+  glint_hits_.clear();
   last_complement_utime_.reset();
   last_rm_utime_.reset();
   last_publish_.reset();
@@ -126,6 +146,17 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
   rm_.clear();
   for (const CsmLine& l : lines) rm_.push_back({l.seg, l.npoints, l.rms});
   rm_source_utime_ = m.source_utime;
+  if (cfg_.laser_glints.enabled()) {
+    const geom::Vec2 at{m.robot_pose.x, m.robot_pose.y};
+    if (at.allFinite()) {
+      const auto glints = glints_.update(m.utime, at, rm_);
+      const std::vector<geom::Vec2> hits = glintHits(glints);
+      glint_hits_.insert(glint_hits_.end(), hits.begin(), hits.end());
+      if (!glints.empty()) node_.count("agm.laser_glints", static_cast<int64_t>(glints.size()));
+    } else {
+      node_.reportError("rejected.radar_map_pose", "RADAR_MAP.robot_pose is not finite: no glints taken");
+    }
+  }
   flushPending();
   advance(m.utime);
 }
@@ -208,6 +239,13 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
       node_.count("agm.look_weight_dropped", -added);
   }
   last_integrated_utime_ = utime;
+  // The glints since the previous group, one hit per return (not weighed by speed: the scanner
+  // sees a glint at its own rate, however fast the robot drives).
+  if (!glint_hits_.empty()) {
+    node_.count("agm.laser_glint_hits", static_cast<int64_t>(glint_hits_.size()));
+    hits.insert(hits.end(), glint_hits_.begin(), glint_hits_.end());
+    glint_hits_.clear();
+  }
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
   const int inside = agm_.update(hits);
   cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;

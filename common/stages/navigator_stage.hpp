@@ -56,6 +56,7 @@
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
 #include "tactical/current_sensor_map.hpp"
+#include "tactical/laser_glint.hpp"
 #include "tactical/laser_join.hpp"
 #include "tactical/line_generation.hpp"
 #include "tactical/look_weight.hpp"
@@ -88,6 +89,11 @@ struct NavigatorConfig {
   // that end. false: one cell per echo (the paper).
   bool laser_join = true;
   double laser_join_min_line_m = 0.5;  // [m] LaserJoinParams::min_line_length
+  // Laser glints (tactical/laser_glint.hpp): each return of a Radar Map segment seen only near
+  // its normal, flat and alone, that moved along its own line with the robot -- a glass pane's
+  // glint -- is one hit in the tactical AGM, with the next firing group. max_incidence 0: off
+  // (the paper: complementary echoes only).
+  LaserGlintParams laser_glints;
 
   // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
   static AgmParams tacticalAgmDefaults();
@@ -120,6 +126,7 @@ class NavigatorStage {
   AccumulativeGridMap agm_;
   EchoPlacer placer_;
   LookWeight look_weight_;
+  GlintTracker glints_;  // laser glints (tactical/laser_glint.hpp)
   std::optional<int64_t> last_integrated_utime_;  // the previous firing group put into the AGM
   CurrentSensorMap csm_;
   grid_map_t grid_msg_{};  // (the AGM_TACTICAL message, every field set per map; storage reused)
@@ -133,6 +140,7 @@ class NavigatorStage {
   std::deque<PendingGroup> pending_;  // firing groups waiting for the next scan's Radar Map
   std::vector<complement::RmSegment> rm_;  // the newest Radar Map
   std::optional<int64_t> rm_source_utime_;  // its scan's start
+  std::vector<geom::Vec2> glint_hits_;  // laser glints since the last firing group went in
   std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
   int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed

@@ -3,3 +3,4 @@ lasonic_add_gtest(test_line_generation SOURCES test_line_generation.cpp LIBS las
 lasonic_add_gtest(test_navigator_stage SOURCES test_navigator_stage.cpp LIBS lasonic_stages lasonic_sim)
 lasonic_add_gtest(test_look_weight SOURCES test_look_weight.cpp LIBS lasonic_tactical)
 lasonic_add_gtest(test_laser_join SOURCES test_laser_join.cpp LIBS lasonic_tactical)
+lasonic_add_gtest(test_laser_glint SOURCES test_laser_glint.cpp LIBS lasonic_tactical)

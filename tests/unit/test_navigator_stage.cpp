@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 #include <string>
 
 #include <lasonic/grid_map_t.hpp>
@@ -446,6 +447,21 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
   EXPECT_EQ(d.published_size, 100);
+  EXPECT_TRUE(d.laser_glints.enabled());
+  EXPECT_NEAR(d.laser_glints.max_incidence, geom::deg2rad(10), 1e-12);
+  EXPECT_DOUBLE_EQ(d.laser_glints.max_range, 5.0);
+  const NavigatorConfig g = navigatorConfig(
+      Config::fromString("navigator: {laser_glints: {max_incidence_deg: 0, min_move_m: 0.1, min_points: 6}}").section("navigator"));
+  EXPECT_FALSE(g.laser_glints.enabled());
+  EXPECT_DOUBLE_EQ(g.laser_glints.min_move, 0.1);
+  EXPECT_EQ(g.laser_glints.min_points, 6);
+  EXPECT_DOUBLE_EQ(g.laser_glints.max_rms, d.laser_glints.max_rms);  // the rest keeps its defaults
+  try {
+    navigatorConfig(Config::fromString("navigator: {laser_glints: {max_rms_m: -0.01}}").section("navigator"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("navigator.laser_glints.max_rms_m"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(navigatorConfig(Config::fromString("navigator: {agm: {size: 100}, published_size: 0}").section("navigator"))
                 .published_size, 0);
   try {
@@ -458,6 +474,50 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
                           "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {agm_bearing: cone}",
                           "navigator: {published_size: 201}", "navigator: {published_size: -1}",
                           "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",
-                          "navigator: {agm: {odometry_rot_noise: .nan}}"})
+                          "navigator: {agm: {odometry_rot_noise: .nan}}",
+                          "navigator: {laser_glints: {max_incidence_deg: 60}}", "navigator: {laser_glints: {min_points: 0}}",
+                          "navigator: {laser_glints: {confirm_s: .nan}}", "navigator: {laser_glints: {glass: true}}",
+                          "navigator: {laser_glints: 3}"})
     EXPECT_THROW(navigatorConfig(Config::fromString(bad).section("navigator")), ConfigError) << bad;
+}
+
+// Laser glints: a glass wall 3.6 m to the robot's left, beyond the sonar's 3.0 m listening window
+// (never heard), passed face-on; the laser sees it only where it faces the scanner within 2 deg.
+// A person walks towards the robot and past it on the other side.
+const char* kFarPaneScenario = R"(
+name: far_pane
+duration_s: 14
+seed: 4
+obstacles:
+  - {shape: segment, material: glass, from: [-2.0, 3.6], to: [6.0, 3.6]}
+  - {shape: segment, material: wall, from: [-2.0, -1.6], to: [6.0, -1.6]}
+movers:
+  - {shape: circle, radius: 0.25, material: person, speed: 1.0, path: [[5.0, -0.8], [-2.0, -0.8]], mode: once}
+robot:
+  radius: 0.35
+  path: [[0.0, 0.0], [3.5, 0.0]]
+  speed: 0.3
+)";
+
+TEST(NavigatorStage, LaserGlintsKeepAGlassWallTheSonarNeverHeard) {
+  NavigatorConfig glints;
+  glints.laser_glints.max_incidence = geom::deg2rad(10);
+  NavigatorConfig paper;
+  paper.laser_glints.max_incidence = 0;
+  const PipelineRun with = runPipeline(glints, true, true, 0.3, PilotConfig{}.predict_movers, kFarPaneScenario);
+  const PipelineRun without = runPipeline(paper, true, true, 0.3, PilotConfig{}.predict_movers, kFarPaneScenario);
+  ASSERT_FALSE(with.tactical.empty());
+  ASSERT_FALSE(without.tactical.empty());
+  const auto onPane = [](const Vec2& c) { return std::abs(c.y() - 3.6) < 0.15; };
+  // Without glints nothing of the glass; with them the stretch the robot drove past (x 0-3.5),
+  // and nothing off the pane (the person, walls seen by the laser anyway, are not glints).
+  for (const auto& c : occupied(without.tactical.back())) EXPECT_FALSE(onPane(c)) << c.transpose();
+  std::set<int> xs;
+  for (const auto& c : occupied(with.tactical.back())) {
+    EXPECT_TRUE(onPane(c)) << "not on the pane: " << c.transpose();
+    if (onPane(c)) xs.insert(static_cast<int>(std::floor(c.x() * 10)));
+  }
+  EXPECT_GE(xs.size(), 20u) << "decimetres of the pane held";
+  for (const auto& g : with.tactical)
+    for (const auto& c : occupied(g)) EXPECT_FALSE(onPersonTrack(c)) << c.transpose();
 }
