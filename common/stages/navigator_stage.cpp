@@ -85,6 +85,40 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
+  // The glints are the scan's shortest segments, which the Radar Map drops (its min_length is
+  // the sonar's lateral resolution): the navigator cuts the scan itself, with the Radar Map's
+  // jump and fit rules (the shipped `complement.radar_map` values are the code defaults).
+  if (cfg_.laser_glints.enabled())
+    node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
+}
+
+void NavigatorStage::onLaserScan(const laser_scan_t& m) {
+  if (!timeOk(m.utime, channels::LASER_SCAN)) return;
+  node_.noteMessageTime(m.utime);
+  if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
+  std::vector<complement::InputProblem> problems;
+  const std::optional<complement::LaserScan>& scan = complement::laserScanFromMessageInto(m, problems, own_scan_);
+  reportProblems(node_, problems);
+  if (!scan) return;
+  last_scan_utime_ = m.utime;
+  complement::RadarMapConfig cut;
+  cut.min_points = cfg_.laser_glints.min_points;
+  cut.min_length = 0;
+  cut.pole_min_points = 0;
+  int no_pose = 0;
+  const complement::RadarMap rm = complement::extractRadarMap(*scan, poses_, cut, &no_pose);
+  // Seen from the scanner at the scan's last reading; without that pose, from nowhere known.
+  const auto robot = poses_.at(rm.utime);
+  if (!robot || no_pose > 0) {
+    node_.count("glints.no_odometry");
+    if (!robot) return;
+  }
+  const geom::Vec2 scanner = robot->compose(scan->mount).position();
+  const std::vector<complement::RmSegment> glints = glints_.update(rm.utime, scanner, rm.segments);
+  if (glints.empty()) return;
+  const std::vector<geom::Vec2> hits = glintHits(glints);
+  glint_hits_.insert(glint_hits_.end(), hits.begin(), hits.end());
+  node_.count("agm.laser_glints", static_cast<int64_t>(glints.size()));
 }
 
 bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
@@ -103,6 +137,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   rm_source_utime_.reset();
   glints_.clear();
   glint_hits_.clear();
+  last_scan_utime_.reset();
   last_complement_utime_.reset();
   last_rm_utime_.reset();
   last_publish_.reset();
@@ -146,17 +181,6 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
   rm_.clear();
   for (const CsmLine& l : lines) rm_.push_back({l.seg, l.npoints, l.rms});
   rm_source_utime_ = m.source_utime;
-  if (cfg_.laser_glints.enabled()) {
-    const geom::Vec2 at{m.robot_pose.x, m.robot_pose.y};
-    if (at.allFinite()) {
-      const auto glints = glints_.update(m.utime, at, rm_);
-      const std::vector<geom::Vec2> hits = glintHits(glints);
-      glint_hits_.insert(glint_hits_.end(), hits.begin(), hits.end());
-      if (!glints.empty()) node_.count("agm.laser_glints", static_cast<int64_t>(glints.size()));
-    } else {
-      node_.reportError("rejected.radar_map_pose", "RADAR_MAP.robot_pose is not finite: no glints taken");
-    }
-  }
   flushPending();
   advance(m.utime);
 }

@@ -2,7 +2,8 @@
 // NavigatorStage: the tactical level (Jörg 1995 sec. 3.4, "Tactical abstraction level") on a
 // lasonic::Node.
 //
-// In:  ODOMETRY (pose history, speed), SONAR_COMPLEMENT (one firing group), RADAR_MAP.
+// In:  ODOMETRY (pose history, speed), SONAR_COMPLEMENT (one firing group), RADAR_MAP, and
+//      LASER_SCAN for the laser glints (not subscribed when they are off).
 // Out, at publish_hz of message time (independent of the pilot's rate):
 //      AGM_TACTICAL        the tactical Accumulative Grid Map (grid_map_t)
 //      AGM_LINES           the lines generated from it (line_map_t, source SONAR)
@@ -10,6 +11,7 @@
 //                          the time it was last supported (line_map_t)
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
 // agm.look_weight_hits (the hits the look weight added), agm.laser_join_hits (the laser join's),
+// agm.laser_glints and agm.laser_glint_hits (confirmed laser glints and their hits),
 // lines.published, publish.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -45,6 +47,7 @@
 
 #include <lasonic/complement_t.hpp>
 #include <lasonic/grid_map_t.hpp>
+#include <lasonic/laser_scan_t.hpp>
 #include <lasonic/line_map_t.hpp>
 #include <lasonic/odometry_t.hpp>
 
@@ -111,6 +114,7 @@ class NavigatorStage {
   void onOdometry(const odometry_t& m);
   void onRadarMap(const line_map_t& m);
   void onComplement(const complement_t& m);
+  void onLaserScan(const laser_scan_t& m);  // laser glints only
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);
@@ -141,6 +145,8 @@ class NavigatorStage {
   std::vector<complement::RmSegment> rm_;  // the newest Radar Map
   std::optional<int64_t> rm_source_utime_;  // its scan's start
   std::vector<geom::Vec2> glint_hits_;  // laser glints since the last firing group went in
+  std::optional<complement::LaserScan> own_scan_;  // the decoded LASER_SCAN (storage reused)
+  std::optional<int64_t> last_scan_utime_;
   std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
   int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed

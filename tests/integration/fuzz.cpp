@@ -6,7 +6,7 @@
 //       PIPE_URL: ODOMETRY, LASER_SCAN, SONAR_RING (lasonic-complement), SONAR_COMPLEMENT and
 //                 AGM_TACTICAL (lasonic-pilot; ODOMETRY and LASER_SCAN too)
 //       SIM_URL:  SIM_STATE (lasonic-laser-driver, lasonic-sonar-driver)
-//       NAV_URL:  ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP (lasonic-navigator)
+//       NAV_URL:  ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP, LASER_SCAN (lasonic-navigator)
 //     Kinds: random bytes; a valid message cut short; bit flips in a valid message; a valid message
 //     of another type; a count field claiming more elements than the bytes hold, negative, or
 //     over the cap; a real array over the cap; valid messages with fields set to NaN, +-Inf,
@@ -82,7 +82,7 @@ const std::vector<Target> kTargets = {
     {"lasonic-pilot", kPipe, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL}},
     {"lasonic-laser-driver", kSim, {channels::SIM_STATE}},
     {"lasonic-sonar-driver", kSim, {channels::SIM_STATE}},
-    {"lasonic-navigator", kNav, {channels::ODOMETRY, channels::SONAR_COMPLEMENT, channels::RADAR_MAP}},
+    {"lasonic-navigator", kNav, {channels::ODOMETRY, channels::SONAR_COMPLEMENT, channels::RADAR_MAP, channels::LASER_SCAN}},
 };
 
 // ---- what Node will make of the bytes (lcmio/node.hpp: the cap check, then decode)
