@@ -11,13 +11,15 @@
 // complementary: neither the Radar Map of the moment nor the tactical map holds the pane that
 // the laser located, seconds earlier, along the whole stretch it drove past.
 //
-// A candidate is a Radar Map segment that is (1) seen only near its normal: each of its ends
-// within max_incidence of it, from the robot; (2) flat: its fit's RMS within range noise;
-// (3) near: both ends within max_range, the published tactical window's half width (what the pilot
-// and the lines read; a pane farther away glints again as the robot comes nearer), where the
-// window (1) admits, 2 r tan(max_incidence), is still pane-sized rather than a far wall's width; (4) alone: no other segment ends within
-// end_gap of either end (a surface that stays in view beside it -- a wall's next piece -- goes
-// on; a glint's pane goes on unseen); (5) made of at least min_points returns.
+// A candidate is a segment of the scan (cut with the Radar Map's rules but no minimum length:
+// within 2.2 m a glint is shorter than the Radar Map's 0.15 m; NavigatorStage) that is (1) seen
+// only near its normal: each of its ends within max_incidence of it, from the scanner; (2) flat:
+// its fit's RMS within range noise; (3) near: both ends within max_range, the published tactical
+// window's half width (what the pilot and the lines read; a pane farther away glints again as the
+// robot comes nearer), where the window (1) admits, 2 r tan(max_incidence), is still pane-sized
+// rather than a far wall's width; (4) alone: no other segment ends within end_gap of either end
+// (a surface that stays in view beside it -- a wall's next piece -- goes on; a glint's pane goes
+// on unseen); (5) made of at least min_points returns.
 //
 // A round thing -- a person, a pillar -- always shows the laser a short piece facing it squarely,
 // flat within range noise at the middle of its chord: a candidate too. What only a plane's glint

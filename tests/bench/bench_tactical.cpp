@@ -58,8 +58,9 @@ void BM_LineGeneration(benchmark::State& state) {
 }
 BENCHMARK(BM_LineGeneration)->Unit(benchmark::kMicrosecond);
 
-// The navigator's input of a simulated fig7-like run (metal room, mesh fence, black box):
-// ODOMETRY, RADAR_MAP and SONAR_COMPLEMENT, as the complement stage publishes them.
+// The navigator's input of a simulated fig7-like run (metal room, mesh fence, black box, a glass
+// pane): ODOMETRY, LASER_SCAN (the laser glints), RADAR_MAP and SONAR_COMPLEMENT, as the drivers
+// and the complement stage publish them.
 struct Recorded {
   std::vector<std::pair<std::string, std::vector<uint8_t>>> events;
   int64_t groups = 0;
@@ -80,6 +81,7 @@ obstacles:
   - {shape: polyline, material: metal, closed: true, points: [[0, 0], [8, 0], [8, 5], [0, 5]]}
   - {shape: segment, material: mesh, from: [2.0, 2.5], to: [3.5, 2.5]}
   - {shape: box, material: black_cardboard, center: [4.0, 0.35], size: [0.5, 0.3]}
+  - {shape: segment, material: glass, from: [4.5, 2.5], to: [6.5, 2.5]}
 robot: {radius: 0.35, path: [[1.0, 1.2], [7.0, 1.2], [7.0, 3.8], [1.0, 3.8]], speed: 0.3}
 )"));
     auto lcm = std::make_shared<lcm::LCM>("memq://");
@@ -89,6 +91,7 @@ robot: {radius: 0.35, path: [[1.0, 1.2], [7.0, 1.2], [7.0, 3.8], [1.0, 3.8]], sp
     lcm->subscribe(channels::RADAR_MAP, &Recorded::handleMessage, &r);
     lcm->subscribe(channels::SONAR_COMPLEMENT, &Recorded::handleMessage, &r);
     lcm->subscribe(channels::ODOMETRY, &Recorded::handleMessage, &r);
+    lcm->subscribe(channels::LASER_SCAN, &Recorded::handleMessage, &r);
     sim::WorldCore world(sc, sim::OdometryConfig{});
     sim::LaserDriverCore laser(sc, sim::LaserConfig{}, sc.seed);
     sim::SonarDriverCore sonar(sc, sim::sonarConfig(Config{}), sc.seed);
@@ -112,14 +115,16 @@ robot: {radius: 0.35, path: [[1.0, 1.2], [7.0, 1.2], [7.0, 3.8], [1.0, 3.8]], sp
 
 // Per firing group: decode, next-scan verification, echo placement, AGM cycle; plus the share of
 // the 2 Hz publication (AGM_TACTICAL export, line generation, AGM_LINES, CURRENT_SENSOR_MAP) and
-// of the ODOMETRY / RADAR_MAP handling that falls on it.
+// of the ODOMETRY / RADAR_MAP / LASER_SCAN handling (the laser glints' cut) that falls on it.
 void BM_NavigatorPerFiringGroup(benchmark::State& state) {
   const Recorded& rec = recordedRun();
   for (auto _ : state) {
     state.PauseTiming();
     auto lcm = std::make_shared<lcm::LCM>("memq://");
     auto node = std::make_unique<Node>("n", lcm, Node::Options{false, false});
-    auto nav = std::make_unique<NavigatorStage>(*node, NavigatorConfig{});
+    NavigatorConfig cfg;
+    if (state.range(0) == 0) cfg.laser_glints.max_incidence = 0;  // no glints: LASER_SCAN not taken
+    auto nav = std::make_unique<NavigatorStage>(*node, cfg);
     state.ResumeTiming();
     for (const auto& [ch, data] : rec.events) {
       lcm->publish(ch, data.data(), static_cast<unsigned>(data.size()));
@@ -136,6 +141,7 @@ void BM_NavigatorPerFiringGroup(benchmark::State& state) {
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["us_per_group"].flags = benchmark::Counter::kIsRate | benchmark::Counter::kInvert;
 }
-BENCHMARK(BM_NavigatorPerFiringGroup)->Unit(benchmark::kMillisecond)->Iterations(5);
+// Arg 1: the shipped configuration; 0: without the laser glints.
+BENCHMARK(BM_NavigatorPerFiringGroup)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace

@@ -338,4 +338,5 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
 // people's paths cross the robot's, and they keep clear of it.
 INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
                          ::testing::Values("experiments/people_in_the_way", "experiments/creeping_mesh_corridor",
-                                           "experiments/creeping_glass_corridor", "experiments/angled_mesh_room"));
+                                           "experiments/creeping_glass_corridor", "experiments/angled_mesh_room",
+                                           "experiments/shop_front_arcade", "experiments/glass_meeting_rooms"));
