@@ -9,7 +9,10 @@
 #     here), independent of the pilot's SECTOR_MAP (one per firing group and scan); the
 #     navigator's PROCESS_STATUS shows its AGM cycles and no errors; it exits 0 on SIGTERM;
 #  3. with the navigator killed (SIGKILL), the same log played again into a fresh complement and
-#     pilot: the pilot's SECTOR_MAP count is unchanged (nothing but LCM connects the two levels).
+#     pilot: the pilot's SECTOR_MAP count is unchanged (nothing but LCM connects the two levels);
+#  4. a glass wall driven past face-on, played into a fresh complement and navigator: the
+#     navigator takes laser glints from LASER_SCAN (PROCESS_STATUS agm.laser_glints and
+#     agm.laser_glint_hits), and none with them turned off.
 set -euo pipefail
 
 source "$(dirname "$0")/lib.sh"
@@ -68,7 +71,9 @@ wait "$navigator" 2>/dev/null || true
 expect_term_exit "$complement" lasonic-complement
 expect_term_exit "$pilot" lasonic-pilot
 start complement2 "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
+complement2=$!
 start pilot2 "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
+pilot2=$!
 start_logger run2.lcmlog logger2.err
 sleep 1
 lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
@@ -80,4 +85,46 @@ sectors2=$(stat SECTOR_MAP)
 ((sectors2 >= sectors - 2 && sectors2 <= sectors + 2)) ||
   die "SECTOR_MAP: $sectors2 messages without the navigator, $sectors with it"
 echo "$test_name: (3) ok: SECTOR_MAP $sectors2 without the navigator"
+
+# 4. Laser glints over LCM: a glass wall 2.5 m beside a straight path, 6 s at 0.4 m/s.
+expect_term_exit "$complement2" lasonic-complement
+expect_term_exit "$pilot2" lasonic-pilot
+cat >"$tmp/glass.yaml" <<'YAML'
+name: glass_wall
+duration_s: 6
+seed: 2
+obstacles:
+  - {shape: segment, material: glass, from: [-1.0, 2.5], to: [5.0, 2.5]}
+  - {shape: segment, material: wall, from: [-1.0, 4.5], to: [5.0, 4.5]}
+  - {shape: segment, material: wall, from: [-1.0, -1.5], to: [5.0, -1.5]}
+robot: {radius: 0.35, path: [[0.0, 0.0], [3.0, 0.0]], speed: 0.4}
+YAML
+"$bin/lasonic-sim" --scenario "$tmp/glass.yaml" --config "$config" --out "$tmp/glass.lcmlog" >/dev/null ||
+  die "lasonic-sim (glass wall) failed"
+printf 'navigator:\n  laser_glints: {max_incidence_deg: 0}\n' >"$tmp/no_glints.yaml"
+for variant in shipped off; do
+  extra=()
+  [[ $variant == off ]] && extra=(--config "$tmp/no_glints.yaml")
+  start "complement_$variant" "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
+  c=$!
+  start "navigator_$variant" "$bin/lasonic-navigator" --config "$config" "${extra[@]}" --lcm-url "$url"
+  n=$!
+  start_logger "glass_$variant.lcmlog" "logger_glass_$variant.err"
+  sleep 1
+  lcm-logplayer --lcm-url="$url" "$tmp/glass.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+  sleep 1.5
+  stop_logger
+  expect_term_exit "$n" lasonic-navigator
+  expect_term_exit "$c" lasonic-complement
+  "$bin/lasonic-log-stats" "$tmp/glass_$variant.lcmlog" >"$tmp/stats" || die "cannot read the glass log"
+  glints=$(stat lasonic-navigator.agm.laser_glints)
+  hits=$(stat lasonic-navigator.agm.laser_glint_hits)
+  if [[ $variant == shipped ]]; then
+    ((${glints:-0} >= 5 && ${hits:-0} >= 20)) ||
+      die "glass wall: ${glints:-no} laser glints, ${hits:-no} hits; expected >= 5 and >= 20"
+    echo "$test_name: (4) ok: $glints laser glints, $hits tactical hits"
+  else
+    ((${glints:-0} == 0 && ${hits:-0} == 0)) || die "laser glints turned off, yet $glints glints and $hits hits"
+  fi
+done
 echo "$test_name: PASS"
