@@ -802,7 +802,21 @@ LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot) {
   return v;
 }
 
+void appendScanSegments(const std::vector<ScanPoint>& points, bool full_circle, const RadarMapConfig& cfg,
+                        std::vector<RmSegment>& segments, std::vector<std::vector<geom::Vec2>>* pole_candidates) {
+  thread_local FlatClusters clusters;  // (scratch)
+  splitClustersFlat(points, full_circle, cfg, clusters);
+  for (size_t k = 0; k < clusters.size(); ++k) {
+    const size_t first = clusters.first(k), count = clusters.count(k);
+    if (appendClusterSegments(clusters.flat, first, count, clusters.closed, cfg, segments) == 0 && pole_candidates &&
+        cfg.pole_min_points > 0 && count >= static_cast<size_t>(cfg.pole_min_points))
+      pole_candidates->emplace_back(clusters.flat.begin() + static_cast<std::ptrdiff_t>(first),
+                                    clusters.flat.begin() + static_cast<std::ptrdiff_t>(first + count));
+  }
+}
+
 namespace {
+
 RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points, std::optional<geom::Pose2> pose,
                     const RadarMapConfig& cfg) {
   RadarMap rm;
@@ -810,22 +824,15 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
   rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
   rm.robot_pose = pose.value_or(geom::Pose2{});
   rm.view = laserViewOf(scan, rm.robot_pose);
-  thread_local FlatClusters clusters;  // (scratch)
-  splitClustersFlat(points, scan.full_circle, cfg, clusters);
-  for (size_t k = 0; k < clusters.size(); ++k) {
-    const size_t first = clusters.first(k), count = clusters.count(k);
-    if (appendClusterSegments(clusters.flat, first, count, clusters.closed, cfg, rm.segments) == 0 &&
-        cfg.pole_min_points > 0 && count >= static_cast<size_t>(cfg.pole_min_points))
-      rm.pole_candidates.emplace_back(clusters.flat.begin() + static_cast<std::ptrdiff_t>(first),
-                                      clusters.flat.begin() + static_cast<std::ptrdiff_t>(first + count));
-  }
+  appendScanSegments(points, scan.full_circle, cfg, rm.segments, &rm.pole_candidates);
   rm.corners = rightAngleCorners(rm.segments);
   return rm;
 }
+}  // namespace
+
 int64_t lastReadingTime(const LaserScan& scan) {
   return scan.readings.empty() ? scan.utime : scan.readings.back().utime;
 }
-}  // namespace
 
 bool RmCorner::inside(const geom::Vec2& p) const {
   const geom::Vec2 d = p - vertex;

@@ -176,6 +176,15 @@ RmSegment fitLine(const std::vector<geom::Vec2>& points, IndexRange r);
 // short of the corner (at the projection of the reading nearest to it).
 void joinCorner(RmSegment& a, RmSegment& b, double max_shift);
 
+// The time of the scan's last reading (its utime if it has none): a Radar Map's time and pose.
+int64_t lastReadingTime(const LaserScan& scan);
+
+// The segments of the placed readings (clusters, end-point fit, size filters) appended to
+// `segments`, and, if given, the clusters that gave none to `pole_candidates`
+// (RadarMapConfig::pole_min_points): the Radar Map's segments without the rest of the map.
+void appendScanSegments(const std::vector<ScanPoint>& points, bool full_circle, const RadarMapConfig& cfg,
+                        std::vector<RmSegment>& segments, std::vector<std::vector<geom::Vec2>>* pole_candidates = nullptr);
+
 RadarMap extractRadarMap(const LaserScan& scan, const PoseLookup& pose_at, const RadarMapConfig& cfg,
                          int* no_pose = nullptr);
 RadarMap extractRadarMap(const LaserScan& scan, const PoseHistory& poses, const RadarMapConfig& cfg,

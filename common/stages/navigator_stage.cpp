@@ -51,22 +51,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
-  if (c.has("laser_glints")) {
-    const Config g = c.section("laser_glints");
-    g.allowOnly({"max_incidence_deg", "max_rms_m", "end_gap_m", "min_points", "max_range_m", "confirm_s", "min_move_m",
-                 "move_tol_m", "line_tol_m"});
-    LaserGlintParams& lg = p.laser_glints;
-    lg.max_incidence = geom::deg2rad(
-        g.get("max_incidence_deg", geom::rad2deg(lg.max_incidence), Range::between(0, 45)));
-    lg.max_rms = g.get("max_rms_m", lg.max_rms, Range::between(0, 1));
-    lg.end_gap = g.get("end_gap_m", lg.end_gap, Range::between(0, 5));
-    lg.min_points = g.get("min_points", lg.min_points, Range::between(1, 1000));
-    lg.max_range = g.get("max_range_m", lg.max_range, Range::nonNegative());
-    lg.confirm_s = g.get("confirm_s", lg.confirm_s, Range::between(0, 60));
-    lg.min_move = g.get("min_move_m", lg.min_move, Range::between(0, 10));
-    lg.move_tol = g.get("move_tol_m", lg.move_tol, Range::between(0, 10));
-    lg.line_tol = g.get("line_tol_m", lg.line_tol, Range::between(0, 10));
-  }
+  p.laser_glints = laserGlintParams(c.section("laser_glints"), p.laser_glints);
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
   if (p.published_size > p.agm.size)
     c.fail("published_size", std::to_string(p.published_size) + " cells, more than the tactical AGM's size (agm.size " +
@@ -101,20 +86,22 @@ void NavigatorStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
-  complement::RadarMapConfig cut;
-  cut.min_points = cfg_.laser_glints.min_points;
-  cut.min_length = 0;
-  cut.pole_min_points = 0;
-  int no_pose = 0;
-  const complement::RadarMap rm = complement::extractRadarMap(*scan, poses_, cut, &no_pose);
   // Seen from the scanner at the scan's last reading; without that pose, from nowhere known.
-  const auto robot = poses_.at(rm.utime);
+  const int64_t last = complement::lastReadingTime(*scan);
+  const auto robot = poses_.at(last);
+  int no_pose = 0;
+  if (robot) complement::placeReadingsInto(*scan, poses_, placed_, &no_pose);
   if (!robot || no_pose > 0) {
     node_.count("glints.no_odometry");
     if (!robot) return;
   }
+  complement::RadarMapConfig cut;
+  cut.min_points = cfg_.laser_glints.min_points;
+  cut.min_length = 0;
+  segments_.clear();
+  complement::appendScanSegments(placed_, scan->full_circle, cut, segments_);
   const geom::Vec2 scanner = robot->compose(scan->mount).position();
-  const std::vector<complement::RmSegment> glints = glints_.update(rm.utime, scanner, rm.segments);
+  const std::vector<complement::RmSegment> glints = glints_.update(last, scanner, segments_);
   if (glints.empty()) return;
   const std::vector<geom::Vec2> hits = glintHits(glints);
   glint_hits_.insert(glint_hits_.end(), hits.begin(), hits.end());

@@ -146,6 +146,8 @@ class NavigatorStage {
   std::optional<int64_t> rm_source_utime_;  // its scan's start
   std::vector<geom::Vec2> glint_hits_;  // laser glints since the last firing group went in
   std::optional<complement::LaserScan> own_scan_;  // the decoded LASER_SCAN (storage reused)
+  std::vector<complement::ScanPoint> placed_;       // its readings placed (storage reused)
+  std::vector<complement::RmSegment> segments_;     // its segments, cut for the glints
   std::optional<int64_t> last_scan_utime_;
   std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;

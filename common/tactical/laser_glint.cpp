@@ -20,6 +20,21 @@ bool finite(const geom::Segment& s) { return s.a.allFinite() && s.b.allFinite();
 
 }  // namespace
 
+LaserGlintParams laserGlintParams(const Config& c, LaserGlintParams p) {
+  c.allowOnly({"max_incidence_deg", "max_rms_m", "end_gap_m", "min_points", "max_range_m", "confirm_s", "min_move_m",
+               "move_tol_m", "line_tol_m"});
+  p.max_incidence = geom::deg2rad(c.get("max_incidence_deg", geom::rad2deg(p.max_incidence), Range::between(0, 45)));
+  p.max_rms = c.get("max_rms_m", p.max_rms, Range::between(0, 1));
+  p.end_gap = c.get("end_gap_m", p.end_gap, Range::between(0, 5));
+  p.min_points = c.get("min_points", p.min_points, Range::between(1, 1000));
+  p.max_range = c.get("max_range_m", p.max_range, Range::nonNegative());
+  p.confirm_s = c.get("confirm_s", p.confirm_s, Range::between(0, 60));
+  p.min_move = c.get("min_move_m", p.min_move, Range::between(0, 10));
+  p.move_tol = c.get("move_tol_m", p.move_tol, Range::between(0, 10));
+  p.line_tol = c.get("line_tol_m", p.line_tol, Range::between(0, 10));
+  return p;
+}
+
 std::vector<complement::RmSegment> glintCandidates(const std::vector<complement::RmSegment>& radar_map,
                                                    const geom::Vec2& viewpoint, const LaserGlintParams& p) {
   std::vector<complement::RmSegment> out;

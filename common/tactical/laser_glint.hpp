@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "complement/radar_map.hpp"
+#include "core/config.hpp"
 #include "core/geometry.hpp"
 
 namespace lasonic {
@@ -55,6 +56,9 @@ struct LaserGlintParams {
   double line_tol = 0.03;         // [m] both candidates on one line within this
   bool enabled() const { return max_incidence > 0; }
 };
+
+// Reads a `laser_glints:` section over `base`. Throws ConfigError naming the key path.
+LaserGlintParams laserGlintParams(const Config& c, LaserGlintParams base = {});
 
 // The candidates of one Radar Map (segments in the odometry frame) seen from `viewpoint` (the
 // robot at the scan, same frame): rules (1)-(5). Non-finite segments and viewpoints give nothing.
