@@ -403,9 +403,10 @@ EvalOptions evalOptions(const Config& config) {
   EvalOptions o;
   const NavigatorConfig nav = navigatorConfig(config.section("navigator"));
   o.lines = nav.lines;
-  o.forget_after_m = nav.agm.h_max_m;
-  o.forget_sigma_m = nav.agm.forget_sigma_m;
-  o.odometry = {nav.agm.odometry_trans_noise, nav.agm.odometry_rot_noise, nav.agm.odometry_drift_noise};
+  const AgmParams agm = nav.effectiveAgm();  // with scan matching: the matched pose's error model
+  o.forget_after_m = agm.h_max_m;
+  o.forget_sigma_m = agm.forget_sigma_m;
+  o.odometry = {agm.odometry_trans_noise, agm.odometry_rot_noise, agm.odometry_drift_noise};
   o.operational_h_max = pilotConfig(config.section("pilot")).agm.h_max;
   return o;
 }

@@ -25,6 +25,7 @@
 #include "sim/world_geometry.hpp"
 #include "core/odometry_error.hpp"
 #include "tactical/line_generation.hpp"
+#include "tactical/scan_matcher.hpp"
 
 namespace lasonic::eval {
 
@@ -71,9 +72,11 @@ struct EvalOptions {
   // The breakdown redoes the navigator's line generation and its forgetting by distance, so it
   // needs the run's `navigator:` keys (evalOptions(config); defaults: the code's).
   LineGenerationParams lines;
-  double forget_after_m = 15.0;    // [m] navigator.agm.h_max_m (0: never)
+  double forget_after_m = 0;       // [m] navigator.agm.h_max_m (0: never)
   double forget_sigma_m = 0.08;    // [m] navigator.agm.forget_sigma_m (0: never)
-  OdometryNoise odometry;          // navigator.agm.odometry_*_noise
+  // The error model forget_sigma_m is applied with: navigator.scan_matching.pose_*_noise (or,
+  // with scan matching off, navigator.agm.odometry_*_noise).
+  OdometryNoise odometry = ScanMatchParams{}.pose_noise;
 };
 // The options for a run made with `config` (the navigator's line generation and h_max_m, for the
 // breakdown; the pilot's h_max, for the observability cues). Throws ConfigError naming the key path.

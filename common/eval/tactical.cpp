@@ -256,6 +256,25 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen
       recall.add(found);
     }
   }
+  // How far the map's frame drifts: the robot's motion over the last 10 s in that frame against
+  // the true motion (the odometry's error without scan matching, the matched pose's with it).
+  double pos_err = 0, heading_err = 0;
+  int64_t pairs = 0;
+  size_t j = 0;
+  for (const auto& g : log.agm_tactical) {
+    while (j + 1 < log.agm_tactical.size() && log.agm_tactical[j + 1].utime <= g.utime - 10'000'000) ++j;
+    const auto& before = log.agm_tactical[j];
+    if (before.utime > g.utime - 10'000'000) continue;
+    const geom::Pose2 map_move = toPose(before.robot_pose).inverse().compose(toPose(g.robot_pose));
+    const geom::Pose2 true_move = truth.robotAt(before.utime).inverse().compose(truth.robotAt(g.utime));
+    pos_err += (map_move.position() - true_move.position()).norm();
+    heading_err += std::abs(geom::angleDiff(map_move.theta, true_move.theta));
+    ++pairs;
+  }
+  if (pairs > 0) {
+    m.set("agm_tactical.frame_error_10s_m", pos_err / static_cast<double>(pairs));
+    m.set("agm_tactical.frame_error_10s_rad", heading_err / static_cast<double>(pairs));
+  }
   m.set("agm_tactical.maps", static_cast<int64_t>(log.agm_tactical.size()));
   setRatio(m, "agm_tactical.precision", precision);
   setRatio(m, "agm_tactical.invisible_recall", recall);

@@ -14,7 +14,7 @@ AgmParams NavigatorConfig::tacticalAgmDefaults() {
   p.size = 200;
   p.cell_size = 0.10;
   p.h_max = 2000;
-  p.h_max_m = 15.0;
+  p.h_max_m = 0;
   p.forget_sigma_m = 0.08;
   p.t = 1;
   p.g_threshold = 5;
@@ -34,7 +34,7 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
-                                   "laser_glints"};
+                                   "laser_glints", "scan_matching"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -52,6 +52,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.laser_glints = laserGlintParams(c.section("laser_glints"), p.laser_glints);
+  p.scan_matching = scanMatchParams(c.section("scan_matching"), p.scan_matching);
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
   if (p.published_size > p.agm.size)
     c.fail("published_size", std::to_string(p.published_size) + " cells, more than the tactical AGM's size (agm.size " +
@@ -59,21 +60,33 @@ NavigatorConfig navigatorConfig(const Config& c) {
   return p;
 }
 
+AgmParams NavigatorConfig::effectiveAgm() const {
+  AgmParams a = agm;
+  if (scan_matching.enabled) {
+    a.odometry_trans_noise = scan_matching.pose_noise.trans;
+    a.odometry_rot_noise = scan_matching.pose_noise.rot;
+    a.odometry_drift_noise = scan_matching.pose_noise.drift;
+  }
+  return a;
+}
+
 NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
     : node_(node),
       cfg_(cfg),
-      agm_(cfg.agm),
+      agm_(cfg.effectiveAgm()),
       placer_(cfg.placement),
       look_weight_(cfg.hit_weight_speed, cfg.hit_weight_low_speed),
       glints_(cfg.laser_glints),
+      matcher_(cfg.scan_matching),
       cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<line_map_t>(channels::RADAR_MAP, [this](const line_map_t& m) { onRadarMap(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
   // The glints are the scan's shortest segments, which the Radar Map drops (its min_length is
-  // the sonar's lateral resolution): the navigator cuts the scan itself, with the Radar Map's
-  // jump and fit rules (the shipped `complement.radar_map` values are the code defaults).
-  if (cfg_.laser_glints.enabled())
+  // the sonar's lateral resolution), and scan matching needs the readings themselves: the
+  // navigator cuts the scan itself, with the Radar Map's jump and fit rules (the shipped
+  // `complement.radar_map` values are the code defaults).
+  if (cfg_.laser_glints.enabled() || cfg_.scan_matching.enabled)
     node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
 }
 
@@ -81,11 +94,23 @@ void NavigatorStage::onLaserScan(const laser_scan_t& m) {
   if (!timeOk(m.utime, channels::LASER_SCAN)) return;
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_scan_utime_, m.utime, channels::LASER_SCAN, "laser")) return;
+  // A scan still waiting for its odometry goes in with what there is.
+  if (scan_waiting_) processScan();
   std::vector<complement::InputProblem> problems;
   const std::optional<complement::LaserScan>& scan = complement::laserScanFromMessageInto(m, problems, own_scan_);
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
+  // Placed once the odometry has passed its last reading (or the next scan comes): so its
+  // readings' poses are interpolated, never held, whatever reached the navigator first.
+  scan_waiting_ = true;
+  if (newest_odometry_utime_ && *newest_odometry_utime_ >= complement::lastReadingTime(*scan)) processScan();
+}
+
+void NavigatorStage::processScan() {
+  scan_waiting_ = false;
+  if (!own_scan_) return;
+  const complement::LaserScan* scan = &*own_scan_;
   // Seen from the scanner at the scan's last reading; without that pose, from nowhere known.
   const int64_t last = complement::lastReadingTime(*scan);
   const auto robot = poses_.at(last);
@@ -101,7 +126,22 @@ void NavigatorStage::onLaserScan(const laser_scan_t& m) {
   segments_.clear();
   complement::appendScanSegments(placed_, scan->full_circle, cut, segments_);
   const geom::Vec2 scanner = robot->compose(scan->mount).position();
-  const std::vector<complement::RmSegment> glints = glints_.update(last, scanner, segments_);
+  if (cfg_.scan_matching.enabled) {
+    const ScanMatcher::Result r = matcher_.update(placed_, segments_, *robot, scanner);
+    node_.count(r.matched ? "scan_match.matched" : "scan_match.unmatched");
+    if (r.new_keyframe) node_.count("scan_match.keyframes");
+    corrections_.emplace_back(last, matcher_.correction());
+    // Inputs wait at most verify_max_wait_s for the next scan: 5 s of corrections is plenty.
+    while (corrections_.size() > 2 && corrections_[1].first < last - 5'000'000) corrections_.pop_front();
+  }
+  if (!cfg_.laser_glints.enabled()) return;
+  geom::Vec2 viewpoint = scanner;
+  if (cfg_.scan_matching.enabled) {
+    const geom::Pose2 c = correctionAt(last);
+    for (complement::RmSegment& s : segments_) s.seg = {c.transform(s.seg.a), c.transform(s.seg.b)};
+    viewpoint = c.transform(scanner);
+  }
+  const std::vector<complement::RmSegment> glints = glints_.update(last, viewpoint, segments_);
   if (glints.empty()) return;
   const std::vector<geom::Vec2> hits = glintHits(glints);
   glint_hits_.insert(glint_hits_.end(), hits.begin(), hits.end());
@@ -123,6 +163,10 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   rm_.clear();
   rm_source_utime_.reset();
   glints_.clear();
+  matcher_.clear();
+  corrections_.clear();
+  scan_waiting_ = false;
+  newest_odometry_utime_.reset();
   glint_hits_.clear();
   last_scan_utime_.reset();
   last_complement_utime_.reset();
@@ -134,7 +178,11 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
 
 void NavigatorStage::onOdometry(const odometry_t& m) {
   if (!timeOk(m.utime, channels::ODOMETRY)) return;
-  if (const auto odo = acceptOdometry(node_, poses_, m)) speed_ = odo->v;
+  if (const auto odo = acceptOdometry(node_, poses_, m)) {
+    speed_ = odo->v;
+    newest_odometry_utime_ = m.utime;
+    if (scan_waiting_ && own_scan_ && m.utime >= complement::lastReadingTime(*own_scan_)) processScan();
+  }
 }
 
 void NavigatorStage::onRadarMap(const line_map_t& m) {
@@ -142,6 +190,7 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_rm_utime_, m.utime, channels::RADAR_MAP, "radar_map")) return;
   last_rm_utime_ = m.utime;
+  const geom::Pose2 c = correctionAt(m.utime);
   std::vector<CsmLine> lines;
   lines.reserve(m.segments.size());
   for (size_t i = 0; i < m.segments.size(); ++i) {
@@ -162,7 +211,9 @@ void NavigatorStage::onRadarMap(const line_map_t& m) {
       continue;
     }
     const int64_t support = s.last_supported_utime > 0 ? std::min(s.last_supported_utime, m.utime) : m.utime;
-    lines.push_back({{{s.x0, s.y0}, {s.x1, s.y1}}, LineSource::Laser, s.npoints, s.rms, support});
+    geom::Segment seg{{s.x0, s.y0}, {s.x1, s.y1}};
+    if (cfg_.scan_matching.enabled) seg = {c.transform(seg.a), c.transform(seg.b)};
+    lines.push_back({seg, LineSource::Laser, s.npoints, s.rms, support});
   }
   csm_.setRadarMap(lines, m.utime);
   rm_.clear();
@@ -183,6 +234,7 @@ void NavigatorStage::onComplement(const complement_t& m) {
   reportProblems(node_, problems);
   std::vector<GroupReading> group = toGroupReadings(readings, m.utime);
   if (!cfg_.verify_with_next_scan) {
+    toNavigatorFrame(group, m.utime);
     integrate(std::move(group), m.utime);
   } else {
     PendingGroup p;
@@ -213,6 +265,7 @@ void NavigatorStage::flushPending() {
   while (!pending_.empty()) {
     PendingGroup& g = pending_.front();
     if (rm_source_utime_ && *rm_source_utime_ >= g.utime) {
+      toNavigatorFrame(g.readings, g.utime);
       for (size_t i = 0; i < g.readings.size(); ++i) {
         GroupReading& r = g.readings[i];
         if (!r.echo || (i < g.outside_view.size() && g.outside_view[i])) continue;
@@ -223,6 +276,7 @@ void NavigatorStage::flushPending() {
         node_.count(r.hit ? "verify.kept" : "verify.explained");
       }
     } else if (newest - g.utime > wait_us) {
+      toNavigatorFrame(g.readings, g.utime);
       node_.count("verify.timed_out");
     } else {
       break;
@@ -235,14 +289,14 @@ void NavigatorStage::flushPending() {
 void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (cfg_.laser_join) joinToLaserLines(hits);
-  const auto pose = poses_.at(utime);
+  const auto pose = poseAt(utime);
   if (look_weight_.enabled()) {
     // The robot's mean speed since the previous group (its newest odometry speed when there is
     // none within a second): how fast it drove past what this group heard.
     double v = -1;
     if (last_integrated_utime_ && utime > *last_integrated_utime_ && utime - *last_integrated_utime_ <= 1000000)
-      if (const auto before = poses_.at(*last_integrated_utime_); before && pose)
-        v = LookWeight::meanSpeed(before->position(), pose->position(),
+      if (const auto before = poses_.at(*last_integrated_utime_), now = poses_.at(utime); before && now)
+        v = LookWeight::meanSpeed(before->position(), now->position(),
                                   static_cast<double>(utime - *last_integrated_utime_) * 1e-6);
     if (const int added = look_weight_.apply(hits, v >= 0 ? v : speed_); added > 0)
       node_.count("agm.look_weight_hits", added);
@@ -304,8 +358,34 @@ void NavigatorStage::advance(int64_t utime) {
   if (!last_publish_ || now_ - *last_publish_ >= period_us) publish();
 }
 
+geom::Pose2 NavigatorStage::correctionAt(int64_t utime) const {
+  const geom::Pose2* c = nullptr;
+  for (auto it = corrections_.rbegin(); it != corrections_.rend(); ++it)
+    if (it->first <= utime - kCorrectionDelayUs) {
+      c = &it->second;
+      break;
+    }
+  return c ? *c : geom::Pose2{};
+}
+
+void NavigatorStage::toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const {
+  if (!cfg_.scan_matching.enabled) return;
+  const geom::Pose2 c = correctionAt(utime);
+  for (GroupReading& r : group) {
+    if (!r.echo) continue;
+    r.e.sensor = c.compose(r.e.sensor);
+    r.axis_end = c.transform(r.axis_end);
+  }
+}
+
+std::optional<geom::Pose2> NavigatorStage::poseAt(int64_t utime) const {
+  const auto p = poses_.at(utime);
+  if (!p || !cfg_.scan_matching.enabled) return p;
+  return correctionAt(utime).compose(*p);
+}
+
 void NavigatorStage::publish() {
-  const auto pose = poses_.at(now_);
+  const auto pose = poseAt(now_);
   if (!pose) {
     node_.count("publish.no_odometry");
     return;

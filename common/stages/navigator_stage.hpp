@@ -3,7 +3,7 @@
 // lasonic::Node.
 //
 // In:  ODOMETRY (pose history, speed), SONAR_COMPLEMENT (one firing group), RADAR_MAP, and
-//      LASER_SCAN for the laser glints (not subscribed when they are off).
+//      LASER_SCAN for scan matching and the laser glints (not subscribed when both are off).
 // Out, at publish_hz of message time (independent of the pilot's rate):
 //      AGM_TACTICAL        the tactical Accumulative Grid Map (grid_map_t)
 //      AGM_LINES           the lines generated from it (line_map_t, source SONAR)
@@ -29,6 +29,13 @@
 //   tolerance as the complement stage used, from SONAR_COMPLEMENT): what the laser still cannot
 //   see (glass, mesh, black surfaces, thin poles). Readings the next scan explains still help
 //   their neighbours' bearings. Counted: verify.kept, verify.explained, verify.timed_out.
+// - The navigator's frame: with scan matching on, every input (echoes, Radar Map lines, glints,
+//   the robot's pose) is taken from the odometry frame into the navigator's by the correction
+//   of the newest scan that ended 0.3 s before the input (correctionAt), and so is everything
+//   published; robot_pose in the messages is the robot
+//   in that frame, so a consumer places their content by its own pose at utime composed with
+//   robot_pose's inverse. Counted: scan_match.matched, scan_match.unmatched,
+//   scan_match.keyframes.
 // - The navigator's clock is the newest SONAR_COMPLEMENT / RADAR_MAP time it has processed; it
 //   publishes when that clock has advanced 1/publish_hz since the last publication, with the
 //   robot pose interpolated from ODOMETRY at that time (no pose: nothing published, counted).
@@ -63,6 +70,7 @@
 #include "tactical/laser_join.hpp"
 #include "tactical/line_generation.hpp"
 #include "tactical/look_weight.hpp"
+#include "tactical/scan_matcher.hpp"
 
 namespace lasonic {
 
@@ -97,6 +105,14 @@ struct NavigatorConfig {
   // glint -- is one hit in the tactical AGM, with the next firing group. max_incidence 0: off
   // (the paper: complementary echoes only).
   LaserGlintParams laser_glints;
+  // Scan matching (tactical/scan_matcher.hpp): the tactical AGM, its lines and the Current Sensor
+  // Map are kept in the navigator's frame, the odometry corrected by matching each LASER_SCAN to
+  // an earlier one, and forgotten by the matched pose's error model (scan_matching.pose_*)
+  // instead of the odometry's (agm.odometry_*). enabled false: the odometry frame (the paper).
+  ScanMatchParams scan_matching;
+  // The AGM parameters the stage runs with: agm, its forgetting by the matched pose's error
+  // model when scan matching is on.
+  AgmParams effectiveAgm() const;
 
   // The tactical AGM's defaults (the shipped configuration; reasons in deploy/config/lasonic.yaml).
   static AgmParams tacticalAgmDefaults();
@@ -114,7 +130,17 @@ class NavigatorStage {
   void onOdometry(const odometry_t& m);
   void onRadarMap(const line_map_t& m);
   void onComplement(const complement_t& m);
-  void onLaserScan(const laser_scan_t& m);  // laser glints only
+  void onLaserScan(const laser_scan_t& m);  // scan matching and laser glints
+  void processScan();                       // own_scan_, once its odometry is there
+  // The robot's pose at utime in the navigator's frame (the odometry's, corrected).
+  std::optional<geom::Pose2> poseAt(int64_t utime) const;
+  // The correction (navigator frame <- odometry frame) for an input of time utime: that of the
+  // newest scan that ended at least kCorrectionDelayUs before it. The delay makes it independent
+  // of whether a scan or a later sonar message reached the navigator first (live, over LCM, or
+  // from a log); the correction moves by millimetres per scan, so the delay costs nothing.
+  geom::Pose2 correctionAt(int64_t utime) const;
+  void toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const;
+  static constexpr int64_t kCorrectionDelayUs = 300'000;
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);
@@ -131,6 +157,8 @@ class NavigatorStage {
   EchoPlacer placer_;
   LookWeight look_weight_;
   GlintTracker glints_;  // laser glints (tactical/laser_glint.hpp)
+  ScanMatcher matcher_;  // navigator frame <- odometry frame
+  std::deque<std::pair<int64_t, geom::Pose2>> corrections_;  // (scan's last reading, correction after it)
   std::optional<int64_t> last_integrated_utime_;  // the previous firing group put into the AGM
   CurrentSensorMap csm_;
   grid_map_t grid_msg_{};  // (the AGM_TACTICAL message, every field set per map; storage reused)
@@ -149,6 +177,8 @@ class NavigatorStage {
   std::vector<complement::ScanPoint> placed_;       // its readings placed (storage reused)
   std::vector<complement::RmSegment> segments_;     // its segments, cut for the glints
   std::optional<int64_t> last_scan_utime_;
+  bool scan_waiting_ = false;  // own_scan_ not yet processed
+  std::optional<int64_t> newest_odometry_utime_;
   std::vector<int64_t> cycle_utime_;  // firing time of cycle c at c % size (the last h_max + 2 cycles)
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
   int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed

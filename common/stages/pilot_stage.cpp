@@ -173,8 +173,21 @@ std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const st
 void PilotStage::setRemembered() {
   static const std::vector<geom::Segment> kNoLines;
   const bool same_cycle = agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_;
-  sector_map_.setRemembered(*last_tactical_utime_,
-                            rememberedPoints(tactical_points_, same_cycle ? agm_lines_ : kNoLines, cfg_));
+  std::vector<geom::Vec2> points = rememberedPoints(tactical_points_, same_cycle ? agm_lines_ : kNoLines, cfg_);
+  // The navigator keeps its maps in its own frame (the odometry corrected by scan matching) and
+  // says where the robot was in it: through that pose and ours at the same time, its points
+  // come into our odometry frame. (Without scan matching the two poses are the same.)
+  const auto here = poses_.at(*last_tactical_utime_);
+  if (!here) {
+    node_.count("remembered.no_odometry");
+    return;
+  }
+  const geom::Pose2& there = tactical_robot_pose_;
+  if (here->x != there.x || here->y != there.y || here->theta != there.theta) {
+    const geom::Pose2 ours_from_theirs = here->compose(there.inverse());
+    for (geom::Vec2& p : points) p = ours_from_theirs.transform(p);
+  }
+  sector_map_.setRemembered(*last_tactical_utime_, std::move(points));
 }
 
 void PilotStage::onTacticalMap(const grid_map_t& m) {
@@ -184,13 +197,16 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
   if (!isNewer(node_, last_tactical_utime_, m.utime, channels::AGM_TACTICAL, "tactical")) return;
   const int64_t cells = int64_t{m.width} * int64_t{m.height};
   if (m.width <= 0 || m.height <= 0 || cells != static_cast<int64_t>(m.gp.size()) || !(m.cell_size > 0) ||
-      !std::isfinite(m.cell_size) || !std::isfinite(m.origin_x) || !std::isfinite(m.origin_y)) {
+      !std::isfinite(m.cell_size) || !std::isfinite(m.origin_x) || !std::isfinite(m.origin_y) ||
+      !std::isfinite(m.robot_pose.x) || !std::isfinite(m.robot_pose.y) || !std::isfinite(m.robot_pose.theta)) {
     node_.reportError("rejected.tactical_map", "AGM_TACTICAL: " + std::to_string(m.width) + " x " +
                                                    std::to_string(m.height) + " cells of " + std::to_string(m.cell_size) +
-                                                   " m, " + std::to_string(m.gp.size()) + " Gp values: dropped");
+                                                   " m, " + std::to_string(m.gp.size()) +
+                                                   " Gp values, or a non-finite origin or robot_pose: dropped");
     return;
   }
   last_tactical_utime_ = m.utime;
+  tactical_robot_pose_ = {m.robot_pose.x, m.robot_pose.y, m.robot_pose.theta};
   std::vector<geom::Vec2>& points = tactical_points_;
   points.clear();
   const int threshold = std::max(1, m.gp_threshold);

@@ -164,9 +164,10 @@ class PilotStage {
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
-  // The newest AGM_TACTICAL's occupied cells (global frame) and the newest AGM_LINES' segments; the
+  // The newest AGM_TACTICAL's occupied cells and the newest AGM_LINES' segments (the navigator's frame); the
   // cells move onto the lines when both are of the same navigator cycle (same utime).
-  std::vector<geom::Vec2> tactical_points_;
+  std::vector<geom::Vec2> tactical_points_;  // the navigator's frame
+  geom::Pose2 tactical_robot_pose_;           // the robot in that frame at the map's utime
   std::vector<geom::Segment> agm_lines_;
   std::optional<int64_t> agm_lines_utime_;
   grid_map_t agm_msg_{};    // (the same for AGM_OPERATIONAL)

@@ -37,7 +37,7 @@ command -v lcm-logger >/dev/null 2>&1 || { echo "$test_name: SKIP: lcm-logger no
 # 1. The demo, 5 s. The navigator's inputs and outputs also go to a logger of their own, for (3):
 # lcm-logger queues 30 messages per subscription and drops the rest of a burst (README "Recording
 # and replaying"); at these channels' ~90 messages a second a descheduled logger has more slack.
-nav_channels='^(ODOMETRY|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
+nav_channels='^(ODOMETRY|LASER_SCAN|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
 lcm-logger --lcm-url="$url" --channel="$nav_channels" "$tmp/nav.lcmlog" >"$tmp/logger-nav.txt" 2>&1 &
 logger_nav=$!
 pids+=("$logger_nav")

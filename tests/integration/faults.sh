@@ -31,7 +31,7 @@ start_logger run.lcmlog
 # The navigator's inputs and outputs also go to a logger of their own: lcm-logger queues 30
 # messages per subscription and drops the rest of a burst (README "Recording and replaying"); at
 # the ~90 messages a second of these channels (all: ~280) a descheduled logger has 0.3 s of slack.
-nav_channels='^(ODOMETRY|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
+nav_channels='^(ODOMETRY|LASER_SCAN|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
 lcm-logger --lcm-url="$url" --channel="$nav_channels" "$tmp/nav.lcmlog" >"$tmp/logger-nav.err" 2>&1 &
 logger_nav=$!
 pids+=("$logger_nav")

@@ -47,7 +47,7 @@ logger_b=$!
 pids+=("$logger_b")
 # The navigator's inputs and outputs also to a logger of their own on B, for the replay: at these
 # channels' ~90 messages a second a descheduled logger has 0.3 s of slack.
-nav_channels='^(ODOMETRY|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
+nav_channels='^(ODOMETRY|LASER_SCAN|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP)$'
 nsenter -t "$host_b_pid" -n lcm-logger --lcm-url="$url" --channel="$nav_channels" "$tmp/nav.lcmlog" \
   >"$tmp/logger-nav.txt" 2>&1 &
 logger_nav=$!

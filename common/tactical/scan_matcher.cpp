@@ -1,0 +1,158 @@
+#include "tactical/scan_matcher.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace lasonic {
+
+ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams p) {
+  c.allowOnly({"enabled", "point_sigma_m", "gate_m", "max_range_m", "min_line_length_m", "max_line_rms_m", "min_pairs",
+               "iterations", "keyframe_distance_m", "keyframe_turn_deg", "prior_trans_per_m", "prior_heading_per_m",
+               "prior_heading_per_rad", "prior_trans_floor_m", "prior_heading_floor", "pose_trans_noise", "pose_rot_noise",
+               "pose_drift_noise"});
+  p.enabled = c.get<bool>("enabled", p.enabled);
+  p.point_sigma = c.get("point_sigma_m", p.point_sigma, Range::between(1e-4, 1));
+  p.gate = c.get("gate_m", p.gate, Range::between(1e-3, 5));
+  p.max_range = c.get("max_range_m", p.max_range, Range::positive());
+  p.min_line_length = c.get("min_line_length_m", p.min_line_length, Range::nonNegative());
+  p.max_line_rms = c.get("max_line_rms_m", p.max_line_rms, Range::between(0, 1));
+  p.min_pairs = c.get("min_pairs", p.min_pairs, Range::between(3, 100000));
+  p.iterations = c.get("iterations", p.iterations, Range::between(1, 100));
+  p.keyframe_distance = c.get("keyframe_distance_m", p.keyframe_distance, Range::between(0, 100));
+  p.keyframe_turn = geom::deg2rad(c.get("keyframe_turn_deg", geom::rad2deg(p.keyframe_turn), Range::between(0, 180)));
+  p.prior_trans_per_m = c.get("prior_trans_per_m", p.prior_trans_per_m, Range::between(0, 1));
+  p.prior_heading_per_m = c.get("prior_heading_per_m", p.prior_heading_per_m, Range::between(0, 1));
+  p.prior_heading_per_rad = c.get("prior_heading_per_rad", p.prior_heading_per_rad, Range::between(0, 1));
+  p.prior_trans_floor = c.get("prior_trans_floor_m", p.prior_trans_floor, Range::between(1e-4, 1));
+  p.prior_heading_floor = c.get("prior_heading_floor", p.prior_heading_floor, Range::between(1e-5, 1));
+  p.pose_noise.trans = c.get("pose_trans_noise", p.pose_noise.trans, Range::between(0, 1));
+  p.pose_noise.rot = c.get("pose_rot_noise", p.pose_noise.rot, Range::between(0, 1));
+  p.pose_noise.drift = c.get("pose_drift_noise", p.pose_noise.drift, Range::between(0, 1));
+  return p;
+}
+
+namespace {
+
+struct Line {
+  geom::Vec2 a, u, n;  // start, unit direction, unit normal
+  double length = 0;
+};
+
+}  // namespace
+
+LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::vector<geom::Segment>& lines,
+                             const geom::Vec2& pivot, double sigma_trans, double sigma_heading,
+                             const ScanMatchParams& p) {
+  std::vector<Line> ls;
+  ls.reserve(lines.size());
+  for (const geom::Segment& s : lines) {
+    const geom::Vec2 d = s.b - s.a;
+    const double len = d.norm();
+    if (!(len > 1e-6) || !s.a.allFinite() || !s.b.allFinite()) continue;
+    const geom::Vec2 u = d / len;
+    ls.push_back({s.a, u, {-u.y(), u.x()}, len});
+  }
+  LineMatch out;
+  if (ls.empty() || points.empty()) return out;
+
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();  // tx, ty, heading about pivot
+  Eigen::Matrix3d prior = Eigen::Matrix3d::Zero();
+  prior(0, 0) = prior(1, 1) = 1.0 / (sigma_trans * sigma_trans);
+  prior(2, 2) = 1.0 / (sigma_heading * sigma_heading);
+  const double w0 = 1.0 / (p.point_sigma * p.point_sigma);
+  const double gate2 = p.gate * p.gate;
+  for (int it = 0; it < p.iterations; ++it) {
+    const double c = std::cos(x(2)), s = std::sin(x(2));
+    Eigen::Matrix3d h = prior;
+    Eigen::Vector3d g = prior * x;
+    int pairs = 0;
+    for (const geom::Vec2& q0 : points) {
+      if (!q0.allFinite()) continue;
+      const geom::Vec2 v = q0 - pivot;
+      const geom::Vec2 rv{c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+      const geom::Vec2 q = rv + pivot + geom::Vec2{x(0), x(1)};
+      int best = -1;
+      double best_d2 = gate2;
+      for (size_t k = 0; k < ls.size(); ++k) {
+        const Line& l = ls[k];
+        const geom::Vec2 e = q - l.a;
+        const double along = e.dot(l.u);
+        const double beyond = std::max({0.0, -along, along - l.length});
+        const double across = e.dot(l.n);
+        const double d2 = across * across + beyond * beyond;
+        if (d2 < best_d2) best_d2 = d2, best = static_cast<int>(k);
+      }
+      if (best < 0) continue;
+      const Line& l = ls[static_cast<size_t>(best)];
+      const double r = (q - l.a).dot(l.n);
+      const double z = r / p.point_sigma;
+      const double w = w0 / (1.0 + z * z);  // Cauchy
+      // d q / d heading = perp(R v)
+      const Eigen::Vector3d j(l.n.x(), l.n.y(), l.n.x() * -rv.y() + l.n.y() * rv.x());
+      h.noalias() += w * j * j.transpose();
+      g.noalias() += w * r * j;
+      ++pairs;
+    }
+    out.pairs = pairs;
+    const Eigen::Vector3d step = -h.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    x += step;
+    if (step.head<2>().norm() < 1e-5 && std::abs(step(2)) < 1e-6) break;
+  }
+  const double c = std::cos(x(2)), s = std::sin(x(2));
+  const geom::Vec2 rp{c * pivot.x() - s * pivot.y(), s * pivot.x() + c * pivot.y()};
+  out.motion = {pivot.x() + x(0) - rp.x(), pivot.y() + x(1) - rp.y(), x(2)};
+  return out;
+}
+
+void ScanMatcher::clear() { *this = ScanMatcher(p_); }
+
+void ScanMatcher::takeKeyframe(const std::vector<complement::RmSegment>& segments, const geom::Pose2& robot_odometry) {
+  key_lines_.clear();
+  for (const complement::RmSegment& s : segments)
+    if (s.seg.length() >= p_.min_line_length && s.rms <= p_.max_line_rms)
+      key_lines_.push_back({c_.transform(s.seg.a), c_.transform(s.seg.b)});
+  key_robot_odometry_ = robot_odometry;
+  driven_since_key_ = turned_since_key_ = 0;
+  have_keyframe_ = true;
+}
+
+ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>& points,
+                                        const std::vector<complement::RmSegment>& segments,
+                                        const geom::Pose2& robot_odometry, const geom::Vec2& scanner_odometry) {
+  Result r;
+  if (!p_.enabled) return r;
+  if (have_keyframe_) {
+    driven_since_key_ += (robot_odometry.position() - last_robot_odometry_.position()).norm();
+    turned_since_key_ += std::abs(geom::angleDiff(robot_odometry.theta, last_robot_odometry_.theta));
+  }
+  last_robot_odometry_ = robot_odometry;
+  if (!have_keyframe_) {
+    takeKeyframe(segments, robot_odometry);
+    r.new_keyframe = true;
+    return r;
+  }
+  points_.clear();
+  const double max2 = p_.max_range * p_.max_range;
+  for (const complement::ScanPoint& q : points)
+    if (q.valid && q.p.allFinite() && (q.p - scanner_odometry).squaredNorm() <= max2) points_.push_back(c_.transform(q.p));
+  const double sigma_trans = std::max(p_.prior_trans_floor, p_.prior_trans_per_m * driven_since_key_);
+  const double sigma_heading = std::max(
+      p_.prior_heading_floor, p_.prior_heading_per_m * driven_since_key_ + p_.prior_heading_per_rad * turned_since_key_);
+  const LineMatch m =
+      matchPointsToLines(points_, key_lines_, c_.transform(robot_odometry.position()), sigma_trans, sigma_heading, p_);
+  r.pairs = m.pairs;
+  if (m.pairs >= p_.min_pairs) {
+    c_ = m.motion.compose(c_);
+    r.matched = true;
+  }
+  if (!r.matched || driven_since_key_ >= p_.keyframe_distance || turned_since_key_ >= p_.keyframe_turn) {
+    takeKeyframe(segments, robot_odometry);
+    r.new_keyframe = true;
+  }
+  return r;
+}
+
+}  // namespace lasonic
