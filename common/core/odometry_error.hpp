@@ -21,11 +21,15 @@ class OdometryError {
   struct Mark {
     double driven = 0;          // [m] D
     double a = 0, b = 0, c = 0;  // sum dv, sum dv * D(s), sum dv * D(s)^2
+    double t = 0;                // sum trans^2 |step|
   };
   explicit OdometryError(const OdometryNoise& n = {}) : n_(n) {}
   // The robot drove `step` metres and turned `turn` radians (signs ignored) since the last call.
   void advance(double step, double turn);
   const Mark& now() const { return m_; }
+  // The model of the steps from now on (a pose source that changes: scan matching where the
+  // walls constrain the pose, the odometry where they do not); what was accumulated stays.
+  void setNoise(const OdometryNoise& n) { n_ = n; }
   // var(then, now) [m^2] (0 for then == now; never negative).
   double varianceSince(const Mark& then) const { return varianceBetween(then, m_); }
   // var(then, later) for two marks of this model, then before later.

@@ -100,6 +100,8 @@ class AccumulativeGridMap {
   // heading (optional, radians): the turn since the previous call, for forget_sigma_m.
   bool follow(const geom::Vec2& robot, double speed, double heading = std::numeric_limits<double>::quiet_NaN());
   double odometer() const { return odometer_; }
+  // The error model of the moves given to follow() from now on (forget_sigma_m).
+  void setOdometryNoise(const OdometryNoise& n) { odometry_error_.setNoise(n); }
   // Centres the window on p unconditionally.
   void centreOn(const geom::Vec2& p);
 

@@ -129,10 +129,11 @@ void NavigatorStage::processScan() {
   if (cfg_.scan_matching.enabled) {
     const ScanMatcher::Result r = matcher_.update(placed_, segments_, *robot, scanner);
     node_.count(r.matched ? "scan_match.matched" : "scan_match.unmatched");
+    if (r.matched && !r.constrained) node_.count("scan_match.unconstrained");
     if (r.new_keyframe) node_.count("scan_match.keyframes");
-    corrections_.emplace_back(last, matcher_.correction());
+    corrections_.push_back({last, matcher_.correction(), r.constrained});
     // Inputs wait at most verify_max_wait_s for the next scan: 5 s of corrections is plenty.
-    while (corrections_.size() > 2 && corrections_[1].first < last - 5'000'000) corrections_.pop_front();
+    while (corrections_.size() > 2 && corrections_[1].utime < last - 5'000'000) corrections_.pop_front();
   }
   if (!cfg_.laser_glints.enabled()) return;
   geom::Vec2 viewpoint = scanner;
@@ -311,6 +312,14 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
     hits.insert(hits.end(), glint_hits_.begin(), glint_hits_.end());
     glint_hits_.clear();
   }
+  if (cfg_.scan_matching.enabled) {
+    // The pose's error from here on: the matched pose's where the walls fixed it.
+    const Correction* c = correctionEntryAt(utime);
+    const AgmParams& a = cfg_.agm;
+    agm_.setOdometryNoise(c && c->constrained ? cfg_.scan_matching.pose_noise
+                                              : OdometryNoise{a.odometry_trans_noise, a.odometry_rot_noise,
+                                                              a.odometry_drift_noise});
+  }
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
   const int inside = agm_.update(hits);
   cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;
@@ -358,14 +367,15 @@ void NavigatorStage::advance(int64_t utime) {
   if (!last_publish_ || now_ - *last_publish_ >= period_us) publish();
 }
 
-geom::Pose2 NavigatorStage::correctionAt(int64_t utime) const {
-  const geom::Pose2* c = nullptr;
+const NavigatorStage::Correction* NavigatorStage::correctionEntryAt(int64_t utime) const {
   for (auto it = corrections_.rbegin(); it != corrections_.rend(); ++it)
-    if (it->first <= utime - kCorrectionDelayUs) {
-      c = &it->second;
-      break;
-    }
-  return c ? *c : geom::Pose2{};
+    if (it->utime <= utime - kCorrectionDelayUs) return &*it;
+  return nullptr;
+}
+
+geom::Pose2 NavigatorStage::correctionAt(int64_t utime) const {
+  const Correction* c = correctionEntryAt(utime);
+  return c ? c->c : geom::Pose2{};
 }
 
 void NavigatorStage::toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const {

@@ -34,7 +34,9 @@
 //   of the newest scan that ended 0.3 s before the input (correctionAt), and so is everything
 //   published; robot_pose in the messages is the robot
 //   in that frame, so a consumer places their content by its own pose at utime composed with
-//   robot_pose's inverse. Counted: scan_match.matched, scan_match.unmatched,
+//   robot_pose's inverse. The tactical AGM forgets by the matched pose's error model after a
+//   scan whose match fixed every direction, by the odometry's after one that did not (a straight
+//   corridor). Counted: scan_match.matched, scan_match.unmatched, scan_match.unconstrained,
 //   scan_match.keyframes.
 // - The navigator's clock is the newest SONAR_COMPLEMENT / RADAR_MAP time it has processed; it
 //   publishes when that clock has advanced 1/publish_hz since the last publication, with the
@@ -158,7 +160,13 @@ class NavigatorStage {
   LookWeight look_weight_;
   GlintTracker glints_;  // laser glints (tactical/laser_glint.hpp)
   ScanMatcher matcher_;  // navigator frame <- odometry frame
-  std::deque<std::pair<int64_t, geom::Pose2>> corrections_;  // (scan's last reading, correction after it)
+  struct Correction {
+    int64_t utime = 0;         // the scan's last reading
+    geom::Pose2 c;             // the correction after it
+    bool constrained = false;  // its match fixed the pose (else the odometry's error goes on)
+  };
+  std::deque<Correction> corrections_;
+  const Correction* correctionEntryAt(int64_t utime) const;
   std::optional<int64_t> last_integrated_utime_;  // the previous firing group put into the AGM
   CurrentSensorMap csm_;
   grid_map_t grid_msg_{};  // (the AGM_TACTICAL message, every field set per map; storage reused)

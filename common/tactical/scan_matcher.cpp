@@ -9,7 +9,7 @@ namespace lasonic {
 
 ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams p) {
   c.allowOnly({"enabled", "point_sigma_m", "gate_m", "max_range_m", "min_line_length_m", "max_line_rms_m", "min_pairs",
-               "iterations", "keyframe_distance_m", "keyframe_turn_deg", "prior_trans_per_m", "prior_heading_per_m",
+               "iterations", "constrained_m", "constrained_rad", "keyframe_distance_m", "keyframe_turn_deg", "prior_trans_per_m", "prior_heading_per_m",
                "prior_heading_per_rad", "prior_trans_floor_m", "prior_heading_floor", "pose_trans_noise", "pose_rot_noise",
                "pose_drift_noise"});
   p.enabled = c.get<bool>("enabled", p.enabled);
@@ -20,6 +20,8 @@ ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams p) {
   p.max_line_rms = c.get("max_line_rms_m", p.max_line_rms, Range::between(0, 1));
   p.min_pairs = c.get("min_pairs", p.min_pairs, Range::between(3, 100000));
   p.iterations = c.get("iterations", p.iterations, Range::between(1, 100));
+  p.constrained_trans = c.get("constrained_m", p.constrained_trans, Range::between(0, 10));
+  p.constrained_heading = c.get("constrained_rad", p.constrained_heading, Range::between(0, 10));
   p.keyframe_distance = c.get("keyframe_distance_m", p.keyframe_distance, Range::between(0, 100));
   p.keyframe_turn = geom::deg2rad(c.get("keyframe_turn_deg", geom::rad2deg(p.keyframe_turn), Range::between(0, 180)));
   p.prior_trans_per_m = c.get("prior_trans_per_m", p.prior_trans_per_m, Range::between(0, 1));
@@ -58,6 +60,7 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   if (ls.empty() || points.empty()) return out;
 
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  // tx, ty, heading about pivot
+  Eigen::Matrix3d data = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d prior = Eigen::Matrix3d::Zero();
   prior(0, 0) = prior(1, 1) = 1.0 / (sigma_trans * sigma_trans);
   prior(2, 2) = 1.0 / (sigma_heading * sigma_heading);
@@ -65,7 +68,7 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   const double gate2 = p.gate * p.gate;
   for (int it = 0; it < p.iterations; ++it) {
     const double c = std::cos(x(2)), s = std::sin(x(2));
-    Eigen::Matrix3d h = prior;
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // the pairs' information (the prior's below)
     Eigen::Vector3d g = prior * x;
     int pairs = 0;
     for (const geom::Vec2& q0 : points) {
@@ -96,10 +99,20 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
       ++pairs;
     }
     out.pairs = pairs;
-    const Eigen::Vector3d step = -h.ldlt().solve(g);
+    data = h;
+    const Eigen::Vector3d step = -(h + prior).ldlt().solve(g);
     if (!step.allFinite()) break;
     x += step;
     if (step.head<2>().norm() < 1e-5 && std::abs(step(2)) < 1e-6) break;
+  }
+  // What the pairs alone fix: their covariance, if they fix every direction at all.
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(data);
+  if (lu.isInvertible()) {
+    const Eigen::Matrix3d cov = lu.inverse();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov.topLeftCorner<2, 2>());
+    const double worst_trans = std::sqrt(std::max(0.0, es.eigenvalues()(1)));
+    const double heading = std::sqrt(std::max(0.0, cov(2, 2)));
+    out.constrained = std::isfinite(worst_trans) && worst_trans <= p.constrained_trans && heading <= p.constrained_heading;
   }
   const double c = std::cos(x(2)), s = std::sin(x(2));
   const geom::Vec2 rp{c * pivot.x() - s * pivot.y(), s * pivot.x() + c * pivot.y()};
@@ -147,6 +160,7 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
   if (m.pairs >= p_.min_pairs) {
     c_ = m.motion.compose(c_);
     r.matched = true;
+    r.constrained = m.constrained;
   }
   if (!r.matched || driven_since_key_ >= p_.keyframe_distance || turned_since_key_ >= p_.keyframe_turn) {
     takeKeyframe(segments, robot_odometry);

@@ -47,6 +47,10 @@ struct ScanMatchParams {
   double max_line_rms = 0.03;     // [m] ... and this flat
   int min_pairs = 40;             // fewer pairs: no correction for this scan
   int iterations = 8;
+  // A match constrains the pose when the returns alone (without the prior) fix every direction
+  // of the position to constrained_trans and the heading to constrained_heading (1 sigma).
+  double constrained_trans = 0.01;    // [m]
+  double constrained_heading = 0.005; // [rad]
   double keyframe_distance = 1.0; // [m] a new keyframe after this much driving ...
   double keyframe_turn = 20 * geom::kPi / 180;  // [rad] ... or turning
   // The prior's 1-sigma spread of the odometry's motion since the keyframe: per metre driven
@@ -68,6 +72,7 @@ ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams base = {});
 struct LineMatch {
   geom::Pose2 motion;  // rigid motion (navigator frame) that puts the points on the lines
   int pairs = 0;       // points paired in the last iteration
+  bool constrained = false;  // the pairs alone fix the motion (ScanMatchParams::constrained_*)
 };
 
 // The rigid motion D that best puts D(points) on `lines` (both in one frame), as a rotation about
@@ -84,6 +89,7 @@ class ScanMatcher {
   struct Result {
     bool matched = false;
     bool new_keyframe = false;
+    bool constrained = false;  // matched, and the walls fixed every direction (else the odometry's)
     int pairs = 0;
   };
   // One scan: its readings and segments placed with the odometry (odometry frame), the robot's

@@ -56,3 +56,23 @@ TEST(OdometryError, VarianceGrowsWithTimeForEveryEarlierMark) {
     }
   }
 }
+
+TEST(OdometryError, ANewModelCountsFromWhereItIsSet) {
+  // 5 m with the odometry's model, then 5 m with a matched pose's (a tenth of each noise): the
+  // variance is the first part's, carried by the 5 m after it, plus the second part's own.
+  const OdometryNoise odo{0.01, 0.005, 0.002}, matched{0.001, 0.0005, 0.0002};
+  OdometryError e(odo);
+  const OdometryError::Mark start = e.now();
+  for (int i = 0; i < 5000; ++i) e.advance(0.001, 0);
+  const OdometryError::Mark half = e.now();
+  e.setNoise(matched);
+  for (int i = 0; i < 5000; ++i) e.advance(0.001, 0);
+  // Heading error made in the first 5 m (drift^2 per metre) moves by the distance after it:
+  // integral over s in [0, 5] of drift^2 (10 - s)^2 ds = drift^2 (1000 - 125) / 3.
+  const double first = 1e-4 * 5 + 4e-6 * (1000.0 - 125.0) / 3;
+  const double second = 1e-6 * 5 + 4e-8 * 125.0 / 3;
+  EXPECT_NEAR(e.varianceSince(start), first + second, 1e-6);
+  EXPECT_NEAR(e.varianceSince(half), second, 1e-9);
+  // The whole drive with the matched model would be far less.
+  EXPECT_LT(1e-6 * 10 + 4e-8 * 1000 / 3, 0.1 * (first + second));
+}

@@ -553,10 +553,18 @@ struct PilotRememberedFixture : PilotFixture {
   explicit PilotRememberedFixture(const PilotConfig& config) : PilotFixture(config) {}
   // AGM_TACTICAL with occupied cells (ix, iy) of 0.1 m from the origin; by default one, global
   // (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
-  void tactical(int64_t utime, const std::vector<std::pair<int, int>>& cells = {{20, 19}}) {
+  // `frame`: the navigator's frame from the odometry's (scan matching), identity by default.
+  void tactical(int64_t utime, const std::vector<std::pair<int, int>>& cells = {{20, 19}},
+                const geom::Pose2& frame = {}) {
     grid_map_t g{};
     g.utime = utime;
-    g.robot_pose = {1.0, 2.0, 0.0};
+    const geom::Pose2 robot = frame.compose(geom::Pose2{1.0, 2.0, 0.0});
+    g.robot_pose = {robot.x, robot.y, robot.theta};
+    // The grid's axes are the navigator's; its origin so that cell (20, 19) is centred where the
+    // odometry's (2.05, 1.95) lies in that frame (rotated cells: only that one is exact).
+    const geom::Vec2 origin = frame.transform(geom::Vec2{2.05, 1.95}) - geom::Vec2{2.05, 1.95};
+    g.origin_x = origin.x();
+    g.origin_y = origin.y();
     g.cell_size = 0.1f;
     g.width = g.height = 40;
     g.ncells = 1600;
@@ -616,6 +624,35 @@ TEST_F(PilotRememberedFixture, CellsMoveOntoTheLineOfTheirCycle) {
   lines(1'500'000, 2.25);
   EXPECT_NEAR(rememberedAhead(1'540'000), at_centre, 1e-5);
   EXPECT_EQ(node.errors(), 0);
+}
+
+TEST_F(PilotRememberedFixture, CellsComeIntoThePilotsFrameThroughTheMapsRobotPose) {
+  // The navigator's frame is the odometry's corrected by scan matching: here 0.3 m and 0.1 rad
+  // away. Its robot_pose says where the robot is in it; through that and the pilot's own pose at
+  // the same time, a cell the navigator holds at the odometry's (2.05, 1.95) is ahead again.
+  odometry();
+  const double at_centre = std::hypot(1.05, 0.05) - 0.35;
+  tactical(500'000, {{20, 19}}, geom::Pose2{0.3, -0.2, 0.1});
+  EXPECT_NEAR(rememberedAhead(510'000), at_centre, 1e-5);
+  tactical(1'000'000, {{20, 19}}, geom::Pose2{-0.4, 0.1, -0.05});
+  EXPECT_NEAR(rememberedAhead(1'010'000), at_centre, 1e-5);
+  // Read as odometry coordinates, the cell would lie 0.3 m away.
+  const geom::Vec2 off = geom::Pose2{-0.4, 0.1, -0.05}.transform(geom::Vec2{2.05, 1.95});
+  EXPECT_GT((off - geom::Vec2{2.05, 1.95}).norm(), 0.25);
+  // A robot_pose that is not finite drops the map (counted), the old one stays.
+  grid_map_t bad{};
+  bad.utime = 1'500'000;
+  bad.robot_pose = {std::numeric_limits<double>::quiet_NaN(), 2.0, 0.0};
+  bad.cell_size = 0.1f;
+  bad.width = bad.height = 1;
+  bad.ncells = 1;
+  bad.g.assign(1, 0);
+  bad.h.assign(1, 0);
+  bad.gp.assign(1, 9);
+  node.publish(channels::AGM_TACTICAL, bad);
+  drain();
+  EXPECT_EQ(node.counter("rejected.tactical_map"), 1);
+  EXPECT_NEAR(rememberedAhead(1'510'000), at_centre, 1e-5);
 }
 
 TEST_F(PilotRememberedFixture, BadLineMapsAreReportedAndDropped) {

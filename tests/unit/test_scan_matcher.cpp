@@ -85,6 +85,7 @@ TEST(ScanMatcher, MatchRecoversASmallRigidMotion) {
   const ScanMatchParams p;
   const LineMatch m = matchPointsToLines(pts, lines, believed.position(), 0.1, 0.1, p);
   EXPECT_GE(m.pairs, 400);
+  EXPECT_TRUE(m.constrained);  // walls every way: every direction fixed
   const Pose2 fixed = m.motion.compose(believed);
   EXPECT_NEAR(fixed.x, robot.x, 0.005);
   EXPECT_NEAR(fixed.y, robot.y, 0.005);
@@ -99,6 +100,7 @@ TEST(ScanMatcher, AlongACorridorThePriorKeepsTheOdometrysMotion) {
   const Pose2 believed{0.3, 0.25, 0.0};
   const auto pts = validPoints(scan(corridor(), robot, believed, 2.0));
   const LineMatch m = matchPointsToLines(pts, lines, believed.position(), 0.05, 0.02, ScanMatchParams{});
+  EXPECT_FALSE(m.constrained);  // nothing fixes the position along the axis
   const Pose2 fixed = m.motion.compose(believed);
   EXPECT_NEAR(fixed.y, robot.y, 0.005);      // across: corrected
   EXPECT_NEAR(fixed.x, believed.x, 0.01);    // along: the prior's (odometry's) motion, not pulled
