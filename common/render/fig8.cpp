@@ -229,14 +229,26 @@ std::string gridProblem(const grid_map_t& g) {
 bool occupied(const grid_map_t& g, size_t i) { return g.gp[i] > 0 && g.gp[i] >= g.gp_threshold; }
 
 // AGM cells: light for G > 0 (weight as opacity), dark for Gp >= the map's threshold.
-int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g) {
-  const double half = 0.5 * v.size / v.px_per_m;
+// `frame`: the view's frame <- the grid's (a map in another global frame), if any.
+int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::optional<geom::Pose2>& frame = {}) {
+  // A rotated grid: every cell a quadrangle, the range of cells a bit wider.
+  const double half = 0.5 * v.size / v.px_per_m * (frame ? 1.5 : 1.0);
+  const geom::Vec2 centre = frame ? frame->inverseTransform(v.centre) : v.centre;
   const double cs = g.cell_size;
   auto clampIdx = [](double f, int n) { return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(n - 1))); };
-  const int ix0 = clampIdx(std::floor((v.centre.x() - half - g.origin_x) / cs), g.width);
-  const int ix1 = clampIdx(std::floor((v.centre.x() + half - g.origin_x) / cs), g.width);
-  const int iy0 = clampIdx(std::floor((v.centre.y() - half - g.origin_y) / cs), g.height);
-  const int iy1 = clampIdx(std::floor((v.centre.y() + half - g.origin_y) / cs), g.height);
+  const int ix0 = clampIdx(std::floor((centre.x() - half - g.origin_x) / cs), g.width);
+  const int ix1 = clampIdx(std::floor((centre.x() + half - g.origin_x) / cs), g.width);
+  const int iy0 = clampIdx(std::floor((centre.y() - half - g.origin_y) / cs), g.height);
+  const int iy1 = clampIdx(std::floor((centre.y() + half - g.origin_y) / cs), g.height);
+  auto quad = [&](double x0, double y0, double w, double h) {  // grid-frame rectangle -> path
+    const geom::Vec2 c[4] = {{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + h}, {x0, y0 + h}};
+    for (int k = 0; k < 4; ++k) {
+      const geom::Vec2 q = v.toPixel(frame ? frame->transform(c[k]) : c[k]);
+      if (k == 0) cairo_move_to(cr, q.x(), q.y());
+      else cairo_line_to(cr, q.x(), q.y());
+    }
+    cairo_close_path(cr);
+  };
   int n_occupied = 0;
   cairo_save(cr);
   for (int pass = 0; pass < 2; ++pass) {  // weights first, occupied cells on top
@@ -245,7 +257,8 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g) {
         const size_t i = static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix);
         const bool occ = occupied(g, i);
         if (pass == 0 ? (g.g[i] <= 0 || occ) : !occ) continue;
-        const auto p = v.toPixel({g.origin_x + ix * cs, g.origin_y + (iy + 1) * cs});
+        const geom::Vec2 corner{g.origin_x + ix * cs, g.origin_y + (iy + 1) * cs};
+        const auto p = v.toPixel(frame ? frame->transform(corner) : corner);
         if (!drawable(p)) continue;
         if (occ) {
           set(cr, colour::kAgmOccupied);
@@ -253,7 +266,8 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g) {
         } else {
           set(cr, colour::kAgmWeight, 0.25 + 0.5 * std::min(1.0, g.g[i] / 4.0));
         }
-        cairo_rectangle(cr, p.x(), p.y(), cs * v.px_per_m, cs * v.px_per_m);
+        if (frame) quad(g.origin_x + ix * cs, g.origin_y + iy * cs, cs, cs);
+        else cairo_rectangle(cr, p.x(), p.y(), cs * v.px_per_m, cs * v.px_per_m);
         cairo_fill(cr);
       }
   }
@@ -264,7 +278,8 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g) {
     const double dash[] = {4.0, 4.0};
     cairo_set_dash(cr, dash, 2, 0);
     set(cr, colour::kNote, 0.8);
-    cairo_rectangle(cr, a.x(), a.y(), g.width * cs * v.px_per_m, g.height * cs * v.px_per_m);
+    if (frame) quad(g.origin_x, g.origin_y, g.width * cs, g.height * cs);
+    else cairo_rectangle(cr, a.x(), a.y(), g.width * cs * v.px_per_m, g.height * cs * v.px_per_m);
     cairo_stroke(cr);
   }
   cairo_restore(cr);
@@ -407,7 +422,7 @@ void panelGrid(cairo_t* cr, Panel& p, const Snapshot& s, const std::optional<gri
   if (!g) return missing(p, s, channel);
   const auto why = gridProblem(*g);
   if (!why.empty()) return invalid(p, channel, why);
-  const int occ = drawGrid(cr, p.view, *g);
+  const int occ = drawGrid(cr, p.view, *g, &g == &s.agm_tactical ? s.agm_tactical_frame : std::nullopt);
   p.status.drawn = true;
   p.status.note = std::to_string(g->width) + "x" + std::to_string(g->height) + " cells of " +
                   fmt("%.2f m", g->cell_size) + ", " + std::to_string(occ) + " in view with Gp >= " +

@@ -240,6 +240,29 @@ Snapshot SnapshotCollector::at(int64_t utime) const {
   copy(agm_tac_, s.agm_tactical);
   copy(sector_map_, s.sector_map);
 
+  // The navigator's frame into the odometry's (scan matching; nothing to do without it).
+  auto odomFromNavigator = [this](const auto& m) -> std::optional<geom::Pose2> {
+    const auto o = odometryAt(m.utime);
+    const geom::Pose2 r = toPose(m.robot_pose);
+    if (!o || !std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.theta)) return std::nullopt;
+    if (o->x == r.x && o->y == r.y && o->theta == r.theta) return std::nullopt;
+    return o->compose(r.inverse());
+  };
+  auto intoOdometry = [&](std::optional<line_map_t>& m) {
+    if (!m) return;
+    const auto t = odomFromNavigator(*m);
+    if (!t) return;
+    for (line_segment_t& sg : m->segments) {
+      const geom::Vec2 a = t->transform({sg.x0, sg.y0}), b = t->transform({sg.x1, sg.y1});
+      sg.x0 = a.x(), sg.y0 = a.y(), sg.x1 = b.x(), sg.y1 = b.y();
+    }
+    const geom::Pose2 r = t->compose(toPose(m->robot_pose));
+    m->robot_pose = {r.x, r.y, r.theta};
+  };
+  intoOdometry(s.agm_lines);
+  intoOdometry(s.current_sensor_map);
+  if (s.agm_tactical) s.agm_tactical_frame = odomFromNavigator(*s.agm_tactical);
+
   // Where the robot is (odometry frame): ODOMETRY, else the newest map that carries its pose.
   s.robot = odometryAt(utime);
   if (!s.robot) {

@@ -80,6 +80,11 @@ struct Snapshot {
 
   std::optional<line_map_t> radar_map, agm_lines, current_sensor_map;
   std::optional<grid_map_t> agm_operational, agm_tactical;
+  // The navigator's maps are in its own frame (the odometry corrected by scan matching): AGM_LINES
+  // and CURRENT_SENSOR_MAP are moved into the odometry frame here, through their robot_pose and
+  // the odometry at their time; AGM_TACTICAL's grid is drawn through this (odometry frame <-
+  // navigator frame), empty when the frames agree or the odometry is unknown.
+  std::optional<geom::Pose2> agm_tactical_frame;
   std::optional<sector_map_t> sector_map;
   // Newest reading of every sensor within the sonar window before utime.
   std::vector<SonarBeam> hypothesis, sonar, complement;

@@ -187,6 +187,45 @@ TEST(SnapshotCollector, SonarBeamsPlacedWithOdometryAtFiringTime) {
   EXPECT_TRUE(c.at(3'000'000).sonar.empty());
 }
 
+TEST(SnapshotCollector, TheNavigatorsMapsComeIntoTheOdometryFrame) {
+  // The navigator (scan matching) holds a line at its x = 3.2, and says the robot is at its
+  // (1.2, 0) heading 0.1 rad; the odometry has the robot at (1, 0) heading 0: in the odometry
+  // frame the line is where the robot's view of it says.
+  SnapshotCollector c;
+  c.add(record(channels::ODOMETRY, odom(1'000'000, 1, 0, 0)));
+  c.add(record(channels::ODOMETRY, odom(2'000'000, 1, 0, 0)));
+  line_map_t csm = lines(1'500'000, {{3.2, -1, 3.2, 1}}, line_segment_t::SOURCE_SONAR);
+  csm.robot_pose = {1.2, 0.0, 0.1};
+  c.add(record(channels::CURRENT_SENSOR_MAP, csm));
+  grid_map_t g{};
+  g.utime = 1'500'000;
+  g.robot_pose = {1.2, 0.0, 0.1};
+  g.cell_size = 0.1f;
+  g.width = g.height = 1;
+  g.g.assign(1, 0);
+  g.h.assign(1, 0);
+  g.gp.assign(1, 0);
+  setLengths(g);
+  c.add(record(channels::AGM_TACTICAL, g));
+  const auto s = c.at(1'600'000);
+  ASSERT_TRUE(s.current_sensor_map);
+  const geom::Pose2 odo_from_nav = geom::Pose2{1, 0, 0}.compose(geom::Pose2{1.2, 0, 0.1}.inverse());
+  const geom::Vec2 a = odo_from_nav.transform({3.2, -1});
+  EXPECT_NEAR(s.current_sensor_map->segments[0].x0, a.x(), 1e-12);
+  EXPECT_NEAR(s.current_sensor_map->segments[0].y0, a.y(), 1e-12);
+  EXPECT_NEAR(s.current_sensor_map->robot_pose.x, 1.0, 1e-12);
+  EXPECT_NEAR(s.current_sensor_map->robot_pose.theta, 0.0, 1e-12);
+  ASSERT_TRUE(s.agm_tactical_frame);
+  EXPECT_NEAR(s.agm_tactical_frame->theta, -0.1, 1e-12);
+  // Frames that agree (no scan matching): nothing moved.
+  SnapshotCollector same;
+  same.add(record(channels::ODOMETRY, odom(1'000'000, 1, 0, 0)));
+  same.add(record(channels::ODOMETRY, odom(2'000'000, 1, 0, 0)));
+  csm.robot_pose = {1.0, 0.0, 0.0};
+  same.add(record(channels::CURRENT_SENSOR_MAP, csm));
+  EXPECT_EQ(same.at(1'600'000).current_sensor_map->segments[0].x0, 3.2);
+}
+
 TEST(SnapshotCollector, TruthInterpolatedAndOdometryFromTrue) {
   SnapshotCollector c;
   sim_state_t a{}, b{};
