@@ -43,7 +43,7 @@ struct ScanMatchParams {
   double point_sigma = 0.02;      // [m] a point's distance from its line: range noise + line fit
   double gate = 0.3;              // [m] pair a point with a line only this near
   double max_range = 8.0;         // [m] readings beyond: their bearing error is a cm per 2 m
-  double min_line_length = 0.5;   // [m] keyframe lines at least this long (a person is less)
+  double min_line_length = 1.0;   // [m] keyframe lines at least this long (a person is 0.5 m across)
   double max_line_rms = 0.03;     // [m] ... and this flat
   int min_pairs = 40;             // fewer pairs: no correction for this scan
   int iterations = 8;

@@ -115,7 +115,8 @@ robot: {radius: 0.35, path: [[1.0, 1.2], [7.0, 1.2], [7.0, 3.8], [1.0, 3.8]], sp
 
 // Per firing group: decode, next-scan verification, echo placement, AGM cycle; plus the share of
 // the 2 Hz publication (AGM_TACTICAL export, line generation, AGM_LINES, CURRENT_SENSOR_MAP) and
-// of the ODOMETRY / RADAR_MAP / LASER_SCAN handling (the laser glints' cut) that falls on it.
+// of the ODOMETRY / RADAR_MAP / LASER_SCAN handling (the scan's cut, scan matching and the laser
+// glints) that falls on it.
 void BM_NavigatorPerFiringGroup(benchmark::State& state) {
   const Recorded& rec = recordedRun();
   for (auto _ : state) {
@@ -123,7 +124,8 @@ void BM_NavigatorPerFiringGroup(benchmark::State& state) {
     auto lcm = std::make_shared<lcm::LCM>("memq://");
     auto node = std::make_unique<Node>("n", lcm, Node::Options{false, false});
     NavigatorConfig cfg;
-    if (state.range(0) == 0) cfg.laser_glints.max_incidence = 0;  // no glints: LASER_SCAN not taken
+    if (state.range(0) != 1) cfg.scan_matching.enabled = false;
+    if (state.range(0) == 0) cfg.laser_glints.max_incidence = 0;  // neither: LASER_SCAN not taken
     auto nav = std::make_unique<NavigatorStage>(*node, cfg);
     state.ResumeTiming();
     for (const auto& [ch, data] : rec.events) {
@@ -141,7 +143,7 @@ void BM_NavigatorPerFiringGroup(benchmark::State& state) {
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["us_per_group"].flags = benchmark::Counter::kIsRate | benchmark::Counter::kInvert;
 }
-// Arg 1: the shipped configuration; 0: without the laser glints.
-BENCHMARK(BM_NavigatorPerFiringGroup)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
+// Arg 1: the shipped configuration; 2: without scan matching; 0: without it and the laser glints.
+BENCHMARK(BM_NavigatorPerFiringGroup)->Arg(1)->Arg(2)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace
