@@ -12,7 +12,8 @@
 #     pilot: the pilot's SECTOR_MAP count is unchanged (nothing but LCM connects the two levels);
 #  4. a glass wall driven past face-on, played into a fresh complement and navigator: the
 #     navigator takes laser glints from LASER_SCAN (PROCESS_STATUS agm.laser_glints and
-#     agm.laser_glint_hits), and none with them turned off.
+#     agm.laser_glint_hits) and matches the scans (scan_match.matched, scan_match.keyframes),
+#     and does neither with both turned off.
 set -euo pipefail
 
 source "$(dirname "$0")/lib.sh"
@@ -101,7 +102,7 @@ robot: {radius: 0.35, path: [[0.0, 0.0], [3.0, 0.0]], speed: 0.4}
 YAML
 "$bin/lasonic-sim" --scenario "$tmp/glass.yaml" --config "$config" --out "$tmp/glass.lcmlog" >/dev/null ||
   die "lasonic-sim (glass wall) failed"
-printf 'navigator:\n  laser_glints: {max_incidence_deg: 0}\n' >"$tmp/no_glints.yaml"
+printf 'navigator:\n  laser_glints: {max_incidence_deg: 0}\n  scan_matching: {enabled: false}\n' >"$tmp/no_glints.yaml"
 for variant in shipped off; do
   extra=()
   [[ $variant == off ]] && extra=(--config "$tmp/no_glints.yaml")
@@ -119,12 +120,18 @@ for variant in shipped off; do
   "$bin/lasonic-log-stats" "$tmp/glass_$variant.lcmlog" >"$tmp/stats" || die "cannot read the glass log"
   glints=$(stat lasonic-navigator.agm.laser_glints)
   hits=$(stat lasonic-navigator.agm.laser_glint_hits)
+  matched=$(stat lasonic-navigator.scan_match.matched)
+  keyframes=$(stat lasonic-navigator.scan_match.keyframes)
   if [[ $variant == shipped ]]; then
     ((${glints:-0} >= 5 && ${hits:-0} >= 20)) ||
       die "glass wall: ${glints:-no} laser glints, ${hits:-no} hits; expected >= 5 and >= 20"
-    echo "$test_name: (4) ok: $glints laser glints, $hits tactical hits"
+    # 30 scans between two 6 m walls: nearly all matched, a keyframe per metre (2.4 m driven).
+    ((${matched:-0} >= 20 && ${keyframes:-0} >= 2)) ||
+      die "scan matching: ${matched:-no} scans matched, ${keyframes:-no} keyframes; expected >= 20 and >= 2"
+    echo "$test_name: (4) ok: $glints laser glints, $hits tactical hits; $matched scans matched, $keyframes keyframes"
   else
     ((${glints:-0} == 0 && ${hits:-0} == 0)) || die "laser glints turned off, yet $glints glints and $hits hits"
+    ((${matched:-0} == 0)) || die "scan matching turned off, yet $matched scans matched"
   fi
 done
 echo "$test_name: PASS"
