@@ -81,7 +81,7 @@ struct PilotConfig {
   // [m] A remembered cell within this of one of the navigator's AGM_LINES is taken at its foot on
   // the line (operational/remembered_on_lines.hpp); 0: cells at their centres, AGM_LINES not
   // subscribed.
-  double remembered_on_lines_m = 0.15;
+  double remembered_on_lines_m = 0.2;
   // [m] Between two remembered cells one line took, the line is remembered too, a point at most
   // this far apart (operational/remembered_on_lines.hpp); 0: only the cells.
   double remembered_fill_m = 0.05;

@@ -620,8 +620,8 @@ TEST_F(PilotRememberedFixture, CellsMoveOntoTheLineOfTheirCycle) {
   // The next grid comes without its lines (lost): the cell at its centre, not on the old line.
   tactical(1'500'000);
   EXPECT_NEAR(rememberedAhead(1'510'000), at_centre, 1e-5);
-  // A line 0.2 m away (beyond 0.15 m) does not take the cell.
-  lines(1'500'000, 2.25);
+  // A line 0.25 m away (beyond 0.2 m) does not take the cell.
+  lines(1'500'000, 2.30);
   EXPECT_NEAR(rememberedAhead(1'540'000), at_centre, 1e-5);
   EXPECT_EQ(node.errors(), 0);
 }
