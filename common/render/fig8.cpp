@@ -417,12 +417,14 @@ void panelComplement(cairo_t* cr, Panel& p, const Snapshot& s) {
                   std::to_string(false_) + " false";
 }
 
+// frame: the odometry frame <- the grid's (Snapshot::agm_tactical_frame), if they differ.
 void panelGrid(cairo_t* cr, Panel& p, const Snapshot& s, const std::optional<grid_map_t>& g,
-               const std::string& channel, const std::optional<line_map_t>* lines) {
+               const std::string& channel, const std::optional<line_map_t>* lines,
+               const std::optional<geom::Pose2>& frame = std::nullopt) {
   if (!g) return missing(p, s, channel);
   const auto why = gridProblem(*g);
   if (!why.empty()) return invalid(p, channel, why);
-  const int occ = drawGrid(cr, p.view, *g, &g == &s.agm_tactical ? s.agm_tactical_frame : std::nullopt);
+  const int occ = drawGrid(cr, p.view, *g, frame);
   p.status.drawn = true;
   p.status.note = std::to_string(g->width) + "x" + std::to_string(g->height) + " cells of " +
                   fmt("%.2f m", g->cell_size) + ", " + std::to_string(occ) + " in view with Gp >= " +
@@ -767,7 +769,7 @@ std::vector<PanelStatus> drawFig8(cairo_t* cr, const Snapshot& s, const sim::Sce
       case 2: panelSonar(cr, p, s); break;
       case 3: panelComplement(cr, p, s); break;
       case 4: panelGrid(cr, p, s, s.agm_operational, channels::AGM_OPERATIONAL, nullptr); break;
-      case 5: panelGrid(cr, p, s, s.agm_tactical, channels::AGM_TACTICAL, &s.agm_lines); break;
+      case 5: panelGrid(cr, p, s, s.agm_tactical, channels::AGM_TACTICAL, &s.agm_lines, s.agm_tactical_frame); break;
       case 6: panelCsm(cr, p, s); break;
       case 7: panelSectorMap(cr, p, s); break;
     }

@@ -122,12 +122,11 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
 
 void ScanMatcher::clear() { *this = ScanMatcher(p_); }
 
-void ScanMatcher::takeKeyframe(const std::vector<complement::RmSegment>& segments, const geom::Pose2& robot_odometry) {
+void ScanMatcher::takeKeyframe(const std::vector<complement::RmSegment>& segments) {
   key_lines_.clear();
   for (const complement::RmSegment& s : segments)
     if (s.seg.length() >= p_.min_line_length && s.rms <= p_.max_line_rms)
       key_lines_.push_back({c_.transform(s.seg.a), c_.transform(s.seg.b)});
-  key_robot_odometry_ = robot_odometry;
   driven_since_key_ = turned_since_key_ = 0;
   have_keyframe_ = true;
 }
@@ -143,7 +142,7 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
   }
   last_robot_odometry_ = robot_odometry;
   if (!have_keyframe_) {
-    takeKeyframe(segments, robot_odometry);
+    takeKeyframe(segments);
     r.new_keyframe = true;
     return r;
   }
@@ -163,7 +162,7 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
     r.constrained = m.constrained;
   }
   if (!r.matched || driven_since_key_ >= p_.keyframe_distance || turned_since_key_ >= p_.keyframe_turn) {
-    takeKeyframe(segments, robot_odometry);
+    takeKeyframe(segments);
     r.new_keyframe = true;
   }
   return r;

@@ -105,13 +105,12 @@ class ScanMatcher {
   void clear();
 
  private:
-  void takeKeyframe(const std::vector<complement::RmSegment>& segments, const geom::Pose2& robot_odometry);
+  void takeKeyframe(const std::vector<complement::RmSegment>& segments);
 
   ScanMatchParams p_;
   geom::Pose2 c_;  // identity until the first match
   bool have_keyframe_ = false;
   std::vector<geom::Segment> key_lines_;  // navigator frame
-  geom::Pose2 key_robot_odometry_;
   double driven_since_key_ = 0, turned_since_key_ = 0;  // [m], [rad] odometry
   geom::Pose2 last_robot_odometry_;
   std::vector<geom::Vec2> points_;  // storage reused
