@@ -20,14 +20,8 @@ ComplementConfig complementConfig(const Config& c) {
                                               {{"complementary", true}, {"paper", false}});
   p.crosstalk_corners = c.getChoice("crosstalk", p.crosstalk_corners, {{"corners", true}, {"paper", false}});
 
-  const Config rm = c.section("radar_map");
-  rm.allowOnly({"jump_abs", "jump_rel", "split_threshold", "min_points", "min_length"});
+  cfg.radar_map = radarMapConfig(c.section("radar_map"));
   RadarMapConfig& r = cfg.radar_map;
-  r.jump_abs = rm.get("jump_abs", r.jump_abs, Range::positive());
-  r.jump_rel = rm.get("jump_rel", r.jump_rel, Range::nonNegative());
-  r.split_threshold = rm.get("split_threshold", r.split_threshold, Range::positive());
-  r.min_points = rm.get("min_points", r.min_points, Range{2, 1e6, false});
-  r.min_length = rm.get("min_length", r.min_length, Range::nonNegative());
 
   const Config pc = c.section("poles");
   pc.allowOnly({"min_points", "match", "baseline", "memory_s"});
@@ -38,6 +32,17 @@ ComplementConfig complementConfig(const Config& c) {
   po.memory_s = pc.get("memory_s", po.memory_s, Range::nonNegative());
   r.pole_min_points = po.min_points;
   return cfg;
+}
+
+RadarMapConfig radarMapConfig(const Config& rm) {
+  rm.allowOnly({"jump_abs", "jump_rel", "split_threshold", "min_points", "min_length"});
+  RadarMapConfig r;
+  r.jump_abs = rm.get("jump_abs", r.jump_abs, Range::positive());
+  r.jump_rel = rm.get("jump_rel", r.jump_rel, Range::nonNegative());
+  r.split_threshold = rm.get("split_threshold", r.split_threshold, Range::positive());
+  r.min_points = rm.get("min_points", r.min_points, Range{2, 1e6, false});
+  r.min_length = rm.get("min_length", r.min_length, Range::nonNegative());
+  return r;
 }
 
 }  // namespace lasonic::complement

@@ -25,5 +25,9 @@ struct ComplementConfig {
 };
 
 ComplementConfig complementConfig(const Config& section);  // throws ConfigError
+// The laser's cut into clusters and segments, `complement.radar_map` alone (pole_min_points
+// left at its default). The pilot and the navigator cut LASER_SCAN too (dark continuation, scan
+// matching, glints) and read the same keys: one laser, one rule. Throws ConfigError.
+RadarMapConfig radarMapConfig(const Config& radar_map_section);
 
 }  // namespace lasonic::complement

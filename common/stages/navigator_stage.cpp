@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "complement/complement_config.hpp"
 #include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
 
@@ -29,6 +30,12 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
   p.arc_require_votes = true;
   p.arc_wait_cycles = 100;
   return p;
+}
+
+NavigatorConfig navigatorConfigFromRoot(const Config& root) {
+  NavigatorConfig cfg = navigatorConfig(root.section("navigator"));
+  cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
+  return cfg;
 }
 
 NavigatorConfig navigatorConfig(const Config& c) {
@@ -120,7 +127,7 @@ void NavigatorStage::processScan() {
     node_.count("glints.no_odometry");
     if (!robot) return;
   }
-  complement::RadarMapConfig cut;
+  complement::RadarMapConfig cut = cfg_.scan_cut;
   cut.min_points = cfg_.laser_glints.min_points;
   cut.min_length = 0;
   segments_.clear();

@@ -112,6 +112,10 @@ struct NavigatorConfig {
   // an earlier one, and forgotten by the matched pose's error model (scan_matching.pose_*)
   // instead of the odometry's (agm.odometry_*). enabled false: the odometry frame (the paper).
   ScanMatchParams scan_matching;
+  // How scan matching and the glints cut LASER_SCAN into segments (jumps, end-point fit): the
+  // laser's own rule, the complement's `complement.radar_map` keys (navigatorConfigFromRoot),
+  // with laser_glints.min_points as the minimum and no minimum length.
+  complement::RadarMapConfig scan_cut;
   // The AGM parameters the stage runs with: agm, its forgetting by the matched pose's error
   // model when scan matching is on.
   AgmParams effectiveAgm() const;
@@ -122,6 +126,9 @@ struct NavigatorConfig {
 };
 // Reads the `navigator:` section. Throws ConfigError naming the key path.
 NavigatorConfig navigatorConfig(const Config& navigator_section);
+// The same from the whole configuration: `navigator:`, and the laser's cut from
+// `complement.radar_map` (what lasonic-navigator and lasonic-replay read).
+NavigatorConfig navigatorConfigFromRoot(const Config& root);
 
 class NavigatorStage {
  public:

@@ -9,6 +9,7 @@
 #include <lasonic/grid_map_t.hpp>
 #include <lasonic/sector_map_t.hpp>
 
+#include "complement/complement_config.hpp"
 #include "complement/messages.hpp"
 #include "complement/dark_continuation.hpp"
 #include "complement/radar_map.hpp"
@@ -55,6 +56,12 @@ LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
   return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range, c.laser_memory_coast_s};
 }
 }  // namespace
+
+PilotConfig pilotConfigFromRoot(const Config& root) {
+  PilotConfig cfg = pilotConfig(root.section("pilot"));
+  cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
+  return cfg;
+}
 
 PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
@@ -360,13 +367,11 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
-    // scan's alone. The run's jump and fit rules are the Radar Map's code defaults, which
-    // are the shipped `complement.radar_map` values (test_shipped_config): the pilot does not
-    // read the complement's section.
+    // scan's alone. The run's jump and fit rules are the Radar Map's (`complement.radar_map`).
     noReturnMask(m, no_return_);
     const size_t before = points.size();
     complement::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); },
-                                 complement::RadarMapConfig{}, cfg_.dark_continuation, points);
+                                 cfg_.scan_cut, cfg_.dark_continuation, points);
     if (points.size() > before) node_.count("laser.dark_continuation", static_cast<int64_t>(points.size() - before));
   }
   if (no_pose > 0) {

@@ -100,6 +100,9 @@ struct PilotConfig {
   // along its line into them, up to `length` past its last return (complement/dark_continuation.hpp):
   // a return stands for its surface 0.10 m around it, as for laser_explains_radius. 0: off (the paper).
   complement::DarkContinuationConfig dark_continuation = darkContinuationDefaults();
+  // How the dark continuation cuts a scan into runs (jumps, end-point fit): the laser's own rule,
+  // the complement's `complement.radar_map` keys (pilotConfigFromRoot), not a key of its own.
+  complement::RadarMapConfig scan_cut;
 
   static AgmParams operationalAgmDefaults();
   static SectorMapParams sectorMapDefaults();
@@ -107,6 +110,9 @@ struct PilotConfig {
 };
 // Reads the `pilot:` section. Throws ConfigError naming the key path.
 PilotConfig pilotConfig(const Config& pilot_section);
+// The same from the whole configuration: `pilot:`, and the laser's cut from `complement.radar_map`
+// (what lasonic-pilot and lasonic-replay read).
+PilotConfig pilotConfigFromRoot(const Config& root);
 
 // A scan's valid returns in scan order into `points` (and, with `timed`, with their reading's
 // time into `timed`: timed[k].p is points[k]); `newest` raised to the newest reading's time.

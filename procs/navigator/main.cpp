@@ -9,7 +9,7 @@ int main(int argc, char** argv) {
                           "lasonic-navigator: tactical Accumulative Grid Map, line generation and Current Sensor Map");
   lasonic::NavigatorConfig cfg;
   return pm.run(
-      argc, argv, [&](const lasonic::Config& root) { cfg = lasonic::navigatorConfig(root.section("navigator")); },
+      argc, argv, [&](const lasonic::Config& root) { cfg = lasonic::navigatorConfigFromRoot(root); },
       [&](lasonic::Node& node) {
         lasonic::NavigatorStage stage(node, cfg);
         return node.run();

@@ -8,7 +8,7 @@ int main(int argc, char** argv) {
   lasonic::ProcessMain pm("lasonic-pilot", "lasonic-pilot: operational Accumulative Grid Map and Sector Map");
   lasonic::PilotConfig cfg;
   return pm.run(
-      argc, argv, [&](const lasonic::Config& root) { cfg = lasonic::pilotConfig(root.section("pilot")); },
+      argc, argv, [&](const lasonic::Config& root) { cfg = lasonic::pilotConfigFromRoot(root); },
       [&](lasonic::Node& node) {
         lasonic::PilotStage stage(node, cfg);
         return node.run();

@@ -90,8 +90,8 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   // (and to kStages, stageThreads): its Node and its object. Every configuration is read, so that
   // a bad one fails the same whether its stage runs or not.
   const ComplementConfig complement_cfg = complementConfig(root.section("complement"));
-  const PilotConfig pilot_cfg = pilotConfig(root.section("pilot"));
-  const NavigatorConfig navigator_cfg = navigatorConfig(root.section("navigator"));
+  const PilotConfig pilot_cfg = pilotConfigFromRoot(root);
+  const NavigatorConfig navigator_cfg = navigatorConfigFromRoot(root);
   std::vector<std::unique_ptr<Node>> nodes;
   std::optional<ComplementStage> complement_stage;
   std::optional<PilotStage> pilot_stage;

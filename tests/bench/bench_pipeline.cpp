@@ -85,8 +85,8 @@ const Run& recordedRun() {
     const Node::Options offline{false, false};
     Node cn("c", bus, offline), pn("p", bus, offline), nn("n", bus, offline);
     ComplementStage complement(cn, complementConfig(r.root.section("complement")));
-    PilotStage pilot(pn, pilotConfig(r.root.section("pilot")));
-    NavigatorStage navigator(nn, navigatorConfig(r.root.section("navigator")));
+    PilotStage pilot(pn, pilotConfigFromRoot(r.root));
+    NavigatorStage navigator(nn, navigatorConfigFromRoot(r.root));
     bus->subscribe(".*", [&r](const lcm::ReceiveBuffer* rb, const std::string& ch) {
       const auto* p = static_cast<const uint8_t*>(rb->data);
       const std::vector<uint8_t> data(p, p + rb->data_size);
@@ -125,7 +125,7 @@ class Replayer {
       : run_(run),
         one_process_(one_process),
         ccfg_(complementConfig(run.root.section("complement"))),
-        pcfg_(pilotConfig(run.root.section("pilot"))),
+        pcfg_(pilotConfigFromRoot(run.root)),
         agm_(pcfg_.agm),
         sector_map_(pcfg_.sector_map),
         placer_(pcfg_.placement),
@@ -182,7 +182,7 @@ class Replayer {
       }
       if (pcfg_.dark_continuation.length > 0) {  // (as PilotStage: a surface that goes dark goes on)
         noReturnMask(*ls, no_return_);
-        cp::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); }, cp::RadarMapConfig{},
+        cp::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); }, pcfg_.scan_cut,
                              pcfg_.dark_continuation, points);
       }
       points_ = sector_map_.setLaserPoints(newest, std::move(points));

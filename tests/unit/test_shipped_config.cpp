@@ -82,3 +82,36 @@ TEST(ShippedConfig, AnOverlayWithAnUnknownKeyFails) {
   const Config c = shipped().mergedWith(Config::fromString("navigator: {publish_rate: 3}"));
   EXPECT_THROW(navigatorConfig(c.section("navigator")), std::exception);
 }
+
+// The pilot (dark continuation) and the navigator (scan matching, glints) cut LASER_SCAN as the
+// complement's Radar Map does: a noisier laser is set up once, in `complement.radar_map`.
+TEST(ShippedConfig, TheLaserCutIsTheComplementsInEveryProcess) {
+  const Config c =
+      shipped().mergedWith(Config::fromString("complement: {radar_map: {split_threshold: 0.08, jump_abs: 0.2}}"));
+  const complement::RadarMapConfig rm = complement::complementConfig(c.section("complement")).radar_map;
+  const complement::RadarMapConfig pilot = pilotConfigFromRoot(c).scan_cut;
+  const complement::RadarMapConfig nav = navigatorConfigFromRoot(c).scan_cut;
+  EXPECT_DOUBLE_EQ(rm.split_threshold, 0.08);
+  EXPECT_DOUBLE_EQ(rm.jump_abs, 0.2);
+  for (const complement::RadarMapConfig& r : {pilot, nav}) {
+    EXPECT_DOUBLE_EQ(r.split_threshold, rm.split_threshold);
+    EXPECT_DOUBLE_EQ(r.jump_abs, rm.jump_abs);
+    EXPECT_DOUBLE_EQ(r.jump_rel, rm.jump_rel);
+    EXPECT_EQ(r.min_points, rm.min_points);
+    EXPECT_DOUBLE_EQ(r.min_length, rm.min_length);
+  }
+  // The shipped file: the code's defaults.
+  EXPECT_DOUBLE_EQ(navigatorConfigFromRoot(shipped()).scan_cut.split_threshold,
+                   complement::RadarMapConfig{}.split_threshold);
+  // A bad value fails in every process that reads it, naming the key.
+  const Config bad = shipped().mergedWith(Config::fromString("complement: {radar_map: {split_threshold: -1}}"));
+  for (int which = 0; which < 2; ++which) {
+    try {
+      if (which == 0) pilotConfigFromRoot(bad);
+      else navigatorConfigFromRoot(bad);
+      ADD_FAILURE() << "no error for a negative split_threshold (" << which << ")";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("complement.radar_map.split_threshold"), std::string::npos) << e.what();
+    }
+  }
+}
