@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   std::optional<double> duration;
   std::optional<uint64_t> seed;
   std::optional<double> robot_speed;
+  bool same_path = false;
   std::string profile;
   app.add_option("--scenario", scenario_file, "scenario YAML")->required();
   app.add_option("--out", out_file, "LCM log file to write")->required();
@@ -36,6 +37,12 @@ int main(int argc, char** argv) {
   app.add_option("--robot-speed", robot_speed,
                  "the robot's speed along its path [m/s], overriding the scenario's robot.speed (the same scene "
                  "driven faster or slower)");
+  app.add_flag("--same-path", same_path,
+               "with --robot-speed: the scenario's duration_s scaled by its robot.speed / the new speed, so the "
+               "robot covers the same path (turns on the spot still take as long); without it a slower robot "
+               "covers less of its path in the same time")
+      ->needs("--robot-speed")
+      ->excludes("--duration");
   app.add_option("--config", config_files,
                  "lasonic YAML config (sections odometry, laser, sonar); repeat to layer overrides");
   app.add_option("--profile", profile,
@@ -71,7 +78,10 @@ int main(int argc, char** argv) {
   }
   sim::Scenario& scenario = setup->scenario;
   if (duration) scenario.duration_s = *duration;
-  if (robot_speed) scenario.robot.speed = *robot_speed;
+  if (robot_speed) {
+    if (same_path && scenario.robot.speed > 0) scenario.duration_s *= scenario.robot.speed / *robot_speed;
+    scenario.robot.speed = *robot_speed;
+  }
   if (seed) scenario.seed = *seed;
 
   const auto wall0 = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 # sim_determinism.sh: lasonic-sim is deterministic: the same scenario and seed give a byte-identical
 # log, another seed another log; in both sensor profiles (physical, the default, and ideal), which
 # differ; --robot-speed drives the same scene at another speed (another log, ending later at a lower
+# speed), and with --same-path for as long as the same path takes (duration_s x scene speed / new
 # speed). Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 set -euo pipefail
 bin=${LASONIC_BIN:?set LASONIC_BIN}
@@ -26,4 +27,13 @@ cmp -s "$tmp/a.lcmlog" "$tmp/d.lcmlog" && fail "the physical and ideal profiles 
 grep -q "^  speed: 0.3$" "$src/deploy/scenarios/fig4_room.yaml" || fail "fig4_room's robot speed is no longer 0.3: update this test"
 cmp "$tmp/a.lcmlog" "$tmp/g.lcmlog" || fail "--robot-speed at the scene's own speed changed the log"
 cmp -s "$tmp/a.lcmlog" "$tmp/h.lcmlog" && fail "--robot-speed 0.6 gave the same log"
+# The same path at twice the speed: half the scene's duration_s (a span of whole SIM_STATE periods).
+scene_s=$(awk '$1 == "duration_s:" {print $2}' "$src/deploy/scenarios/fig4_room.yaml")
+"$bin/lasonic-sim" --scenario "$src/deploy/scenarios/fig4_room.yaml" --out "$tmp/i.lcmlog" --robot-speed 0.6 --same-path
+span=$("$bin/lasonic-log-stats" "$tmp/i.lcmlog" | awk '$1 == "span_s" {print $2}')
+awk -v s="$span" -v d="$scene_s" 'BEGIN { exit !(s > d / 2 - 0.1 && s <= d / 2 + 0.01) }' ||
+  fail "--robot-speed 0.6 --same-path simulated $span s, not half of fig4_room's $scene_s s"
+if "$bin/lasonic-sim" --scenario "$src/deploy/scenarios/fig4_room.yaml" --out "$tmp/j.lcmlog" --same-path 2>/dev/null; then
+  fail "--same-path without --robot-speed was accepted"
+fi
 echo "sim_determinism.sh: PASS"
