@@ -54,7 +54,25 @@ start_logger() {
 }
 stop_logger() {
   kill -INT "$logger"
-  wait "$logger" || true
+  local rc=0
+  wait_exit "$logger" 10 || rc=$?
+  ((rc != 124)) || die "lcm-logger still running 10 s after SIGINT"
+}
+
+# wait_exit PID SECONDS: waits at most SECONDS for the child PID to exit and returns its exit
+# status, or 124 if it is still running then (a hung process fails its test with a message
+# instead of running into ctest's timeout with none).
+wait_exit() {
+  local i state
+  for ((i = 0; i < $2 * 10; i++)); do
+    state=$(awk '{print $3}' "/proc/$1/stat" 2>/dev/null || true)
+    if [[ -z $state || $state == Z ]]; then
+      wait "$1"
+      return
+    fi
+    sleep 0.1
+  done
+  return 124
 }
 
 # expect_term_exit PID [WHO]: SIGTERM to PID, which must exit 0;
@@ -62,7 +80,8 @@ stop_logger() {
 expect_term_exit() {
   kill -TERM "$1"
   local rc=0
-  wait "$1" || rc=$?
+  wait_exit "$1" 20 || rc=$?
+  ((rc != 124)) || die "${2:+$2 }still running 20 s after SIGTERM"
   [[ $rc -eq 0 ]] || die "${2:+$2 }exit status $rc after SIGTERM, expected 0"
 }
 

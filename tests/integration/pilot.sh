@@ -17,9 +17,11 @@ grep -q -- '--lcm-url' "$tmp/help.out" || die "--help does not mention --lcm-url
 printf 'pilot:\n  agm: {t: -1}\n' >"$tmp/bad.yaml"
 expect_bad_config pilot.agm.t pilot.agm.t "$bin/lasonic-pilot" --config "$tmp/bad.yaml"
 rc=0
-timeout --preserve-status -s TERM 1 "$bin/lasonic-pilot" --config "$config" \
+timeout --preserve-status -s TERM -k 20 1 "$bin/lasonic-pilot" --config "$config" \
   --lcm-url "$url" 2>"$tmp/shipped.err" >&2 || rc=$?
 [[ $rc -eq 0 ]] || die "the shipped config: exit status $rc, expected 0 after SIGTERM"
+
+echo "$test_name: (1) ok: --help, a bad config, the shipped config"
 
 # 2. A live run with explicit parameters (the checks are hand-computed from them).
 cat >"$tmp/pilot.yaml" <<'YAML'
@@ -40,6 +42,7 @@ pilot=$!
 sleep 1  # subscriptions up
 
 "$bin/lasonic-pilot-fixture" feed "$url" || die "feeding the pilot failed"
+echo "$test_name: (2) fed"
 sleep 1.5  # at least one heartbeat after the input
 kill -0 "$pilot" 2>/dev/null || die "the pilot died during the run"
 expect_term_exit "$pilot" pilot
