@@ -95,8 +95,9 @@ struct NavigatorConfig {
   // speed / hit_weight_speed hits in the tactical AGM. 0: one hit per echo (the paper).
   double hit_weight_speed = 0.4;
   // [m/s] ... and below this one an echo counts for speed / hit_weight_low_speed hits: a robot
-  // standing or turning on the spot adds none. 0: off (the paper).
-  double hit_weight_low_speed = 0;
+  // standing or turning on the spot adds none; at hit_weight_speed, G_T counts echoes per metre
+  // driven at every speed. 0: off (the paper).
+  double hit_weight_low_speed = 0.4;
   // Laser join (tactical/laser_join.hpp): a complementary echo of a plane that continues a Radar
   // Map line within the beam's footprint of the line's end also hits the cells from its foot to
   // that end. false: one cell per echo (the paper).

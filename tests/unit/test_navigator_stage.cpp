@@ -403,12 +403,13 @@ TEST(NavigatorStage, PublishesTheMiddleOfItsLargerWindow) {
 
 // hit_weight_low_speed: the robot drives past the pane at 0.6 m/s (5 s) and then stands at its
 // end for the rest of the run. Standing, its echoes add no weight to the tactical map with the
-// key, while without it the map's weight keeps growing; what was confirmed while driving stays.
+// key (shipped: 0.4), while with one hit per echo (0) the map's weight keeps growing; what was
+// confirmed while driving stays.
 TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
-  NavigatorConfig low;
-  low.hit_weight_low_speed = 0.2;
-  const PipelineRun with = runPipeline(low, true, true, 0.6);
-  const PipelineRun without = runPipeline(NavigatorConfig{}, true, true, 0.6);
+  NavigatorConfig per_echo;
+  per_echo.hit_weight_low_speed = 0;
+  const PipelineRun with = runPipeline(NavigatorConfig{}, true, true, 0.6);
+  const PipelineRun without = runPipeline(per_echo, true, true, 0.6);
   const auto total_g = [](const grid_map_t& g) {
     int64_t sum = 0;
     for (const int16_t v : g.g) sum += v;
@@ -444,7 +445,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_FALSE(c.verify_with_next_scan);
   EXPECT_DOUBLE_EQ(d.hit_weight_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_speed: 0}").section("navigator")).hit_weight_speed, 0);
-  EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0);
+  EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
   EXPECT_EQ(d.published_size, 100);
   EXPECT_TRUE(d.laser_glints.enabled());
