@@ -204,6 +204,24 @@ void AccumulativeGridMap::clearAll() {
   hits_.clear();
 }
 
+int AccumulativeGridMap::clearDisc(const geom::Vec2& c, double r) {
+  if (!(r > 0) || !std::isfinite(c.x()) || !std::isfinite(c.y())) return 0;
+  int cleared = 0;
+  const int64_t x0 = std::max(globalCell(c.x() - r), ox_), x1 = std::min(globalCell(c.x() + r), ox_ + n_ - 1);
+  const int64_t y0 = std::max(globalCell(c.y() - r), oy_), y1 = std::min(globalCell(c.y() + r), oy_ + n_ - 1);
+  for (int64_t gy = y0; gy <= y1; ++gy)
+    for (int64_t gx = x0; gx <= x1; ++gx) {
+      const size_t s = slotGlobal(gx, gy);
+      if (g_[s] <= 0) continue;
+      const geom::Vec2 centre((static_cast<double>(gx) + 0.5) * p_.cell_size, (static_cast<double>(gy) + 0.5) * p_.cell_size);
+      if ((centre - c).norm() > r) continue;
+      addWeight(gx, gy, -g_[s]);
+      forgetHits(s);
+      ++cleared;
+    }
+  return cleared;
+}
+
 int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
   ++cycle_;
   // Accumulation: the trivial sensor model, one cell per reading.

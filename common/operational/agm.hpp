@@ -108,6 +108,9 @@ class AccumulativeGridMap {
   // One update cycle with the global hit points of its readings. Returns how many hits fell
   // inside the window (the others are ignored).
   int update(const std::vector<geom::Vec2>& hits);
+  // Empties every cell whose centre lies within r of c (G := 0, its hits forgotten, its
+  // neighbours' propagated weight lowered). Returns how many were emptied.
+  int clearDisc(const geom::Vec2& c, double r);
 
   // Window cell of a global point; false if outside the window.
   bool cellAt(const geom::Vec2& p, int& ix, int& iy) const;

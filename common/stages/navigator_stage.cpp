@@ -6,6 +6,7 @@
 
 #include "complement/complement_config.hpp"
 #include "stages/inputs.hpp"
+#include "stages/pilot_stage.hpp"
 #include "stages/stage_messages.hpp"
 
 namespace lasonic {
@@ -35,13 +36,14 @@ EchoPlacementConfig NavigatorConfig::tacticalPlacementDefaults() {
 NavigatorConfig navigatorConfigFromRoot(const Config& root) {
   NavigatorConfig cfg = navigatorConfig(root.section("navigator"));
   cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
+  cfg.robot_radius = pilotConfig(root.section("pilot")).sector_map.robot_radius;
   return cfg;
 }
 
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
-                                   "laser_glints", "scan_matching"};
+                                   "laser_glints", "scan_matching", "clear_footprint"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -56,6 +58,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
+  p.clear_footprint = c.get<bool>("clear_footprint", p.clear_footprint);
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.laser_glints = laserGlintParams(c.section("laser_glints"), p.laser_glints);
@@ -329,6 +332,9 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
   }
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
   const int inside = agm_.update(hits);
+  if (cfg_.clear_footprint && pose)
+    if (const int n = agm_.clearDisc(pose->position(), cfg_.robot_radius - agm_.cellSize() * std::sqrt(0.5)); n > 0)
+      node_.count("agm.footprint_cleared", n);
   cycle_utime_[static_cast<size_t>(agm_.cycle()) % cycle_utime_.size()] = utime;
   node_.count("agm.cycles");
   node_.count("agm.hits", inside);

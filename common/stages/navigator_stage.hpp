@@ -98,6 +98,14 @@ struct NavigatorConfig {
   // standing or turning on the spot adds none; at hit_weight_speed, G_T counts echoes per metre
   // driven at every speed. 0: off (the paper).
   double hit_weight_low_speed = 0.4;
+  // Footprint (beyond the paper): after every update the cells that lie wholly inside the robot's
+  // body (centre within robot_radius - cell_size / sqrt(2) of the robot) are emptied: nothing
+  // static stands where the robot is. A phantom echo (a late echo, crosstalk) placed near the
+  // robot's path would otherwise be remembered there. false: the paper.
+  bool clear_footprint = true;
+  // [m] The robot's boundary: the pilot's `pilot.robot_radius` (navigatorConfigFromRoot), one key
+  // for both levels.
+  double robot_radius = 0.35;
   // Laser join (tactical/laser_join.hpp): a complementary echo of a plane that continues a Radar
   // Map line within the beam's footprint of the line's end also hits the cells from its foot to
   // that end. false: one cell per echo (the paper).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <random>
 
@@ -622,4 +623,31 @@ TEST(Agm, ArcCellsAreTheCellsOfTheDefiningPoints) {
   }
   EXPECT_GT(samples, 1'000'000);
   EXPECT_GT(on_edges, 1000);  // (points exactly on an edge were among them)
+}
+
+// The robot's footprint (NavigatorConfig::clear_footprint): cells whose centre lies within r of
+// the robot are emptied, with their propagated weight taken from their neighbours; the others stay,
+// and the cleared cells count again from zero when hit later.
+TEST(Agm, ClearDiscEmptiesTheCellsInsideAndOnlyThem) {
+  AccumulativeGridMap m(small(1, 2, 10));
+  m.centreOn({0.5, 0.5});
+  m.update({at(5, 5), at(5, 5), at(6, 5), at(8, 5), at(8, 5)});
+  ASSERT_EQ(m.g(5, 5), 2);
+  ASSERT_EQ(m.gp(6, 5), 3);  // its own 1 and (5,5)'s 2
+  EXPECT_EQ(m.clearDisc(at(5, 5), 0.6), 1);  // (6, 5)'s centre is 1 m away
+  EXPECT_EQ(m.g(5, 5), 0);
+  EXPECT_EQ(m.gp(5, 5), 0);
+  EXPECT_EQ(m.g(6, 5), 1);
+  EXPECT_EQ(m.gp(6, 5), 0);  // alone now: below G_T
+  EXPECT_EQ(m.g(8, 5), 2);   // outside: untouched
+  EXPECT_EQ(m.gp(8, 5), 2);
+  EXPECT_EQ(m.clearDisc(at(5, 5), 1.01), 1);  // now (6, 5) too
+  EXPECT_EQ(m.g(6, 5), 0);
+  EXPECT_EQ(m.clearDisc(at(5, 5), 0), 0);
+  EXPECT_EQ(m.clearDisc({std::nan(""), 0}, 1), 0);
+  m.update({at(5, 5)});
+  EXPECT_EQ(m.g(5, 5), 1);
+  for (int i = 0; i < 12; ++i) m.update({});  // the old hits' revision finds nothing to undo
+  EXPECT_EQ(m.g(5, 5), 0);
+  EXPECT_EQ(m.g(8, 5), 0);
 }

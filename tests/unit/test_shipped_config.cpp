@@ -100,6 +100,10 @@ TEST(ShippedConfig, TheLaserCutIsTheComplementsInEveryProcess) {
     EXPECT_EQ(r.min_points, rm.min_points);
     EXPECT_DOUBLE_EQ(r.min_length, rm.min_length);
   }
+  // The navigator's footprint is the pilot's robot_radius (deploy/config/pioneer.yaml: 0.27 m).
+  EXPECT_DOUBLE_EQ(navigatorConfigFromRoot(shipped()).robot_radius, pilotConfigFromRoot(shipped()).sector_map.robot_radius);
+  EXPECT_DOUBLE_EQ(navigatorConfigFromRoot(shipped().mergedWith(Config::fromString("pilot: {robot_radius: 0.27}"))).robot_radius,
+                   0.27);
   // The shipped file: the code's defaults.
   EXPECT_DOUBLE_EQ(navigatorConfigFromRoot(shipped()).scan_cut.split_threshold,
                    complement::RadarMapConfig{}.split_threshold);
