@@ -18,7 +18,7 @@ expect_bad_config complement.tolerence complement.tolerence "$bin/lasonic-comple
 start_logger run.lcmlog
 start complement "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
 proc=$!
-sleep 1  # subscriptions up
+wait_ready complement
 "$bin/lasonic-complement-check" publish "$url" || die "publishing the fixture failed"
 sleep 1.5  # at least one heartbeat after the input
 kill -0 "$proc" 2>/dev/null || die "lasonic-complement died"

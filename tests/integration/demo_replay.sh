@@ -87,7 +87,7 @@ echo "$test_name: (1) ok: the demo ran ${#procs[@]} processes and recorded ${#ex
 
 # 2. Replay the log into a second logger.
 start_logger replayed.lcmlog
-sleep 1  # the logger's subscription is up
+wait_ready
 lcm-logplayer --lcm-url="$url" "$tmp/live.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
 sleep 0.5
 stop_logger
@@ -153,13 +153,15 @@ PY
   start complement "$bin/lasonic-complement" --config "$config" --lcm-url "$url"
   start pilot "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
   live=("${pids[-1]}" "${pids[-2]}")
+  ready=(complement pilot)
   # The navigator too, when built: the shipped pilot uses its AGM_TACTICAL (remembered), and
   # lasonic-replay runs it.
   if [[ -x $bin/lasonic-navigator ]]; then
     start navigator "$bin/lasonic-navigator" --config "$config" --lcm-url "$url"
     live+=("${pids[-1]}")
+    ready+=(navigator)
   fi
-  sleep 1
+  wait_ready "${ready[@]}"
   lcm-logplayer --lcm-url="$url" -e "$raw" "$tmp/live.lcmlog" >"$tmp/player2.err" 2>&1 || die "lcm-logplayer failed"
   sleep 0.5
   kill -INT "${live[@]}"

@@ -48,7 +48,8 @@ start() {
 # start_logger LOG [ERR]: lcm-logger on $url recording $tmp/LOG, output to $tmp/ERR (default
 # logger.err); its pid in logger and pids. stop_logger: SIGINT, wait.
 start_logger() {
-  lcm-logger --lcm-url="$url" "$tmp/$1" >"$tmp/${2:-logger.err}" 2>&1 &
+  logger_err=${2:-logger.err}
+  lcm-logger --lcm-url="$url" "$tmp/$1" >"$tmp/$logger_err" 2>&1 &
   logger=$!
   pids+=("$logger")
 }
@@ -57,6 +58,28 @@ stop_logger() {
   local rc=0
   wait_exit "$logger" 10 || rc=$?
   ((rc != 124)) || die "lcm-logger still running 10 s after SIGINT"
+}
+
+# wait_ready ERR...: waits until each process started as `start ERR ...` has logged that it is
+# running (a lasonic process does once its subscriptions are up) and, if a logger was started,
+# until lcm-logger has opened its log; at most 60 s in all, else dies naming the one that has
+# not. Used instead of a fixed pause before the input is published: on a loaded machine a
+# process may take longer than any pause to start, and its input would be lost unheard.
+wait_ready() {
+  local deadline=$((SECONDS + 60)) name file pattern
+  local -a waits=("$@")
+  [[ -n ${logger_err:-} ]] && waits+=("$logger_err:logger")
+  for name in "${waits[@]}"; do
+    if [[ $name == *:logger ]]; then
+      file=$tmp/${name%:logger} pattern='^Opening log file'
+    else
+      file=$tmp/$name.err pattern=' running$'
+    fi
+    until grep -q "$pattern" "$file" 2>/dev/null; do
+      ((SECONDS < deadline)) || die "${name%:logger} not running 60 s after its start"
+      sleep 0.05
+    done
+  done
 }
 
 # wait_exit PID SECONDS: waits at most SECONDS for the child PID to exit and returns its exit

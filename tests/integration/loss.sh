@@ -32,7 +32,8 @@ for loss in 0 20; do
 done
 start laser "$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$s_url"
 start sonar "$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$s_url"
-sleep 1
+wait_ready laser sonar complement0 pilot0 navigator0 complement20 pilot20 navigator20
+sleep 0.5  # the relays (no start-up message) and the loggers
 "$bin/lasonic-sim-world" --config "$config" --scenario "$scenario" --lcm-url "$s_url" --duration "$dur" \
   2>"$tmp/world.err" >&2 || die "lasonic-sim-world failed"
 sleep 1

@@ -42,7 +42,7 @@ pilot=$!
 start navigator "$bin/lasonic-navigator" --config "$config" --lcm-url "$url"
 navigator=$!
 start_logger run1.lcmlog logger1.err
-sleep 1  # subscriptions up
+wait_ready complement pilot navigator
 lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
 sleep 1.5  # the last outputs and a heartbeat
 kill -0 "$navigator" 2>/dev/null || die "the navigator died during the run"
@@ -76,7 +76,7 @@ complement2=$!
 start pilot2 "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
 pilot2=$!
 start_logger run2.lcmlog logger2.err
-sleep 1
+wait_ready complement2 pilot2
 lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
 sleep 1.5
 stop_logger
@@ -111,7 +111,7 @@ for variant in shipped off; do
   start "navigator_$variant" "$bin/lasonic-navigator" --config "$config" "${extra[@]}" --lcm-url "$url"
   n=$!
   start_logger "glass_$variant.lcmlog" "logger_glass_$variant.err"
-  sleep 1
+  wait_ready "complement_$variant" "navigator_$variant"
   lcm-logplayer --lcm-url="$url" "$tmp/glass.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
   sleep 1.5
   stop_logger

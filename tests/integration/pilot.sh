@@ -39,7 +39,7 @@ YAML
 start_logger run.lcmlog
 start pilot "$bin/lasonic-pilot" --config "$tmp/pilot.yaml" --lcm-url "$url"
 pilot=$!
-sleep 1  # subscriptions up
+wait_ready pilot
 
 "$bin/lasonic-pilot-fixture" feed "$url" || die "feeding the pilot failed"
 echo "$test_name: (2) fed"

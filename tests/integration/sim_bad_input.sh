@@ -75,7 +75,7 @@ echo "$test_name: (1) ok: every start-up error exits 2 and names the file and ke
 start_logger run.lcmlog
 start driver "$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-sleep 1  # subscriptions up
+wait_ready driver
 "$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5 || die "could not publish garbage"
 sleep 0.5
 kill -0 "$driver" 2>/dev/null || die "the laser driver died on malformed SIM_STATE messages"

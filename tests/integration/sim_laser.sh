@@ -31,7 +31,7 @@ expect_config_error scenario_laser 'bad_scenario.yaml: obstacles[2].radius: must
 start_logger run.lcmlog
 start driver "$bin/lasonic-laser-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-sleep 1  # subscriptions up
+wait_ready driver
 "$bin/lasonic-sim-world" --config "$config" --scenario "$scenario" --duration 3 --lcm-url "$url" \
   2>"$tmp/world.err" >&2 || die "lasonic-sim-world failed"
 sleep 0.3

@@ -22,7 +22,7 @@ expect_bad_config 'sonar.ring.beams: unknown key' sonar.ring.beams \
 start_logger run.lcmlog
 start driver "$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-sleep 1  # subscriptions up
+wait_ready driver
 
 "$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5
 "$bin/lasonic-sim-world" --scenario "$scenario" --duration 3 --lcm-url "$url" 2>"$tmp/world.err" >&2 ||
