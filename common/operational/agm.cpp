@@ -339,8 +339,9 @@ double AccumulativeGridMap::arcVotes(int ix, int iy) const {
   return av_.empty() ? 0.0 : fadedVotes(slot(ix, iy));
 }
 
-void AccumulativeGridMap::addArcVotes(const geom::Vec2& centre, double range, double lo, double hi) {
+void AccumulativeGridMap::addArcVotes(const geom::Vec2& centre, double range, double lo, double hi, double weight) {
   if (av_.empty() || !(range > 0) || !(hi >= lo) || !std::isfinite(centre.x()) || !std::isfinite(centre.y())) return;
+  if (!(weight > 0) || !std::isfinite(weight)) return;
   // An arc longer than the window (a malformed huge range) says nothing the window could hold.
   if (!(range * (hi - lo) <= 2.0 * n_ * p_.cell_size)) return;
   // Samples at most half a cell apart; each cell crossed gets one vote however many samples fall in it.
@@ -356,7 +357,7 @@ void AccumulativeGridMap::addArcVotes(const geom::Vec2& centre, double range, do
     if (s == last || std::find(voted.begin(), voted.end(), s) != voted.end()) continue;
     last = s;
     voted.push_back(s);
-    av_[s] = static_cast<float>(fadedVotes(s) + 1.0);
+    av_[s] = static_cast<float>(fadedVotes(s) + weight);
     av_cycle_[s] = cycle_;
   }
 }

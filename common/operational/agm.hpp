@@ -149,10 +149,11 @@ class AccumulativeGridMap {
   // (or for a cell without weight) its centre.
   geom::Vec2 evidencePoint(int ix, int iy) const;
 
-  // Arc votes (arc_vote_tau > 0): adds one vote to every window cell the arc of radius `range`
-  // around `centre` crosses between the bearings lo and hi (global frame), and reads a cell's
-  // votes, faded to the current cycle. Without arc votes both do nothing / return 0.
-  void addArcVotes(const geom::Vec2& centre, double range, double lo, double hi);
+  // Arc votes (arc_vote_tau > 0): adds `weight` votes (one, unless the arc is worth less: a look
+  // from where the robot already was; not positive: none) to every window cell the arc of radius
+  // `range` around `centre` crosses between the bearings lo and hi (global frame), and reads a
+  // cell's votes, faded to the current cycle. Without arc votes both do nothing / return 0.
+  void addArcVotes(const geom::Vec2& centre, double range, double lo, double hi, double weight = 1.0);
   double arcVotes(int ix, int iy) const;
 
   // Calls f(ix, iy, G, Gp) for every window cell of [ix0, ix1] x [iy0, iy1] (clipped to the

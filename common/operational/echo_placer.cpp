@@ -187,7 +187,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
   if (cfg_.placement == AgmPlacement::ArcVotes)
     for (const auto& [id, echo] : latest)
       if (echo) agm.addArcVotes(echo->sensor.position(), echo->range, echo->sensor.theta - cfg_.arc_halfwidth,
-                                echo->sensor.theta + cfg_.arc_halfwidth);
+                                echo->sensor.theta + cfg_.arc_halfwidth, vote_weight_);
   return hits;
 }
 

@@ -101,6 +101,11 @@ class EchoPlacer {
   // The echoes the last place() put in (waiting ones first, as in its result), each with its
   // sensor: not the surface fill's extra points, nor echoes without a finite sensor pose.
   const std::vector<PlacedEcho>& lastPlaced() const { return last_placed_; }
+  // ArcVotes: how many votes each arc of the next place() adds (1 until set; 0: none). A caller
+  // that knows the robot stood or turned on the spot since the previous group gives less: an arc
+  // heard from where the robot already was nearly coincides with the earlier ones and crosses
+  // none, so its votes would only confirm whatever cell along it the placement picked.
+  void setVoteWeight(double w) { vote_weight_ = w; }
 
  private:
   struct Waiting {
@@ -119,6 +124,7 @@ class EchoPlacer {
     int64_t cycle = 0;
   };
   std::vector<Placed> placed_;  // surface fill: recently placed echoes
+  double vote_weight_ = 1.0;
   std::vector<PlacedEcho> last_placed_;
   std::vector<std::pair<int, std::optional<SonarEcho>>> latest_;  // (place's scratch: each sensor's latest)
   // Surface fill: the extra points for the echo placed at p, heard from `sensor`, appended to `hits`.

@@ -43,7 +43,7 @@ NavigatorConfig navigatorConfigFromRoot(const Config& root) {
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
-                                   "laser_glints", "scan_matching", "clear_footprint"};
+                                   "laser_glints", "scan_matching", "clear_footprint", "look_weight_votes"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -59,6 +59,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
   p.clear_footprint = c.get<bool>("clear_footprint", p.clear_footprint);
+  p.look_weight_votes = c.get<bool>("look_weight_votes", p.look_weight_votes);
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.laser_glints = laserGlintParams(c.section("laser_glints"), p.laser_glints);
@@ -298,18 +299,22 @@ void NavigatorStage::flushPending() {
 }
 
 void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
+  // The robot's mean speed since the previous group (its newest odometry speed when there is
+  // none within a second): how fast it drove past what this group heard.
+  double v = speed_;
+  if (look_weight_.enabled() && last_integrated_utime_ && utime > *last_integrated_utime_ &&
+      utime - *last_integrated_utime_ <= 1000000)
+    if (const auto before = poses_.at(*last_integrated_utime_), now = poses_.at(utime); before && now)
+      if (const double m = LookWeight::meanSpeed(before->position(), now->position(),
+                                                 static_cast<double>(utime - *last_integrated_utime_) * 1e-6);
+          m >= 0)
+        v = m;
+  if (cfg_.look_weight_votes && look_weight_.enabled()) placer_.setVoteWeight(std::min(1.0, look_weight_.weight(v)));
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (cfg_.laser_join) joinToLaserLines(hits);
   const auto pose = poseAt(utime);
   if (look_weight_.enabled()) {
-    // The robot's mean speed since the previous group (its newest odometry speed when there is
-    // none within a second): how fast it drove past what this group heard.
-    double v = -1;
-    if (last_integrated_utime_ && utime > *last_integrated_utime_ && utime - *last_integrated_utime_ <= 1000000)
-      if (const auto before = poses_.at(*last_integrated_utime_), now = poses_.at(utime); before && now)
-        v = LookWeight::meanSpeed(before->position(), now->position(),
-                                  static_cast<double>(utime - *last_integrated_utime_) * 1e-6);
-    if (const int added = look_weight_.apply(hits, v >= 0 ? v : speed_); added > 0)
+    if (const int added = look_weight_.apply(hits, v); added > 0)
       node_.count("agm.look_weight_hits", added);
     else if (added < 0)
       node_.count("agm.look_weight_dropped", -added);

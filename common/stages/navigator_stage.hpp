@@ -98,6 +98,10 @@ struct NavigatorConfig {
   // standing or turning on the spot adds none; at hit_weight_speed, G_T counts echoes per metre
   // driven at every speed. 0: off (the paper).
   double hit_weight_low_speed = 0.4;
+  // ... and the arc votes too (agm_placement: arc_votes): below hit_weight_low_speed an echo's
+  // arc adds speed / hit_weight_low_speed votes, so arcs heard standing or turning on the spot,
+  // which coincide instead of crossing, fix no cell along them. false: one vote per arc.
+  bool look_weight_votes = false;
   // Footprint (beyond the paper): after every update the cells that lie wholly inside the robot's
   // body (centre within robot_radius - cell_size / sqrt(2) of the robot) are emptied: nothing
   // static stands where the robot is. A phantom echo (a late echo, crosstalk) placed near the

@@ -2,6 +2,7 @@
 // later arcs, and then joins only a cell the grid already holds.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "core/config.hpp"
@@ -153,6 +154,29 @@ TEST(EchoPlacer, AWaitingEchoNeverStartsACellOfItsOwn) {
     crossAt(other);
     EXPECT_EQ(p.place({}, agm).size(), wait == 5 ? 0u : 1u) << "wait " << wait;
   }
+}
+
+TEST(EchoPlacer, AnArcWeighsItsVoteWeight) {
+  // The same echo from the same pose, placed with vote weights 1, 0.5 and 0: its arc's cells hold
+  // that many votes (read in the next cycle, faded by one cycle of arc_vote_tau).
+  for (const double w : {1.0, 0.5, 0.0}) {
+    AccumulativeGridMap agm(tactical());
+    agm.centreOn({0.05, 0.05});
+    EchoPlacer placer(waiting(100));
+    placer.setVoteWeight(w);
+    placer.place(echoAt(0, {0, 0}, kTarget), agm);
+    agm.update({});
+    int ix = 0, iy = 0;
+    ASSERT_TRUE(agm.cellAt(kTarget, ix, iy));
+    EXPECT_NEAR(agm.arcVotes(ix, iy), w * std::exp(-1.0 / 100), 1e-6) << "weight " << w;
+  }
+  // Two arcs heard standing (weight 0) fix nothing: the echo still waits, as after one arc.
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  EchoPlacer placer(waiting(100));
+  placer.setVoteWeight(0);
+  const auto placed = threeArcs(placer, agm);
+  for (const auto& cycle : placed) EXPECT_TRUE(cycle.empty());
 }
 
 TEST(EchoPlacer, WaitCyclesKey) {

@@ -447,6 +447,8 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_speed: 0}").section("navigator")).hit_weight_speed, 0);
   EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
+  EXPECT_FALSE(d.look_weight_votes);
+  EXPECT_TRUE(navigatorConfig(Config::fromString("navigator: {look_weight_votes: true}").section("navigator")).look_weight_votes);
   EXPECT_EQ(d.published_size, 100);
   EXPECT_TRUE(d.laser_glints.enabled());
   EXPECT_NEAR(d.laser_glints.max_incidence, geom::deg2rad(10), 1e-12);
