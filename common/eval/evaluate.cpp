@@ -320,6 +320,10 @@ void writeSectorSampleHeader(std::ostream& out) {
          "false_alarm\n";
 }
 
+void writeTacticalSampleHeader(std::ostream& out) {
+  out << "t_s,x,y,obstacle,material,in_map,agm_cause,line_covered,line_cause\n";
+}
+
 void evalSectorMap(const RunLog& log, const SectorTruthTable& truth, const EvalOptions& o, Metrics& m) {
   if (log.sector_maps.empty() || log.sim_states.size() < 2) return;
   SectorScore fused;

@@ -69,6 +69,11 @@ struct EvalOptions {
   // Also every scored sector sample of the pilot's SECTOR_MAP as one CSV row (writeSectorSampleHeader
   // first): where the misses and false alarms are, sample by sample. Not owned.
   std::ostream* samples_csv = nullptr;
+  // With breakdown: also every sample the breakdown looks at (a located laser-invisible boundary
+  // point inside one AGM_TACTICAL map, not seen by the laser then) as one CSV row
+  // (writeTacticalSampleHeader first): whether the map holds it, and else why not; whether a sonar
+  // line covers it, and else why not. Not owned.
+  std::ostream* tactical_samples_csv = nullptr;
   // The breakdown redoes the navigator's line generation and its forgetting by distance, so it
   // needs the run's `navigator:` keys (evalOptions(config); defaults: the code's).
   LineGenerationParams lines;
@@ -84,6 +89,8 @@ EvalOptions evalOptions(const Config& config);
 
 // The CSV columns of EvalOptions::samples_csv.
 void writeSectorSampleHeader(std::ostream& out);
+// The CSV columns of EvalOptions::tactical_samples_csv.
+void writeTacticalSampleHeader(std::ostream& out);
 
 struct SectorTruthTable;  // eval/observability.hpp
 class LaserSeen;          // eval/laser_seen.hpp

@@ -472,6 +472,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
   Causes agm_causes, line_causes, off_lines;
   std::vector<char> found_before(boundary.size(), 0), left_window(boundary.size(), 0);
   const LineGenerationParams& lp = o.lines;  // the run's line generation (evalOptions(config))
+  const int64_t t0 = log.sim_states.empty() ? 0 : log.sim_states.front().utime;  // as the sector samples
   for (const auto& g : log.agm_tactical) {
     const geom::Pose2 true_from_odom = truth.robotAt(g.utime).compose(toPose(g.robot_pose).inverse());
     const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
@@ -531,6 +532,18 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
       const bool found = near.gp > 0 && near.gp >= g.gp_threshold;
       by_material[materialOf(boundary[i].obstacle)].add(found);
       ++samples_by_material[materialOf(boundary[i].obstacle)];
+      // This sample's row of tactical_samples_csv: the AGM's cause and the lines' (empty: none).
+      std::string agm_cause, line_cause;
+      int line_covered = -1;  // -1: no CURRENT_SENSOR_MAP of this time
+      auto emit = [&] {
+        if (!o.tactical_samples_csv) return;
+        *o.tactical_samples_csv << static_cast<double>(g.utime - t0) * 1e-6 << ',' << boundary[i].p.x() << ','
+                                << boundary[i].p.y() << ',' << boundary[i].obstacle << ','
+                                << materialOf(boundary[i].obstacle) << ',' << (found ? 1 : 0) << ',' << agm_cause
+                                << ',';
+        if (line_covered >= 0) *o.tactical_samples_csv << line_covered;
+        *o.tactical_samples_csv << ',' << line_cause << '\n';
+      };
       if (found) {
         found_before[i] = 1;
         left_window[i] = 0;
@@ -538,13 +551,13 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
         int64_t last = -1;
         const int ncomp = complementaryBefore(i, g.utime, last);
         if (found_before[i])
-          agm_causes.add(last >= 0 && drivenAt(g.utime) - drivenAt(last) > forget_m ? "forgotten_after_15m"
-                         : last >= 0 && o.forget_sigma_m > 0 && odometrySigma(last, g.utime) > o.forget_sigma_m
-                             ? "forgotten_odometry_error"
-                         : left_window[i] ? "forgotten_left_window"
-                                                                                      : "forgotten_other");
-        else if (ncomp == 0) agm_causes.add("no_complementary_echo_" + echoClass(i, g.utime));
-        else if (near.g > 0 || near.gp > 0) agm_causes.add("below_threshold");
+          agm_cause = last >= 0 && drivenAt(g.utime) - drivenAt(last) > forget_m ? "forgotten_after_15m"
+                      : last >= 0 && o.forget_sigma_m > 0 && odometrySigma(last, g.utime) > o.forget_sigma_m
+                          ? "forgotten_odometry_error"
+                      : left_window[i] ? "forgotten_left_window"
+                                       : "forgotten_other";
+        else if (ncomp == 0) agm_cause = "no_complementary_echo_" + echoClass(i, g.utime);
+        else if (near.g > 0 || near.gp > 0) agm_cause = "below_threshold";
         else if (nearCells(g, q, kMisplaced).gp >= g.gp_threshold) {
           // An occupied cell 0.17-0.3 m away: on the point's own surface (a gap between the cells
           // along it) or off it (the echoes were placed in front of or behind the surface).
@@ -553,19 +566,29 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
             if ((c - boundary[i].p).norm() <= kMisplaced &&
                 distanceTo(sc.statics[static_cast<size_t>(boundary[i].surface)], c) <= tol)
               on_surface = true;
-          agm_causes.add(on_surface ? "gap_along_surface" : "misplaced_off_surface");
+          agm_cause = on_surface ? "gap_along_surface" : "misplaced_off_surface";
         }
-        else if (g.utime - echoes[i].front().first < kRecentUs) agm_causes.add("located_within_1s");
-        else if (ncomp == 1) agm_causes.add("one_complementary_echo");
-        else agm_causes.add("not_placed");
+        else if (g.utime - echoes[i].front().first < kRecentUs) agm_cause = "located_within_1s";
+        else if (ncomp == 1) agm_cause = "one_complementary_echo";
+        else agm_cause = "not_placed";
+        agm_causes.add(agm_cause);
       }
-      if (!csm) continue;
+      if (!csm) {
+        emit();
+        continue;
+      }
       bool covered = false;
       for (const auto& s : sonar)
         if (geom::distance(s, q) <= o.line_tolerance) covered = true;
-      if (covered) continue;
+      line_covered = covered ? 1 : 0;
+      if (covered) {
+        emit();
+        continue;
+      }
       if (!found) {
-        line_causes.add("no_cell");
+        line_cause = "no_cell";
+        line_causes.add(line_cause);
+        emit();
         continue;
       }
       // Where did the cells near q go?
@@ -583,7 +606,9 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
         for (const auto& l : run_lines[r])
           if (geom::distance(l.seg, q) <= o.line_tolerance) cause = "line_from_centroids_off";
       }
+      line_cause = cause;
       line_causes.add(cause);
+      emit();
     }
   }
   agm_causes.put(m, "agm_tactical.breakdown.missed");

@@ -31,6 +31,11 @@ int main(int argc, char** argv) {
   app.add_option("--samples", samples_path,
                  "also write every scored sector sample of SECTOR_MAP as CSV to FILE (time, sector, truth, "
                  "reported value and source, each source's value, material, observability cue, missed, false alarm)");
+  std::string tactical_samples_path;
+  app.add_option("--tactical-samples", tactical_samples_path,
+                 "also write every sample of the tactical breakdown as CSV to FILE (time, true position, "
+                 "obstacle and material of a located laser-invisible boundary point; whether the tactical AGM "
+                 "holds it and else why not; whether a sonar line covers it and else why not); implies --breakdown");
   CLI11_PARSE(app, argc, argv);
   lasonic::eval::BaselinesConfig baselines;
   lasonic::eval::EvalOptions opts;
@@ -49,7 +54,17 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
-    opts.breakdown = breakdown;
+    opts.breakdown = breakdown || !tactical_samples_path.empty();
+    std::ofstream tactical_samples;
+    if (!tactical_samples_path.empty()) {
+      tactical_samples.open(tactical_samples_path);
+      if (!tactical_samples) {
+        std::cerr << "lasonic-eval: cannot write " << tactical_samples_path << "\n";
+        return 1;
+      }
+      lasonic::eval::writeTacticalSampleHeader(tactical_samples);
+      opts.tactical_samples_csv = &tactical_samples;
+    }
     std::ofstream samples;
     if (!samples_path.empty()) {
       samples.open(samples_path);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include "eval/evaluate.hpp"
 #include "eval/laser_seen.hpp"
@@ -575,6 +577,53 @@ TEST(EvalTacticalBreakdown, SaysWhyLocatedPointsAreMissed) {
 
   // Off by default.
   EXPECT_FALSE(evaluate(heard, sc).has("agm_tactical.breakdown.missed.samples"));
+}
+
+// --tactical-samples: one CSV row per breakdown sample, agreeing with the breakdown's shares.
+TEST(EvalTacticalBreakdown, SamplesCsvRowPerPointAgreeingWithTheShares) {
+  const auto sc = boxRoom();
+  RunLog heard = twoScans(sc);
+  addBoxEcho(heard, 800'000, complement_reading_t::CLASS_COMPLEMENTARY);
+  heard.agm_tactical = {agmAt(850'000)};
+  line_map_t csm{};  // no sonar line: every point uncovered
+  csm.utime = 850'000;
+  csm.robot_pose = heard.agm_tactical[0].robot_pose;
+  heard.current_sensor_maps = {csm};
+  std::ostringstream csv;
+  writeTacticalSampleHeader(csv);
+  EvalOptions o;
+  o.breakdown = true;
+  o.tactical_samples_csv = &csv;
+  Metrics m;
+  evalTacticalBreakdown(heard, sc, LaserSeen(heard), o, m);
+  std::istringstream in(csv.str());
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t_s,x,y,obstacle,material,in_map,agm_cause,line_covered,line_cause");
+  int rows = 0, in_map = 0, gap = 0, no_cell = 0, short_run = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    EXPECT_NE(line.find(",black_cardboard,"), std::string::npos) << line;
+    in_map += line.find(",black_cardboard,1,,0,") != std::string::npos;
+    gap += line.find(",0,gap_along_surface,0,no_cell") != std::string::npos;
+    no_cell += line.size() >= 8 && line.compare(line.size() - 8, 8, ",no_cell") == 0;
+    short_run += line.size() >= 10 && line.compare(line.size() - 10, 10, ",short_run") == 0;
+  }
+  // As the shares say: ten points, eight in the map (their cell a run too short for a line), two
+  // missed beside it (a gap along the face).
+  EXPECT_EQ(rows, 10);
+  EXPECT_EQ(rows, static_cast<int>(m.number("lines.breakdown.uncovered.samples")));
+  EXPECT_EQ(in_map, 8);
+  EXPECT_EQ(gap, 2);
+  EXPECT_DOUBLE_EQ(m.number("agm_tactical.breakdown.missed.gap_along_surface"), 1.0);
+  EXPECT_DOUBLE_EQ(no_cell / 10.0, m.number("lines.breakdown.uncovered.no_cell"));
+  EXPECT_DOUBLE_EQ(short_run / 10.0, m.number("lines.breakdown.uncovered.short_run"));
+  // The time is from the log's first SIM_STATE, as the sector samples'.
+  std::istringstream again(csv.str());
+  std::getline(again, line);
+  std::getline(again, line);
+  const double t = std::stod(line.substr(0, line.find(',')));
+  EXPECT_NEAR(t, (850'000 - heard.sim_states.front().utime) * 1e-6, 1e-9);
 }
 
 TEST(EvalTacticalBreakdown, RedoesTheLineGenerationWithTheRunsConfig) {
