@@ -55,26 +55,24 @@ int main(int argc, char** argv) {
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     opts.breakdown = breakdown || !tactical_samples_path.empty();
-    std::ofstream tactical_samples;
-    if (!tactical_samples_path.empty()) {
-      tactical_samples.open(tactical_samples_path);
-      if (!tactical_samples) {
-        std::cerr << "lasonic-eval: cannot write " << tactical_samples_path << "\n";
-        return 1;
+    // A CSV file asked for (path not empty), opened with its header; false if it cannot be written.
+    const auto openCsv = [](const std::string& path, std::ofstream& out, void (*header)(std::ostream&),
+                            std::ostream*& target) {
+      if (path.empty()) return true;
+      out.open(path);
+      if (!out) {
+        std::cerr << "lasonic-eval: cannot write " << path << "\n";
+        return false;
       }
-      lasonic::eval::writeTacticalSampleHeader(tactical_samples);
-      opts.tactical_samples_csv = &tactical_samples;
-    }
-    std::ofstream samples;
-    if (!samples_path.empty()) {
-      samples.open(samples_path);
-      if (!samples) {
-        std::cerr << "lasonic-eval: cannot write " << samples_path << "\n";
-        return 1;
-      }
-      lasonic::eval::writeSectorSampleHeader(samples);
-      opts.samples_csv = &samples;
-    }
+      header(out);
+      target = &out;
+      return true;
+    };
+    std::ofstream tactical_samples, samples;
+    if (!openCsv(tactical_samples_path, tactical_samples, lasonic::eval::writeTacticalSampleHeader,
+                 opts.tactical_samples_csv) ||
+        !openCsv(samples_path, samples, lasonic::eval::writeSectorSampleHeader, opts.samples_csv))
+      return 1;
     const auto metrics = lasonic::eval::evaluate(log, scenario, opts, &baselines);
     // Never silently: without the laser's truth "laser-invisible" falls back to the material.
     if (metrics.has("sensors.laser_truth") && metrics.number("sensors.laser_truth") == 0 &&
