@@ -41,8 +41,14 @@
 //                                    distance, in a map flagging it stale), fresh_during_cut (fresh
 //                                    again before the restore, after it had gone stale)
 //   slice LOG OUT T0 [T1]            OUT = the events of LOG from log time T0 on (before T1)
+//   record URL OUT REGEX             records the channels matching REGEX to OUT (receive times,
+//                                    as lcm-logger) until SIGINT/SIGTERM; says "recording" on
+//                                    stderr once subscribed. Unlike lcm-logger (30 queued messages,
+//                                    the rest of a burst dropped) it queues 100 000, so that a
+//                                    recorder descheduled on a loaded machine loses nothing
 // Exit status: 0 ok (or measured), 1 check failed, 2 usage or unreadable log.
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -284,6 +290,37 @@ int slice(const std::string& in, const std::string& out, int64_t t0, int64_t t1)
   return 0;
 }
 
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void onStopSignal(int) { g_stop = 1; }
+
+struct Recorder {
+  LogWriter& out;
+  void handle(const lcm::ReceiveBuffer* rb, const std::string& channel) {
+    out.writeRaw(channel, rb->recv_utime, static_cast<const uint8_t*>(rb->data), rb->data_size);
+  }
+};
+
+int record(const std::string& url, const std::string& path, const std::string& regex) {
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "lasonic-fault-check: cannot open LCM %s\n", url.c_str());
+    return 2;
+  }
+  LogWriter out(path);
+  Recorder rec{out};
+  lcm::Subscription* sub = lcm.subscribe(regex, &Recorder::handle, &rec);
+  sub->setQueueCapacity(100000);
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+  std::fprintf(stderr, "lasonic-fault-check: recording %s to %s\n", regex.c_str(), path.c_str());
+  while (!g_stop) lcm.handleTimeout(100);
+  while (lcm.handleTimeout(0) > 0) {
+  }  // what is queued already
+  out.flush();
+  std::printf("events %lld\n", static_cast<long long>(out.events()));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -296,6 +333,7 @@ int main(int argc, char** argv) {
     if ((mode == "maps" || mode == "same" || mode == "nearest") && (argc == 5 || argc == 6))
       return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "nearest");
     if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
+    if (mode == "record" && argc == 5) return record(argv[2], argv[3], argv[4]);
     if (mode == "slice" && (argc == 5 || argc == 6))
       return slice(argv[2], argv[3], arg64(argv[4]), argc == 6 ? arg64(argv[5]) : std::numeric_limits<int64_t>::max());
   } catch (const LogError& e) {
@@ -305,6 +343,7 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
                "       stale LOG T_STOP T_RESUME laser|sonar | maps|nearest|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
-               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1]   (times: log timestamps, us)\n");
+               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1] | record URL OUT REGEX\n"
+               "       (times: log timestamps, us)\n");
   return 2;
 }
