@@ -42,13 +42,12 @@
 //                                    again before the restore, after it had gone stale)
 //   slice LOG OUT T0 [T1]            OUT = the events of LOG from log time T0 on (before T1)
 //   record URL OUT REGEX             records the channels matching REGEX to OUT (receive times,
-//                                    as lcm-logger) until SIGINT/SIGTERM; says "recording" on
+//                                    as lcm-logger) until SIGINT/SIGTERM; says "... running" on
 //                                    stderr once subscribed. Unlike lcm-logger (30 queued messages,
 //                                    the rest of a burst dropped) it queues 100 000, so that a
 //                                    recorder descheduled on a loaded machine loses nothing
 // Exit status: 0 ok (or measured), 1 check failed, 2 usage or unreadable log.
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -64,6 +63,7 @@
 
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "lcmio/signals.hpp"
 
 using namespace lasonic;
 
@@ -290,9 +290,6 @@ int slice(const std::string& in, const std::string& out, int64_t t0, int64_t t1)
   return 0;
 }
 
-volatile std::sig_atomic_t g_stop = 0;
-extern "C" void onStopSignal(int) { g_stop = 1; }
-
 struct Recorder {
   LogWriter& out;
   void handle(const lcm::ReceiveBuffer* rb, const std::string& channel) {
@@ -310,10 +307,10 @@ int record(const std::string& url, const std::string& path, const std::string& r
   Recorder rec{out};
   lcm::Subscription* sub = lcm.subscribe(regex, &Recorder::handle, &rec);
   sub->setQueueCapacity(100000);
-  std::signal(SIGINT, onStopSignal);
-  std::signal(SIGTERM, onStopSignal);
-  std::fprintf(stderr, "lasonic-fault-check: recording %s to %s\n", regex.c_str(), path.c_str());
-  while (!g_stop) lcm.handleTimeout(100);
+  shutdown::installHandlers();
+  // The line a test waits for, as a lasonic process's (tests/integration/lib.sh, wait_ready).
+  std::fprintf(stderr, "lasonic-fault-check: recording %s to %s: running\n", regex.c_str(), path.c_str());
+  while (!shutdown::requested()) lcm.handleTimeout(100);
   while (lcm.handleTimeout(0) > 0) {
   }  // what is queued already
   out.flush();

@@ -35,11 +35,9 @@ start_logger run.lcmlog
 # of these channels a logger descheduled for 0.3 s on a loaded machine loses some, and the replay
 # then differs from what the live navigator computed. lasonic-fault-check record queues 100 000.
 nav_channels='ODOMETRY|LASER_SCAN|RADAR_MAP|SONAR_COMPLEMENT|AGM_TACTICAL|AGM_LINES|CURRENT_SENSOR_MAP'
-"$check" record "$url" "$tmp/nav.lcmlog" "$nav_channels" >"$tmp/logger-nav.err" 2>&1 &
+start logger-nav "$check" record "$url" "$tmp/nav.lcmlog" "$nav_channels"
 logger_nav=$!
-pids+=("$logger_nav")
-for _ in $(seq 100); do grep -q 'recording' "$tmp/logger-nav.err" && break; sleep 0.1; done
-grep -q 'recording' "$tmp/logger-nav.err" || die "the navigator's recorder did not start"
+wait_ready logger-nav
 "$bin/lasonic-launch" deploy/hosts/navigator.yaml --bin "$bin" --lcm-url "$url" --log-dir "$tmp/out-nav" \
   --max-time 120 2>"$tmp/launch-nav.txt" &
 launcher_nav=$!
@@ -165,7 +163,7 @@ same_as_fresh() {
   awk -v a="$(k fresh maps_a)" -v m="$(k fresh matched)" -v d="$(k fresh differing_share)" \
     'BEGIN { exit !(a >= 10 && m >= 0.9 * a && d <= 0.01) }'
 }
-for back_ms in 0 10 20 30 40 50 60 70 80 90 100 110 120 130 140 150 160 170 180 190 200; do
+for back_ms in $(seq 0 10 200); do
   "$check" slice "$tmp/nav.lcmlog" "$tmp/nav-live.lcmlog" $((t_run - back_ms * 1000)) "$stop_laser" >/dev/null
   "$bin/lasonic-replay" --stages navigator --in "$tmp/nav-live.lcmlog" --out "$tmp/nav-fresh.lcmlog" --config "$config" \
     2>"$tmp/replay-fresh.err" || die "lasonic-replay failed on the log from the navigator's restart"
