@@ -158,6 +158,29 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       }
       c.end = geom::Vec2(r.end_x, r.end_y);
       if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+    } else if (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) {
+      // Heard at or beyond the laser's surface: used only as sound that passed what lies nearer.
+      const std::pair<const char*, double> fields[] = {{"range", r.range}, {"hypothetical_range", r.hypothetical_range}};
+      bool ok = true;
+      for (const auto& [name, value] : fields) {
+        if (ok && !(std::isfinite(value) && value >= 0 && value <= kMaxSonarRange)) {
+          problems.push_back({"rejected.complement_range", field_name(i, name) + " = " + num(value) + " (not in [0, " +
+                                                                   num(kMaxSonarRange) + "] m): not used"});
+          ok = false;
+        }
+      }
+      if (ok && !plausiblePose(r.sensor_pose)) {
+        problems.push_back({"rejected.complement_pose", field_name(i, "sensor_pose") + " is not finite (or beyond " +
+                                                            num(kMaxCoordinate) + " m): not used"});
+        ok = false;
+      }
+      c.usable = ok;
+      if (ok) {
+        c.range = r.range;
+        c.hypothetical_range = r.hypothetical_range;
+        c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+        if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
+      }
     }
     out.push_back(c);
   }

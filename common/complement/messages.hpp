@@ -63,10 +63,13 @@ std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vecto
 struct ComplementInput {
   int sensor_id = 0;
   SonarClass cls = SonarClass::Invalid;
-  // Complementary (and outside-view) readings only: usable = finite range and end point, range in
-  // [0, kMaxSonarRange]; the sensor pose when it is finite.
+  // Complementary (and outside-view) readings: usable = finite range and end point, range in
+  // [0, kMaxSonarRange]; the sensor pose when it is finite. Redundant and false readings (an echo
+  // at or beyond the hypothesis): usable = finite range in [0, kMaxSonarRange] and hypothetical
+  // range, and a plausible sensor pose (what the sound passed through: tactical/pass_through.hpp).
   bool usable = false;
   double range = 0;
+  double hypothetical_range = 0;  // [m] (redundant and false readings)
   geom::Vec2 end{0, 0};
   std::optional<geom::Pose2> sensor_pose;
   double beam_width = 0;  // [rad] the transducer's (the message's); 0: not given, the configured one

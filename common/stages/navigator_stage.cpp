@@ -43,7 +43,8 @@ NavigatorConfig navigatorConfigFromRoot(const Config& root) {
 NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
-                                   "laser_glints", "scan_matching", "clear_footprint", "look_weight_votes"};
+                                   "laser_glints", "scan_matching", "clear_footprint", "look_weight_votes",
+                                   "pass_through"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -63,6 +64,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.laser_join = c.get<bool>("laser_join", p.laser_join);
   p.laser_join_min_line_m = c.get("laser_join_min_line_m", p.laser_join_min_line_m, Range::nonNegative());
   p.laser_glints = laserGlintParams(c.section("laser_glints"), p.laser_glints);
+  p.pass_through = passThroughParams(c.section("pass_through"), p.pass_through);
   p.scan_matching = scanMatchParams(c.section("scan_matching"), p.scan_matching);
   p.published_size = c.get("published_size", p.published_size, Range::between(0, 1e6));
   if (p.published_size > p.agm.size)
@@ -87,6 +89,7 @@ NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
       agm_(cfg.effectiveAgm()),
       placer_(cfg.placement),
       look_weight_(cfg.hit_weight_speed, cfg.hit_weight_low_speed),
+      pass_through_(cfg.pass_through),
       glints_(cfg.laser_glints),
       matcher_(cfg.scan_matching),
       cycle_utime_(static_cast<size_t>(cfg.agm.h_max) + 2, 0) {
@@ -168,6 +171,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.agm);
   placer_ = EchoPlacer(cfg_.placement);
   look_weight_ = LookWeight(cfg_.hit_weight_speed, cfg_.hit_weight_low_speed);
+  pass_through_.clear();
   last_integrated_utime_.reset();
   csm_ = CurrentSensorMap();
   std::fill(cycle_utime_.begin(), cycle_utime_.end(), 0);
@@ -245,12 +249,17 @@ void NavigatorStage::onComplement(const complement_t& m) {
   const auto readings = complement::complementFromMessage(m, problems);
   reportProblems(node_, problems);
   std::vector<GroupReading> group = toGroupReadings(readings, m.utime);
+  std::vector<Sounding> soundings;
+  if (cfg_.pass_through.enabled())
+    soundings = soundingsOf(readings, geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width);
   if (!cfg_.verify_with_next_scan) {
     toNavigatorFrame(group, m.utime);
-    integrate(std::move(group), m.utime);
+    toNavigatorFrame(soundings, m.utime);
+    integrate(std::move(group), soundings, m.utime);
   } else {
     PendingGroup p;
     p.utime = m.utime;
+    p.soundings = std::move(soundings);
     p.readings = std::move(group);
     // A later scan cannot vouch for what lies beyond its view either: such echoes are kept.
     for (const auto& r : readings) p.outside_view.push_back(r.cls == complement::SonarClass::OutsideView);
@@ -278,6 +287,7 @@ void NavigatorStage::flushPending() {
     PendingGroup& g = pending_.front();
     if (rm_source_utime_ && *rm_source_utime_ >= g.utime) {
       toNavigatorFrame(g.readings, g.utime);
+      toNavigatorFrame(g.soundings, g.utime);
       for (size_t i = 0; i < g.readings.size(); ++i) {
         GroupReading& r = g.readings[i];
         if (!r.echo || (i < g.outside_view.size() && g.outside_view[i])) continue;
@@ -289,16 +299,33 @@ void NavigatorStage::flushPending() {
       }
     } else if (newest - g.utime > wait_us) {
       toNavigatorFrame(g.readings, g.utime);
+      toNavigatorFrame(g.soundings, g.utime);
       node_.count("verify.timed_out");
     } else {
       break;
     }
-    integrate(std::move(g.readings), g.utime);
+    integrate(std::move(g.readings), g.soundings, g.utime);
     pending_.pop_front();
   }
 }
 
-void NavigatorStage::integrate(std::vector<GroupReading> group, int64_t utime) {
+std::vector<Sounding> NavigatorStage::soundingsOf(const std::vector<complement::ComplementInput>& readings,
+                                                 double beam_width) const {
+  std::vector<Sounding> out;
+  for (const complement::ComplementInput& r : readings) {
+    if (!r.usable || !r.sensor_pose) continue;
+    double reach = r.range;
+    // Longer than the hypothesis: a mirror there (the laser's surface) turned the sound away.
+    if (r.cls == complement::SonarClass::False) reach = std::min(reach, r.hypothetical_range);
+    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width});
+  }
+  return out;
+}
+
+void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime) {
+  // What the sound has passed since the memory last heard something there (before this group's
+  // own echoes go in: a cell hit now starts counting afresh).
+  if (const int n = pass_through_.apply(soundings, agm_); n > 0) node_.count("agm.passed_through", n);
   // The robot's mean speed since the previous group (its newest odometry speed when there is
   // none within a second): how fast it drove past what this group heard.
   double v = speed_;
@@ -404,6 +431,12 @@ void NavigatorStage::toNavigatorFrame(std::vector<GroupReading>& group, int64_t 
     r.e.sensor = c.compose(r.e.sensor);
     r.axis_end = c.transform(r.axis_end);
   }
+}
+
+void NavigatorStage::toNavigatorFrame(std::vector<Sounding>& soundings, int64_t utime) const {
+  if (!cfg_.scan_matching.enabled) return;
+  const geom::Pose2 c = correctionAt(utime);
+  for (Sounding& s : soundings) s.sensor = c.compose(s.sensor);
 }
 
 std::optional<geom::Pose2> NavigatorStage::poseAt(int64_t utime) const {

@@ -12,6 +12,7 @@
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
 // agm.look_weight_hits (the hits the look weight added), agm.laser_join_hits (the laser join's),
 // agm.laser_glints and agm.laser_glint_hits (confirmed laser glints and their hits),
+// agm.passed_through (cells emptied by pass_through),
 // lines.published, publish.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -61,6 +62,7 @@
 #include <lasonic/odometry_t.hpp>
 
 #include "complement/hypothetical_scan.hpp"
+#include "complement/messages.hpp"
 #include "core/config.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
@@ -71,6 +73,7 @@
 #include "tactical/laser_glint.hpp"
 #include "tactical/laser_join.hpp"
 #include "tactical/line_generation.hpp"
+#include "tactical/pass_through.hpp"
 #include "tactical/look_weight.hpp"
 #include "tactical/scan_matcher.hpp"
 
@@ -120,6 +123,9 @@ struct NavigatorConfig {
   // glint -- is one hit in the tactical AGM, with the next firing group. max_incidence 0: off
   // (the paper: complementary echoes only).
   LaserGlintParams laser_glints;
+  // Pass-through (tactical/pass_through.hpp): a remembered cell that the sonar has since heard
+  // through, where it would have answered, is emptied. core 0: off (the paper: only time forgets).
+  PassThroughParams pass_through;
   // Scan matching (tactical/scan_matcher.hpp): the tactical AGM, its lines and the Current Sensor
   // Map are kept in the navigator's frame, the odometry corrected by matching each LASER_SCAN to
   // an earlier one, and forgotten by the matched pose's error model (scan_matching.pose_*)
@@ -162,9 +168,12 @@ class NavigatorStage {
   // from a log); the correction moves by millimetres per scan, so the delay costs nothing.
   geom::Pose2 correctionAt(int64_t utime) const;
   void toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const;
+  void toNavigatorFrame(std::vector<Sounding>& soundings, int64_t utime) const;
+  // Every usable echo of a group as sound that passed what lay nearer (pass_through).
+  std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width) const;
   static constexpr int64_t kCorrectionDelayUs = 300'000;
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
-  void integrate(std::vector<GroupReading> group, int64_t utime);
+  void integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);
   void flushPending();
   void advance(int64_t utime);
@@ -178,6 +187,7 @@ class NavigatorStage {
   AccumulativeGridMap agm_;
   EchoPlacer placer_;
   LookWeight look_weight_;
+  PassThrough pass_through_;
   GlintTracker glints_;  // laser glints (tactical/laser_glint.hpp)
   ScanMatcher matcher_;  // navigator frame <- odometry frame
   struct Correction {
@@ -194,6 +204,7 @@ class NavigatorStage {
     int64_t utime = 0;
     std::vector<GroupReading> readings;
     std::vector<bool> outside_view;  // per reading: beyond the laser's view (kept unverified)
+    std::vector<Sounding> soundings;  // pass_through
     complement::IdealSonarModel model;
     double tolerance = 0;
   };

@@ -5,3 +5,4 @@ lasonic_add_gtest(test_look_weight SOURCES test_look_weight.cpp LIBS lasonic_tac
 lasonic_add_gtest(test_laser_join SOURCES test_laser_join.cpp LIBS lasonic_tactical)
 lasonic_add_gtest(test_laser_glint SOURCES test_laser_glint.cpp LIBS lasonic_tactical)
 lasonic_add_gtest(test_scan_matcher SOURCES test_scan_matcher.cpp LIBS lasonic_tactical)
+lasonic_add_gtest(test_pass_through SOURCES test_pass_through.cpp LIBS lasonic_tactical)

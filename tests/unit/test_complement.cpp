@@ -532,6 +532,27 @@ TEST(ExtractComplement, AnEchoFromBeyondTheLasersViewIsOutsideViewNotRedundant) 
   EXPECT_EQ(back[0].cls, SonarClass::OutsideView);
   EXPECT_TRUE(back[0].usable);
   EXPECT_NEAR(back[0].range, g.readings[0].range, 1e-6);
+  // A redundant reading comes back with its range, hypothesis and pose (the sound it passed:
+  // the tactical level's pass-through); malformed, it is named, counted and not used.
+  EXPECT_EQ(back[1].cls, SonarClass::Redundant);
+  EXPECT_TRUE(back[1].usable);
+  ASSERT_TRUE(back[1].sensor_pose.has_value());
+  EXPECT_NEAR(back[1].range, g.readings[1].range, 1e-6);
+  EXPECT_NEAR(back[1].hypothetical_range, probe.readings[1].hypothetical_range, 1e-6);
+  complement_t bad = m;
+  bad.readings[1].hypothetical_range = std::numeric_limits<float>::quiet_NaN();
+  problems.clear();
+  const auto rejected = complementFromMessage(bad, problems);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].counter, "rejected.complement_range");
+  EXPECT_NE(problems[0].message.find("readings[1].hypothetical_range"), std::string::npos) << problems[0].message;
+  EXPECT_FALSE(rejected[1].usable);
+  bad = m;
+  bad.readings[1].sensor_pose.theta = std::numeric_limits<double>::infinity();
+  problems.clear();
+  EXPECT_FALSE(complementFromMessage(bad, problems)[1].usable);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].counter, "rejected.complement_pose");
 }
 
 // Sensors fired together whose axes lie closer than the sum of their openings hear each

@@ -432,6 +432,53 @@ TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
   EXPECT_GT(countCells({a.back()}, nearPane), 0);
 }
 
+// Pass-through: a glass display case on a trolley (laser-invisible, heard by the sonar) waits
+// ahead-right of the robot, which creeps 1 m towards it and stops; after 5 s the case is wheeled
+// away, and the robot's front-right transducers hear the end wall through the place it stood,
+// from where they heard the case. Without pass-through the memory keeps the case there; with it
+// the place is emptied, and the glass pane on the left, heard face-on, stays.
+const char* kTrolleyScenario = R"(
+name: trolley
+duration_s: 14
+seed: 7
+obstacles:
+  - {shape: segment, material: glass, from: [0.0, 1.2], to: [2.9, 1.2]}
+  - {shape: segment, material: wall, from: [-2.0, -1.6], to: [6.0, -1.6]}
+  - {shape: segment, material: wall, from: [2.9, -1.0], to: [2.9, 1.2]}
+movers:
+  - {shape: circle, radius: 0.25, material: glass, speed: 1.0, path: [[2.2, -0.5], [2.2, -1.3], [6.0, -1.3]], mode: once, start_delay_s: 5}
+robot:
+  radius: 0.35
+  path: [[0.0, 0.0], [1.0, 0.0]]
+  speed: 0.2
+)";
+bool whereTheStandWas(const Vec2& c) { return (c - Vec2(2.2, -0.5)).norm() < 0.45; }
+
+TEST(NavigatorStage, PassThroughForgetsWhatWasWheeledAwayAndKeepsThePane) {
+  NavigatorConfig off, on;  // on: shipped (deploy/config/lasonic.yaml)
+  off.pass_through.core = 0;
+  ASSERT_TRUE(on.pass_through.enabled());
+  const PipelineRun a = runPipeline(off, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  const PipelineRun b = runPipeline(on, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  ASSERT_GT(a.tactical.size(), 20u);
+  ASSERT_EQ(a.tactical.size(), b.tactical.size());
+  // While it stood, both remembered it.
+  const auto at = [](const PipelineRun& r, double s) {
+    const int64_t t = r.truth.front().utime + static_cast<int64_t>(s * 1e6);
+    for (const grid_map_t& g : r.tactical)
+      if (g.utime >= t) return g;
+    return r.tactical.back();
+  };
+  EXPECT_GT(countCells({at(a, 5.0)}, whereTheStandWas), 0);
+  EXPECT_GT(countCells({at(b, 5.0)}, whereTheStandWas), 0);
+  // At the end, only the paper's memory still holds it; both hold the pane.
+  EXPECT_GT(countCells({a.tactical.back()}, whereTheStandWas), 0);
+  EXPECT_EQ(countCells({b.tactical.back()}, whereTheStandWas), 0);
+  EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
+  EXPECT_GE(countCells({b.tactical.back()}, nearPane), countCells({a.tactical.back()}, nearPane) - 2);
+  EXPECT_EQ(b.navigator_errors, 0);
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);

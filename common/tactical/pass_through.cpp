@@ -1,0 +1,107 @@
+#include "tactical/pass_through.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lasonic {
+
+PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
+  c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells"});
+  p.core = c.get("core", p.core, Range::between(0, 1));
+  p.margin_m = c.get("margin_m", p.margin_m, Range::between(0, 10));
+  p.clear_after = c.get("clear_after", p.clear_after, Range::between(1, 1000));
+  p.line_ratio = c.get("line_ratio", p.line_ratio, Range::between(0, 1));
+  p.line_min_cells = c.get("line_min_cells", p.line_min_cells, Range::between(2, 1000));
+  p.line_radius_cells = c.get("line_radius_cells", p.line_radius_cells, Range::between(1, 20));
+  return p;
+}
+
+bool rememberedLineNormal(const AccumulativeGridMap& agm, int ix, int iy, const PassThroughParams& p,
+                          geom::Vec2& normal) {
+  const int r = p.line_radius_cells;
+  int n = 0;
+  double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  const geom::Vec2 o = agm.cellCorner(ix, iy);  // offsets from here keep the sums small
+  agm.forEachPositiveCell(ix - r, iy - r, ix + r, iy + r, [&](int cx, int cy, int, int) {
+    const geom::Vec2 q = agm.evidencePoint(cx, cy) - o;
+    ++n;
+    sx += q.x(), sy += q.y();
+    sxx += q.x() * q.x(), syy += q.y() * q.y(), sxy += q.x() * q.y();
+  });
+  if (n < p.line_min_cells) return false;
+  const double mx = sx / n, my = sy / n;
+  const double cxx = sxx / n - mx * mx, cyy = syy / n - my * my, cxy = sxy / n - mx * my;
+  // Eigenvalues of the 2 x 2 covariance; the line runs along the larger one's eigenvector.
+  const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+  const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
+  if (!(l1 > 0) || std::sqrt(l2 / l1) > p.line_ratio) return false;
+  const double along = 0.5 * std::atan2(2 * cxy, cxx - cyy);
+  normal = geom::Vec2(-std::sin(along), std::cos(along));
+  return true;
+}
+
+int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& agm) {
+  if (!p_.enabled()) return 0;
+  cells_.clear();
+  const double c = agm.cellSize();
+  for (const Sounding& s : group) {
+    const double reach = s.reach - p_.margin_m;
+    const double half = p_.core * 0.5 * s.beam_width;
+    if (!(reach > p_.margin_m) || !(half > 0) || !std::isfinite(s.sensor.x) || !std::isfinite(s.sensor.y) ||
+        !std::isfinite(s.sensor.theta) || reach > 100)
+      continue;
+    // The core sector's bounding box: the transducer, both edges' ends and the axis' end, a cell
+    // of margin for the arc's bulge.
+    const geom::Vec2 o = s.sensor.position();
+    geom::Vec2 lo = o, hi = o;
+    for (const double b : {s.sensor.theta - half, s.sensor.theta, s.sensor.theta + half}) {
+      const geom::Vec2 e = o + reach * geom::unitVector(b);
+      lo = lo.cwiseMin(e), hi = hi.cwiseMax(e);
+    }
+    int ix0 = 0, iy0 = 0, ix1 = 0, iy1 = 0;
+    const geom::Vec2 pad(c, c);
+    const geom::Vec2 wlo = agm.originMetres(), whi = wlo + geom::Vec2(agm.size() * c, agm.size() * c) - pad * 1e-6;
+    const geom::Vec2 a = (lo - pad).cwiseMax(wlo), b = (hi + pad).cwiseMin(whi);
+    if (!(a.x() <= b.x() && a.y() <= b.y()) || !agm.cellAt(a, ix0, iy0) || !agm.cellAt(b, ix1, iy1)) continue;
+    agm.forEachPositiveCell(ix0, iy0, ix1, iy1, [&](int ix, int iy, int, int) {
+      const geom::Vec2 q = agm.evidencePoint(ix, iy) - o;
+      const double d = q.norm();
+      if (d < p_.margin_m || d > reach) return;
+      if (std::abs(geom::angleDiff(std::atan2(q.y(), q.x()), s.sensor.theta)) > half) return;
+      // A remembered plane answers only when the beam meets it near its normal.
+      geom::Vec2 n;
+      if (rememberedLineNormal(agm, ix, iy, p_, n)) {
+        const double incidence = std::acos(std::min(1.0, std::abs(n.dot(geom::unitVector(s.sensor.theta)))));
+        if (incidence > half) return;
+      }
+      cells_.emplace_back(ix, iy);
+    });
+  }
+  std::sort(cells_.begin(), cells_.end());
+  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  int emptied = 0;
+  for (const auto& [ix, iy] : cells_) {
+    const std::pair<int64_t, int64_t> key{agm.originX() + ix, agm.originY() + iy};
+    const int64_t last_hit = agm.lastHitCycle(ix, iy);
+    Passes& e = passes_[key];
+    if (e.last_hit != last_hit) e = {last_hit, 0};
+    if (++e.n < p_.clear_after) continue;
+    const geom::Vec2 centre = agm.cellCorner(ix, iy) + geom::Vec2(0.5 * c, 0.5 * c);
+    emptied += agm.clearDisc(centre, 0.25 * c);
+    passes_.erase(key);
+  }
+  // Entries of cells emptied or hit since (their count would restart anyway) go: the map holds
+  // only cells still counting.
+  if (passes_.size() > 4096) {
+    for (auto it = passes_.begin(); it != passes_.end();) {
+      int ix = 0, iy = 0;
+      const geom::Vec2 centre((static_cast<double>(it->first.first) + 0.5) * c,
+                              (static_cast<double>(it->first.second) + 0.5) * c);
+      const bool live = agm.cellAt(centre, ix, iy) && agm.lastHitCycle(ix, iy) == it->second.last_hit;
+      it = live ? std::next(it) : passes_.erase(it);
+    }
+  }
+  return emptied;
+}
+
+}  // namespace lasonic

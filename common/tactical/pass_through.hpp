@@ -1,0 +1,77 @@
+#pragma once
+// Pass-through (beyond the paper; shipped): the tactical AGM forgets a remembered cell that the
+// sonar has since heard through.
+//
+// The paper's AGM only adds: a cell is forgotten by time (h_max) alone. So what the memory took
+// for a static obstacle stays for the whole memory when it has gone: a person who stood behind a
+// 180 deg laser (heard, never seen, so never explained) or a crosstalk ghost. The laser cannot
+// undo it (it sees through glass as through the place a person left); the sonar can, where the
+// cell would have answered it. A reading's sound has passed every point of its beam nearer than
+// its range (or, for a reading longer than the ideal sonar's hypothesis, than the hypothesis: a
+// mirror there turned it away) with nothing there answering. A remembered cell in the middle of
+// such a beam (within `core` of the beam's half width of the axis, where the transducer's gain
+// is near its peak) and at least `margin_m` nearer than the reading should have answered unless:
+//  - it is part of a remembered line (a plane: glass, a box side) that the beam met obliquely: a
+//    plane answers only from the foot of the perpendicular, so met at an angle beyond the core it
+//    is silent by physics (the glass pane passed obliquely that the memory is there for);
+//  - the reflector is weak and answers only now and then (a mesh): so a cell is emptied only
+//    once `clear_after` firing groups have passed through it since it was last hit; a cell hit
+//    again starts counting afresh.
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+
+namespace lasonic {
+
+struct PassThroughParams {
+  double core = 0.5;         // fraction of the beam's half width about the axis; 0: off (the paper)
+  double margin_m = 0.25;    // [m] the cell at least this much nearer than the reading
+  int clear_after = 2;       // firings in a row that passed through the cell
+  double line_ratio = 0.3;   // a neighbourhood is a line when its spread across / along is below this
+  int line_min_cells = 3;    // ... and it holds at least this many remembered cells
+  int line_radius_cells = 2; // the neighbourhood: (2r+1) x (2r+1) cells
+  bool enabled() const { return core > 0; }
+};
+// Reads the `pass_through:` section. Throws ConfigError naming the key path.
+PassThroughParams passThroughParams(const Config& c, PassThroughParams base = {});
+
+// One reading's sound: from the transducer (global pose, axis) out to `reach` [m] (its range, or
+// the hypothesis where that is shorter), in a beam of full width `beam_width` [rad].
+struct Sounding {
+  geom::Pose2 sensor;
+  double reach = 0;
+  double beam_width = 0;
+};
+
+// The remembered line through a cell, if its neighbourhood is one: the unit normal of the
+// principal direction of the neighbourhood's remembered cells (their evidence points).
+bool rememberedLineNormal(const AccumulativeGridMap& agm, int ix, int iy, const PassThroughParams& p,
+                          geom::Vec2& normal);
+
+class PassThrough {
+ public:
+  explicit PassThrough(const PassThroughParams& p) : p_(p) {}
+  const PassThroughParams& params() const { return p_; }
+  // One firing group's soundings against the map: counts a pass for every remembered cell the
+  // group's sound went through (once per group), empties those passed clear_after times in a
+  // row. Returns how many cells were emptied. Call before the group's own hits go in.
+  int apply(const std::vector<Sounding>& group, AccumulativeGridMap& agm);
+  // Cells passed at least once and not yet emptied or hit again (for tests and status).
+  size_t pending() const { return passes_.size(); }
+  void clear() { passes_.clear(); }
+
+ private:
+  struct Passes {
+    int64_t last_hit = 0;  // the cell's last increment when counting started
+    int n = 0;
+  };
+  PassThroughParams p_;
+  std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
+  std::vector<std::pair<int, int>> cells_;                 // this group's (window cells)
+};
+
+}  // namespace lasonic

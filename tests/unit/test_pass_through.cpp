@@ -1,0 +1,152 @@
+// PassThrough: a remembered cell that the sonar's sound has since passed, in the core of its beam
+// and where it would have answered, is emptied after clear_after firing groups; a remembered
+// line met obliquely, a cell beyond the reading, beside the core or hit again in between stays.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tactical/pass_through.hpp"
+
+using namespace lasonic;
+using geom::Pose2;
+using geom::Vec2;
+
+namespace {
+const double kBeam = geom::deg2rad(30);
+
+AgmParams smallAgm() {
+  AgmParams p;
+  p.size = 60;
+  p.cell_size = 0.10;
+  p.h_max = 1000;
+  p.g_threshold = 3;
+  p.hit_centroids = true;
+  return p;
+}
+
+PassThroughParams on() { return PassThroughParams{}; }  // the shipped rule
+
+int gAt(const AccumulativeGridMap& agm, const Vec2& q) {
+  int ix = 0, iy = 0;
+  return agm.cellAt(q, ix, iy) ? agm.g(ix, iy) : -1;
+}
+
+// A remembered blob (a person who stood there): a few hits at (1.55, 0.05).
+AccumulativeGridMap withBlob() {
+  AccumulativeGridMap agm(smallAgm());
+  agm.centreOn({0, 0});
+  for (int i = 0; i < 5; ++i) agm.update({{1.55, 0.05}});
+  return agm;
+}
+}  // namespace
+
+TEST(PassThrough, OffTouchesNothing) {
+  AccumulativeGridMap agm = withBlob();
+  PassThroughParams off;
+  off.core = 0;
+  PassThrough pt(off);
+  EXPECT_FALSE(pt.params().enabled());
+  EXPECT_TRUE(PassThrough(PassThroughParams{}).params().enabled());  // shipped
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(pt.apply({{Pose2{0, 0, 0}, 2.5, kBeam}}, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+}
+
+TEST(PassThrough, ABlobHeardThroughTwiceIsEmptied) {
+  AccumulativeGridMap agm = withBlob();
+  PassThrough pt(on());
+  const std::vector<Sounding> group = {{Pose2{0, 0, 0}, 2.5, kBeam}};
+  EXPECT_EQ(pt.apply(group, agm), 0);  // one look may have missed a weak reflector
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+  EXPECT_EQ(pt.pending(), 1u);
+  EXPECT_EQ(pt.apply(group, agm), 1);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 0);
+  EXPECT_EQ(pt.pending(), 0u);
+}
+
+TEST(PassThrough, TwoTransducersOfOneGroupAreOneLook) {
+  AccumulativeGridMap agm = withBlob();
+  PassThrough pt(on());
+  EXPECT_EQ(pt.apply({{Pose2{0, 0, 0}, 2.5, kBeam}, {Pose2{0, 0.1, -0.05}, 2.5, kBeam}}, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+}
+
+TEST(PassThrough, AHitInBetweenStartsTheCountAfresh) {
+  AccumulativeGridMap agm = withBlob();
+  PassThrough pt(on());
+  const std::vector<Sounding> group = {{Pose2{0, 0, 0}, 2.5, kBeam}};
+  pt.apply(group, agm);
+  agm.update({{1.55, 0.05}});  // heard again: it is there after all
+  EXPECT_EQ(pt.apply(group, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 6);
+  EXPECT_EQ(pt.apply(group, agm), 1);
+}
+
+TEST(PassThrough, OnlyWhatLiesMarginNearerThanTheReadingAndInTheCore) {
+  PassThrough pt(on());
+  // The reading ends at the blob (1.6 m, within the 0.25 m margin): it may be the blob's echo.
+  {
+    AccumulativeGridMap agm = withBlob();
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply({{Pose2{0, 0, 0}, 1.7, kBeam}}, agm), 0);
+    EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+  }
+  // The blob 10 deg off the axis: outside the core (+-7.5 deg of a 30 deg beam).
+  {
+    AccumulativeGridMap agm = withBlob();
+    const double off = std::atan2(0.05, 1.55) + geom::deg2rad(10);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply({{Pose2{0, 0, off}, 2.5, kBeam}}, agm), 0);
+    EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+  }
+  // Behind the transducer, or nearer than the margin (blanking): nothing.
+  {
+    AccumulativeGridMap agm = withBlob();
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply({{Pose2{3.0, 0, 0}, 2.5, kBeam}}, agm), 0);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply({{Pose2{1.45, 0.05, 0}, 2.5, kBeam}}, agm), 0);
+    EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+  }
+}
+
+TEST(PassThrough, ARememberedPaneMetObliquelyStays) {
+  // A pane along x = 1.5 (cells from y = -0.3 to 0.3): a line whose normal is the x axis.
+  AccumulativeGridMap agm(smallAgm());
+  agm.centreOn({0, 0});
+  for (int i = 0; i < 4; ++i)
+    for (double y = -0.25; y <= 0.26; y += 0.1) agm.update({{1.55, y}});
+  Vec2 n;
+  int ix = 0, iy = 0;
+  ASSERT_TRUE(agm.cellAt({1.55, 0.05}, ix, iy));
+  ASSERT_TRUE(rememberedLineNormal(agm, ix, iy, on(), n));
+  EXPECT_NEAR(std::abs(n.x()), 1.0, 1e-6);
+  PassThrough pt(on());
+  // Met at 40 deg from its normal: a plane is silent there, however far the reading.
+  const Vec2 from = Vec2(1.55, 0.05) - 1.2 * geom::unitVector(geom::deg2rad(40));
+  const std::vector<Sounding> oblique = {{Pose2{from.x(), from.y(), geom::deg2rad(40)}, 2.5, kBeam}};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(oblique, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 4);
+  // Met face-on and heard through: it is gone.
+  const std::vector<Sounding> face_on = {{Pose2{0, 0.05, 0}, 2.5, kBeam}};
+  pt.apply(face_on, agm);
+  EXPECT_GT(pt.apply(face_on, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 0);
+}
+
+TEST(PassThrough, MalformedSoundingsAreIgnored) {
+  AccumulativeGridMap agm = withBlob();
+  PassThrough pt(on());
+  const double nan = std::nan("");
+  const std::vector<Sounding> bad = {{Pose2{nan, 0, 0}, 2.5, kBeam},     {Pose2{0, 0, nan}, 2.5, kBeam},
+                                     {Pose2{0, 0, 0}, nan, kBeam},       {Pose2{0, 0, 0}, -1.0, kBeam},
+                                     {Pose2{0, 0, 0}, 1e300, kBeam},     {Pose2{0, 0, 0}, 2.5, nan},
+                                     {Pose2{0, 0, 0}, 2.5, -kBeam},      {Pose2{1e12, 0, 0}, 2.5, kBeam}};
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply(bad, agm), 0);
+  EXPECT_EQ(gAt(agm, {1.55, 0.05}), 5);
+}
+
+TEST(PassThrough, ConfigNamesTheKey) {
+  EXPECT_THROW(passThroughParams(Config::fromString("core: 2")), ConfigError);
+  EXPECT_THROW(passThroughParams(Config::fromString("clear_after: 0")), ConfigError);
+  EXPECT_THROW(passThroughParams(Config::fromString("cores: 0.5")), ConfigError);
+  const PassThroughParams p = passThroughParams(Config::fromString("core: 0.4\nclear_after: 3"));
+  EXPECT_DOUBLE_EQ(p.core, 0.4);
+  EXPECT_EQ(p.clear_after, 3);
+}
