@@ -181,6 +181,36 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
         c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
         if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
       }
+    } else if (c.cls == SonarClass::Unverifiable && m.radar_map_stale == 0) {
+      // Nothing answered within the hypothesis' range limit (an echo beyond it, or none): used
+      // only as sound that passed what lies nearer than the hypothesis. A stale Radar Map's
+      // readings are unverifiable for want of a hypothesis: not used.
+      c.echo = std::isfinite(r.end_x) && std::isfinite(r.end_y);
+      const double limit = std::isfinite(m.range_limit) && m.range_limit > 0 ? m.range_limit : kMaxSonarRange;
+      bool ok = true;
+      if (!(std::isfinite(r.hypothetical_range) && r.hypothetical_range >= 0 && r.hypothetical_range <= limit + 1e-3)) {
+        problems.push_back({"rejected.complement_range", field_name(i, "hypothetical_range") + " = " +
+                                                             num(r.hypothetical_range) + " (not in [0, " + num(limit) +
+                                                             "] m, the range limit): not used"});
+        ok = false;
+      }
+      if (ok && c.echo && !(std::isfinite(r.range) && r.range >= 0 && r.range <= kMaxSonarRange)) {
+        problems.push_back({"rejected.complement_range", field_name(i, "range") + " = " + num(r.range) + " (not in [0, " +
+                                                             num(kMaxSonarRange) + "] m): not used"});
+        ok = false;
+      }
+      if (ok && !plausiblePose(r.sensor_pose)) {
+        problems.push_back({"rejected.complement_pose", field_name(i, "sensor_pose") + " is not finite (or beyond " +
+                                                            num(kMaxCoordinate) + " m): not used"});
+        ok = false;
+      }
+      c.usable = ok;
+      if (ok) {
+        c.range = c.echo ? static_cast<double>(r.range) : static_cast<double>(r.hypothetical_range);
+        c.hypothetical_range = r.hypothetical_range;
+        c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+        if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
+      }
     }
     out.push_back(c);
   }

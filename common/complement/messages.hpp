@@ -67,9 +67,14 @@ struct ComplementInput {
   // [0, kMaxSonarRange]; the sensor pose when it is finite. Redundant and false readings (an echo
   // at or beyond the hypothesis): usable = finite range in [0, kMaxSonarRange] and hypothetical
   // range, and a plausible sensor pose (what the sound passed through: tactical/pass_through.hpp).
+  // Unverifiable readings (no echo, or an echo beyond the hypothesis' range limit): usable = a
+  // fresh Radar Map (the message's radar_map_stale = 0), a hypothetical range in [0, range_limit]
+  // and a plausible sensor pose; `echo` tells an echo beyond the limit (a finite end point) from
+  // none.
   bool usable = false;
+  bool echo = true;  // false: an unverifiable reading without an echo
   double range = 0;
-  double hypothetical_range = 0;  // [m] (redundant and false readings)
+  double hypothetical_range = 0;  // [m] (redundant, false and unverifiable readings)
   geom::Vec2 end{0, 0};
   std::optional<geom::Pose2> sensor_pose;
   double beam_width = 0;  // [rad] the transducer's (the message's); 0: not given, the configured one

@@ -317,6 +317,12 @@ std::vector<Sounding> NavigatorStage::soundingsOf(const std::vector<complement::
     double reach = r.range;
     // Longer than the hypothesis: a mirror there (the laser's surface) turned the sound away.
     if (r.cls == complement::SonarClass::False) reach = std::min(reach, r.hypothetical_range);
+    // Nothing answered within the range limit: the hypothesis (a laser surface nearer than the
+    // limit, where the sound may have turned away, or the limit itself) is as far as it went.
+    if (r.cls == complement::SonarClass::Unverifiable) {
+      if (!(r.echo ? cfg_.pass_through.beyond_limit : cfg_.pass_through.silence)) continue;
+      reach = r.hypothetical_range;
+    }
     out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width});
   }
   return out;

@@ -6,13 +6,16 @@
 namespace lasonic {
 
 PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
-  c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells"});
+  c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells", "beyond_limit",
+               "silence"});
   p.core = c.get("core", p.core, Range::between(0, 1));
   p.margin_m = c.get("margin_m", p.margin_m, Range::between(0, 10));
   p.clear_after = c.get("clear_after", p.clear_after, Range::between(1, 1000));
   p.line_ratio = c.get("line_ratio", p.line_ratio, Range::between(0, 1));
   p.line_min_cells = c.get("line_min_cells", p.line_min_cells, Range::between(2, 1000));
   p.line_radius_cells = c.get("line_radius_cells", p.line_radius_cells, Range::between(1, 20));
+  p.beyond_limit = c.get("beyond_limit", p.beyond_limit);
+  p.silence = c.get("silence", p.silence);
   return p;
 }
 

@@ -34,13 +34,19 @@ struct PassThroughParams {
   double line_ratio = 0.3;   // a neighbourhood is a line when its spread across / along is below this
   int line_min_cells = 3;    // ... and it holds at least this many remembered cells
   int line_radius_cells = 2; // the neighbourhood: (2r+1) x (2r+1) cells
+  // Unverifiable readings (nothing answered within the hypothesis' range limit) as sound that
+  // passed everything nearer than the hypothesis: an echo from beyond the limit ...
+  bool beyond_limit = false;
+  // ... and no echo at all.
+  bool silence = false;
   bool enabled() const { return core > 0; }
 };
 // Reads the `pass_through:` section. Throws ConfigError naming the key path.
 PassThroughParams passThroughParams(const Config& c, PassThroughParams base = {});
 
 // One reading's sound: from the transducer (global pose, axis) out to `reach` [m] (its range, or
-// the hypothesis where that is shorter), in a beam of full width `beam_width` [rad].
+// the hypothesis where that is shorter; for an unverifiable reading the hypothesis, at most the
+// range limit), in a beam of full width `beam_width` [rad].
 struct Sounding {
   geom::Pose2 sensor;
   double reach = 0;

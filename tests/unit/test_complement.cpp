@@ -555,6 +555,56 @@ TEST(ExtractComplement, AnEchoFromBeyondTheLasersViewIsOutsideViewNotRedundant) 
   EXPECT_EQ(problems[0].counter, "rejected.complement_pose");
 }
 
+// Unverifiable readings (an echo beyond the range limit, or none) come back from the message with
+// the hypothesis as far as their sound is known to have gone, and whether there was an echo (the
+// tactical level's pass-through); a stale Radar Map's are not usable, malformed ones are named.
+TEST(ExtractComplement, UnverifiableReadingsComeBackWithTheirHypothesis) {
+  RadarMap rm;
+  rm.utime = 0;
+  rm.segments = {{{{1.5, -3.0}, {1.5, 3.0}}, 200, 0.0}};  // a wall 1.5 m ahead
+  SonarGroup g;
+  const double beam = geom::deg2rad(30.0);
+  g.readings.push_back({0, 2.9, false, {0, 0, 0.0}, true, beam});               // beyond the limit
+  g.readings.push_back({1, 0.0, true, {0, 0, geom::deg2rad(180.0)}, true, beam});  // no echo, open space
+  const auto out = extractComplement(g, Pose2{}, &rm, {});
+  ASSERT_EQ(out.readings.size(), 2u);
+  EXPECT_EQ(out.readings[0].cls, SonarClass::Unverifiable);
+  EXPECT_EQ(out.readings[1].cls, SonarClass::Unverifiable);
+  const complement_t m = complementToMessage(out, {});
+  std::vector<InputProblem> problems;
+  const auto back = complementFromMessage(m, problems);
+  EXPECT_TRUE(problems.empty());
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_TRUE(back[0].usable);
+  EXPECT_TRUE(back[0].echo);
+  EXPECT_NEAR(back[0].range, 2.9, 1e-6);
+  EXPECT_NEAR(back[0].hypothetical_range, 1.5, 0.01);  // the wall the sound turned away from
+  ASSERT_TRUE(back[0].sensor_pose.has_value());
+  EXPECT_TRUE(back[1].usable);
+  EXPECT_FALSE(back[1].echo);
+  EXPECT_NEAR(back[1].hypothetical_range, IdealSonarModel{}.range_limit, 1e-6);  // nothing within the limit
+  // No fresh Radar Map: no hypothesis to trust, nothing usable (and nothing to complain about).
+  complement_t stale = m;
+  stale.radar_map_stale = 1;
+  problems.clear();
+  const auto unused = complementFromMessage(stale, problems);
+  EXPECT_TRUE(problems.empty());
+  EXPECT_FALSE(unused[0].usable);
+  EXPECT_FALSE(unused[1].usable);
+  // A hypothesis beyond the range limit, or an echo's range out of bounds: named, not used.
+  complement_t bad = m;
+  bad.readings[1].hypothetical_range = 2.0f * bad.range_limit;
+  bad.readings[0].range = -1.0f;
+  problems.clear();
+  const auto rejected = complementFromMessage(bad, problems);
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].counter, "rejected.complement_range");
+  EXPECT_NE(problems[0].message.find("readings[0].range"), std::string::npos) << problems[0].message;
+  EXPECT_NE(problems[1].message.find("readings[1].hypothetical_range"), std::string::npos) << problems[1].message;
+  EXPECT_FALSE(rejected[0].usable);
+  EXPECT_FALSE(rejected[1].usable);
+}
+
 // Sensors fired together whose axes lie closer than the sum of their openings hear each
 // other's pings by way of a wall; the ring's default groups (axes 90 deg apart) never do.
 TEST(OverlappingBeams, PairsOfAGroupCloserThanTheSumOfTheirOpenings) {

@@ -479,6 +479,35 @@ TEST(NavigatorStage, PassThroughForgetsWhatWasWheeledAwayAndKeepsThePane) {
   EXPECT_EQ(b.navigator_errors, 0);
 }
 
+// Readings the hypothesis cannot verify as evidence too (off in the shipped configuration): once
+// the stand has gone, the transducers facing where it stood hear the far wall (y = -1.6), more
+// than the 2.20 m range limit away from most of the path: unverifiable echoes, which only the
+// `beyond_limit` key lets pass the remembered stand. It is emptied no later, and the maps differ.
+TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
+  NavigatorConfig on, more;
+  ASSERT_FALSE(on.pass_through.beyond_limit);
+  ASSERT_FALSE(on.pass_through.silence);
+  more.pass_through.beyond_limit = more.pass_through.silence = true;
+  const PipelineRun b = runPipeline(on, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  const PipelineRun c = runPipeline(more, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  ASSERT_EQ(b.tactical.size(), c.tactical.size());
+  ASSERT_GT(b.tactical.size(), 20u);
+  // The first map after the stand left (5 s) that holds none of it.
+  const auto emptied = [](const PipelineRun& r) {
+    const int64_t t = r.truth.front().utime + 5'000'000;
+    for (size_t i = 0; i < r.tactical.size(); ++i)
+      if (r.tactical[i].utime >= t && countCells({r.tactical[i]}, whereTheStandWas) == 0) return i;
+    return r.tactical.size();
+  };
+  EXPECT_LT(emptied(c), c.tactical.size());
+  EXPECT_LE(emptied(c), emptied(b));
+  size_t differing = 0;
+  for (size_t i = 0; i < b.tactical.size(); ++i) differing += b.tactical[i].g != c.tactical[i].g;
+  EXPECT_GT(differing, 0u);
+  EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);  // the pane, met face-on, stays
+  EXPECT_EQ(c.navigator_errors, 0);
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);
@@ -495,6 +524,9 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
   EXPECT_FALSE(d.look_weight_votes);
+  EXPECT_FALSE(d.pass_through.beyond_limit);
+  EXPECT_TRUE(navigatorConfig(Config::fromString("navigator: {pass_through: {beyond_limit: true, silence: true}}")
+                                  .section("navigator")).pass_through.silence);
   EXPECT_TRUE(navigatorConfig(Config::fromString("navigator: {look_weight_votes: true}").section("navigator")).look_weight_votes);
   EXPECT_EQ(d.published_size, 100);
   EXPECT_TRUE(d.laser_glints.enabled());
@@ -527,7 +559,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
                           "navigator: {agm: {odometry_rot_noise: .nan}}",
                           "navigator: {laser_glints: {max_incidence_deg: 60}}", "navigator: {laser_glints: {min_points: 0}}",
                           "navigator: {laser_glints: {confirm_s: .nan}}", "navigator: {laser_glints: {glass: true}}",
-                          "navigator: {laser_glints: 3}"})
+                          "navigator: {laser_glints: 3}", "navigator: {pass_through: {silence: 2}}"})
     EXPECT_THROW(navigatorConfig(Config::fromString(bad).section("navigator")), ConfigError) << bad;
 }
 
