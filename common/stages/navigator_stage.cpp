@@ -319,11 +319,12 @@ std::vector<Sounding> NavigatorStage::soundingsOf(const std::vector<complement::
     if (r.cls == complement::SonarClass::False) reach = std::min(reach, r.hypothetical_range);
     // Nothing answered within the range limit: the hypothesis (a laser surface nearer than the
     // limit, where the sound may have turned away, or the limit itself) is as far as it went.
-    if (r.cls == complement::SonarClass::Unverifiable) {
+    const bool unverifiable = r.cls == complement::SonarClass::Unverifiable;
+    if (unverifiable) {
       if (!(r.echo ? cfg_.pass_through.beyond_limit : cfg_.pass_through.silence)) continue;
       reach = r.hypothetical_range;
     }
-    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width});
+    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width, unverifiable});
   }
   return out;
 }
@@ -357,6 +358,8 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vecto
   // sees a glint at its own rate, however fast the robot drives).
   if (!glint_hits_.empty()) {
     node_.count("agm.laser_glint_hits", static_cast<int64_t>(glint_hits_.size()));
+    if (pose && pass_through_.notesHits())
+      for (const geom::Vec2& g : glint_hits_) pass_through_.noteHit(g, pose->position(), agm_);
     hits.insert(hits.end(), glint_hits_.begin(), glint_hits_.end());
     glint_hits_.clear();
   }
@@ -369,6 +372,8 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vecto
                                                               a.odometry_drift_noise});
   }
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
+  if (pass_through_.notesHits())
+    for (const PlacedEcho& e : placer_.lastPlaced()) pass_through_.noteHit(e.point, e.sensor.position(), agm_);
   const int inside = agm_.update(hits);
   if (cfg_.clear_footprint && pose)
     if (const int n = agm_.clearDisc(pose->position(), cfg_.robot_radius - agm_.cellSize() * std::sqrt(0.5)); n > 0)

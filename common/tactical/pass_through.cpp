@@ -7,7 +7,7 @@ namespace lasonic {
 
 PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
   c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells", "beyond_limit",
-               "silence"});
+               "silence", "heard_from_gate"});
   p.core = c.get("core", p.core, Range::between(0, 1));
   p.margin_m = c.get("margin_m", p.margin_m, Range::between(0, 10));
   p.clear_after = c.get("clear_after", p.clear_after, Range::between(1, 1000));
@@ -16,6 +16,7 @@ PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
   p.line_radius_cells = c.get("line_radius_cells", p.line_radius_cells, Range::between(1, 20));
   p.beyond_limit = c.get("beyond_limit", p.beyond_limit);
   p.silence = c.get("silence", p.silence);
+  p.heard_from_gate = c.get("heard_from_gate", p.heard_from_gate);
   return p;
 }
 
@@ -77,6 +78,11 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
         const double incidence = std::acos(std::min(1.0, std::abs(n.dot(geom::unitVector(s.sensor.theta)))));
         if (incidence > half) return;
       }
+      // Silent: only from where it answered before (a plane's answers come from within the beam's
+      // half width of its normal).
+      if (s.unverifiable && p_.heard_from_gate &&
+          !heardFrom(agm.originX() + ix, agm.originY() + iy, agm.evidencePoint(ix, iy), o, 0.5 * s.beam_width))
+        return;
       cells_.emplace_back(ix, iy);
     });
   }
@@ -92,6 +98,17 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
     const geom::Vec2 centre = agm.cellCorner(ix, iy) + geom::Vec2(0.5 * c, 0.5 * c);
     emptied += agm.clearDisc(centre, 0.25 * c);
     passes_.erase(key);
+    heard_.erase(key);
+  }
+  // Directions of cells forgotten since (by time, or emptied by the footprint) go.
+  if (heard_.size() > 4096) {
+    for (auto it = heard_.begin(); it != heard_.end();) {
+      int ix = 0, iy = 0;
+      const geom::Vec2 centre((static_cast<double>(it->first.first) + 0.5) * c,
+                              (static_cast<double>(it->first.second) + 0.5) * c);
+      const bool live = agm.cellAt(centre, ix, iy) && agm.g(ix, iy) > 0;
+      it = live ? std::next(it) : heard_.erase(it);
+    }
   }
   // Entries of cells emptied or hit since (their count would restart anyway) go: the map holds
   // only cells still counting.
@@ -105,6 +122,30 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
     }
   }
   return emptied;
+}
+
+void PassThrough::noteHit(const geom::Vec2& point, const geom::Vec2& from, const AccumulativeGridMap& agm) {
+  if (!notesHits()) return;
+  int ix = 0, iy = 0;
+  if (!agm.cellAt(point, ix, iy) || !std::isfinite(from.x()) || !std::isfinite(from.y())) return;
+  const geom::Vec2 d = from - point;
+  const double n = d.norm();
+  if (!(n > 1e-6)) return;
+  Heard& e = heard_[{agm.originX() + ix, agm.originY() + iy}];
+  // Empty before this group: what was heard there before has been forgotten.
+  if (agm.g(ix, iy) == 0 && e.cycle != agm.cycle()) e.sum = geom::Vec2(0, 0);
+  e.cycle = agm.cycle();
+  e.sum += d / n;
+}
+
+bool PassThrough::heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor,
+                            double half) const {
+  const auto it = heard_.find({gx, gy});
+  if (it == heard_.end() || !(it->second.sum.norm() > 1e-9)) return false;
+  const geom::Vec2 u = sensor - cell;
+  if (!(u.norm() > 1e-9)) return false;
+  const double cosine = it->second.sum.normalized().dot(u.normalized());
+  return std::acos(std::clamp(cosine, -1.0, 1.0)) <= half;
 }
 
 }  // namespace lasonic

@@ -14,6 +14,9 @@
 //  - it is part of a remembered line (a plane: glass, a box side) that the beam met obliquely: a
 //    plane answers only from the foot of the perpendicular, so met at an angle beyond the core it
 //    is silent by physics (the glass pane passed obliquely that the memory is there for);
+//  - the reading is silent (no echo, or none within the hypothesis' range limit) and comes from
+//    elsewhere than where the cell answered before: a plane met obliquely is silent too, and a
+//    pane heard sparsely is no line to the test above (heard_from_gate);
 //  - the reflector is weak and answers only now and then (a mesh): so a cell is emptied only
 //    once `clear_after` firing groups have passed through it since it was last hit; a cell hit
 //    again starts counting afresh.
@@ -36,9 +39,15 @@ struct PassThroughParams {
   int line_radius_cells = 2; // the neighbourhood: (2r+1) x (2r+1) cells
   // Unverifiable readings (nothing answered within the hypothesis' range limit) as sound that
   // passed everything nearer than the hypothesis: an echo from beyond the limit ...
-  bool beyond_limit = false;
+  bool beyond_limit = true;
   // ... and no echo at all.
-  bool silence = false;
+  bool silence = true;
+  // Such a reading passes a cell only from where the cell answered before: the transducer within
+  // the beam's half width of the mean direction from the cell to the transducers that heard it. A
+  // plane answers only a transducer near its normal, so silence from elsewhere is what a pane gives
+  // (a pane heard sparsely is no line to the line test); from there it would have answered.
+  bool heard_from_gate = true;
+  bool unverifiable() const { return beyond_limit || silence; }
   bool enabled() const { return core > 0; }
 };
 // Reads the `pass_through:` section. Throws ConfigError naming the key path.
@@ -51,6 +60,7 @@ struct Sounding {
   geom::Pose2 sensor;
   double reach = 0;
   double beam_width = 0;
+  bool unverifiable = false;  // nothing answered within the range limit (PassThroughParams::beyond_limit)
 };
 
 // The remembered line through a cell, if its neighbourhood is one: the unit normal of the
@@ -66,9 +76,17 @@ class PassThrough {
   // group's sound went through (once per group), empties those passed clear_after times in a
   // row. Returns how many cells were emptied. Call before the group's own hits go in.
   int apply(const std::vector<Sounding>& group, AccumulativeGridMap& agm);
+  // A hit at `point` heard from `from` (the transducer; the scanner for a laser glint), noted
+  // before the group's hits go into the map: where each cell was heard from, for the heard-from
+  // gate (kept only while unverifiable readings are used). A cell empty before starts afresh.
+  void noteHit(const geom::Vec2& point, const geom::Vec2& from, const AccumulativeGridMap& agm);
+  bool notesHits() const { return p_.enabled() && p_.unverifiable() && p_.heard_from_gate; }
   // Cells passed at least once and not yet emptied or hit again (for tests and status).
   size_t pending() const { return passes_.size(); }
-  void clear() { passes_.clear(); }
+  void clear() {
+    passes_.clear();
+    heard_.clear();
+  }
 
  private:
   struct Passes {
@@ -76,7 +94,13 @@ class PassThrough {
     int n = 0;
   };
   PassThroughParams p_;
+  struct Heard {
+    geom::Vec2 sum{0, 0};  // unit vectors from the cell to where it was heard from
+    int64_t cycle = -1;    // the map's cycle at the last note
+  };
+  bool heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor, double half) const;
   std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
+  std::map<std::pair<int64_t, int64_t>, Heard> heard_;    // by global cell
   std::vector<std::pair<int, int>> cells_;                 // this group's (window cells)
 };
 

@@ -479,19 +479,22 @@ TEST(NavigatorStage, PassThroughForgetsWhatWasWheeledAwayAndKeepsThePane) {
   EXPECT_EQ(b.navigator_errors, 0);
 }
 
-// Readings the hypothesis cannot verify as evidence too (off in the shipped configuration): once
-// the stand has gone, the transducers facing where it stood hear the far wall (y = -1.6), more
-// than the 2.20 m range limit away from most of the path: unverifiable echoes, which only the
-// `beyond_limit` key lets pass the remembered stand. It is emptied no later, and the maps differ.
+// Readings the hypothesis cannot verify as evidence too: once the stand has gone, the transducers
+// facing where it stood hear the far wall (y = -1.6), more than the 2.20 m range limit away from
+// most of the path, or nothing: unverifiable readings. Taken from any direction (no heard-from
+// gate) they empty the stand no later than echoes alone and change the maps; shipped (gated:
+// only from where the stand answered before) the stand goes and the pane, met face-on, stays.
 TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
-  NavigatorConfig on, more;
-  ASSERT_FALSE(on.pass_through.beyond_limit);
-  ASSERT_FALSE(on.pass_through.silence);
-  more.pass_through.beyond_limit = more.pass_through.silence = true;
-  const PipelineRun b = runPipeline(on, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  const PipelineRun c = runPipeline(more, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  ASSERT_EQ(b.tactical.size(), c.tactical.size());
-  ASSERT_GT(b.tactical.size(), 20u);
+  NavigatorConfig shipped, echoes_only, ungated;
+  ASSERT_TRUE(shipped.pass_through.beyond_limit && shipped.pass_through.silence && shipped.pass_through.heard_from_gate);
+  echoes_only.pass_through.beyond_limit = echoes_only.pass_through.silence = false;
+  ungated.pass_through.heard_from_gate = false;
+  const PipelineRun a = runPipeline(echoes_only, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  const PipelineRun b = runPipeline(shipped, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  const PipelineRun c = runPipeline(ungated, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
+  ASSERT_GT(a.tactical.size(), 20u);
+  ASSERT_EQ(a.tactical.size(), b.tactical.size());
+  ASSERT_EQ(a.tactical.size(), c.tactical.size());
   // The first map after the stand left (5 s) that holds none of it.
   const auto emptied = [](const PipelineRun& r) {
     const int64_t t = r.truth.front().utime + 5'000'000;
@@ -500,11 +503,14 @@ TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
     return r.tactical.size();
   };
   EXPECT_LT(emptied(c), c.tactical.size());
-  EXPECT_LE(emptied(c), emptied(b));
+  EXPECT_LE(emptied(c), emptied(a));
   size_t differing = 0;
-  for (size_t i = 0; i < b.tactical.size(); ++i) differing += b.tactical[i].g != c.tactical[i].g;
+  for (size_t i = 0; i < a.tactical.size(); ++i) differing += a.tactical[i].g != c.tactical[i].g;
   EXPECT_GT(differing, 0u);
-  EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);  // the pane, met face-on, stays
+  EXPECT_EQ(countCells({b.tactical.back()}, whereTheStandWas), 0);
+  EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
+  EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);
+  EXPECT_EQ(b.navigator_errors, 0);
   EXPECT_EQ(c.navigator_errors, 0);
 }
 
@@ -524,9 +530,9 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   EXPECT_DOUBLE_EQ(d.hit_weight_low_speed, 0.4);
   EXPECT_DOUBLE_EQ(navigatorConfig(Config::fromString("navigator: {hit_weight_low_speed: 0.2}").section("navigator")).hit_weight_low_speed, 0.2);
   EXPECT_FALSE(d.look_weight_votes);
-  EXPECT_FALSE(d.pass_through.beyond_limit);
-  EXPECT_TRUE(navigatorConfig(Config::fromString("navigator: {pass_through: {beyond_limit: true, silence: true}}")
-                                  .section("navigator")).pass_through.silence);
+  EXPECT_TRUE(d.pass_through.beyond_limit && d.pass_through.silence && d.pass_through.heard_from_gate);
+  EXPECT_FALSE(navigatorConfig(Config::fromString("navigator: {pass_through: {beyond_limit: false, silence: false}}")
+                                   .section("navigator")).pass_through.silence);
   EXPECT_TRUE(navigatorConfig(Config::fromString("navigator: {look_weight_votes: true}").section("navigator")).look_weight_votes);
   EXPECT_EQ(d.published_size, 100);
   EXPECT_TRUE(d.laser_glints.enabled());

@@ -130,6 +130,64 @@ TEST(PassThrough, ARememberedPaneMetObliquelyStays) {
   EXPECT_EQ(gAt(agm, {1.55, 0.05}), 0);
 }
 
+// An unverifiable reading (nothing answered within the range limit) passes a cell only from where
+// the cell was heard from (within the beam's half width, 15 deg): silence from elsewhere is what a
+// plane met obliquely gives.
+TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
+  const PassThroughParams p = on();
+  ASSERT_TRUE(p.silence && p.heard_from_gate);
+  const Vec2 blob(1.55, 0.05);
+  // Heard five times from the origin's side (the transducer at (0, 0.05)).
+  const auto heard = [&](PassThrough& pt) {
+    AccumulativeGridMap agm(smallAgm());
+    agm.centreOn({0, 0});
+    for (int i = 0; i < 5; ++i) {
+      pt.noteHit(blob, {0, 0.05}, agm);
+      agm.update({blob});
+    }
+    return agm;
+  };
+  // Silent from 60 deg round the blob: stays.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heard(pt);
+    const Vec2 from = blob - 1.3 * geom::unitVector(geom::deg2rad(60));
+    const std::vector<Sounding> silent = {{Pose2{from.x(), from.y(), geom::deg2rad(60)}, 2.2, kBeam, true}};
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(silent, agm), 0);
+    EXPECT_EQ(gAt(agm, blob), 5);
+    // The same reading as an echo (from beyond the blob) passes it: every echo is evidence.
+    const std::vector<Sounding> echo = {{Pose2{from.x(), from.y(), geom::deg2rad(60)}, 2.2, kBeam, false}};
+    pt.apply(echo, agm);
+    EXPECT_EQ(pt.apply(echo, agm), 1);
+  }
+  // Silent from where it was heard: gone after two looks.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heard(pt);
+    const std::vector<Sounding> silent = {{Pose2{0, 0.05, 0}, 2.2, kBeam, true}};
+    EXPECT_EQ(pt.apply(silent, agm), 0);
+    EXPECT_EQ(pt.apply(silent, agm), 1);
+    EXPECT_EQ(gAt(agm, blob), 0);
+  }
+  // Without the gate, silence from anywhere in the core passes it; without notes, nothing does.
+  {
+    PassThroughParams ungated = p;
+    ungated.heard_from_gate = false;
+    PassThrough pt(ungated);
+    AccumulativeGridMap agm = heard(pt);
+    const Vec2 from = blob - 1.3 * geom::unitVector(geom::deg2rad(60));
+    const std::vector<Sounding> silent = {{Pose2{from.x(), from.y(), geom::deg2rad(60)}, 2.2, kBeam, true}};
+    pt.apply(silent, agm);
+    EXPECT_EQ(pt.apply(silent, agm), 1);
+  }
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = withBlob();  // never noted
+    const std::vector<Sounding> silent = {{Pose2{0, 0.05, 0}, 2.2, kBeam, true}};
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply(silent, agm), 0);
+  }
+}
+
 TEST(PassThrough, MalformedSoundingsAreIgnored) {
   AccumulativeGridMap agm = withBlob();
   PassThrough pt(on());
@@ -146,6 +204,8 @@ TEST(PassThrough, ConfigNamesTheKey) {
   EXPECT_THROW(passThroughParams(Config::fromString("core: 2")), ConfigError);
   EXPECT_THROW(passThroughParams(Config::fromString("clear_after: 0")), ConfigError);
   EXPECT_THROW(passThroughParams(Config::fromString("cores: 0.5")), ConfigError);
+  EXPECT_THROW(passThroughParams(Config::fromString("silence: maybe")), ConfigError);
+  EXPECT_FALSE(passThroughParams(Config::fromString("heard_from_gate: false")).heard_from_gate);
   const PassThroughParams p = passThroughParams(Config::fromString("core: 0.4\nclear_after: 3"));
   EXPECT_DOUBLE_EQ(p.core, 0.4);
   EXPECT_EQ(p.clear_after, 3);
