@@ -7,7 +7,7 @@ namespace lasonic {
 
 PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
   c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells", "beyond_limit",
-               "silence", "heard_from_gate"});
+               "silence", "heard_from_gate", "silence_risk"});
   p.core = c.get("core", p.core, Range::between(0, 1));
   p.margin_m = c.get("margin_m", p.margin_m, Range::between(0, 10));
   p.clear_after = c.get("clear_after", p.clear_after, Range::between(1, 1000));
@@ -17,6 +17,7 @@ PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
   p.beyond_limit = c.get("beyond_limit", p.beyond_limit);
   p.silence = c.get("silence", p.silence);
   p.heard_from_gate = c.get("heard_from_gate", p.heard_from_gate);
+  p.silence_risk = c.get("silence_risk", p.silence_risk, Range::between(0, 1));
   return p;
 }
 
@@ -83,18 +84,37 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
       if (s.unverifiable && p_.heard_from_gate &&
           !heardFrom(agm.originX() + ix, agm.originY() + iy, agm.evidencePoint(ix, iy), o, 0.5 * s.beam_width))
         return;
-      cells_.emplace_back(ix, iy);
+      cells_.push_back({ix, iy, s.unverifiable});
     });
   }
+  // One look per cell and group; an echo's look where the group also held one.
   std::sort(cells_.begin(), cells_.end());
-  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  cells_.erase(std::unique(cells_.begin(), cells_.end(),
+                           [](const Look& a, const Look& b) { return a.ix == b.ix && a.iy == b.iy; }),
+               cells_.end());
   int emptied = 0;
-  for (const auto& [ix, iy] : cells_) {
+  for (const Look& l : cells_) {
+    const int ix = l.ix, iy = l.iy;
     const std::pair<int64_t, int64_t> key{agm.originX() + ix, agm.originY() + iy};
     const int64_t last_hit = agm.lastHitCycle(ix, iy);
     Passes& e = passes_[key];
-    if (e.last_hit != last_hit) e = {last_hit, 0};
-    if (++e.n < p_.clear_after) continue;
+    if (e.last_hit != last_hit) e = {last_hit, 0, 0};
+    int needed = p_.clear_after;
+    if (l.silent) {
+      ++e.silent;
+      // Silence empties a cell only after as many silent looks in a row as make it unlikely
+      // (silence_risk) that a reflector still there was silent each time, at the answer rate of
+      // all its looks (this run of silence too, as it would be if the reflector were there): a
+      // mesh answers now and then, a person or a post nearly always.
+      const auto h = heard_.find(key);
+      if (h != heard_.end()) {
+        ++h->second.silent;
+        needed = std::max(needed, silentLooksNeeded(h->second.hits, h->second.silent, p_.silence_risk));
+      }
+    } else {
+      ++e.n;
+    }
+    if (e.n < p_.clear_after && e.n + e.silent < needed) continue;
     const geom::Vec2 centre = agm.cellCorner(ix, iy) + geom::Vec2(0.5 * c, 0.5 * c);
     emptied += agm.clearDisc(centre, 0.25 * c);
     passes_.erase(key);
@@ -133,9 +153,19 @@ void PassThrough::noteHit(const geom::Vec2& point, const geom::Vec2& from, const
   if (!(n > 1e-6)) return;
   Heard& e = heard_[{agm.originX() + ix, agm.originY() + iy}];
   // Empty before this group: what was heard there before has been forgotten.
-  if (agm.g(ix, iy) == 0 && e.cycle != agm.cycle()) e.sum = geom::Vec2(0, 0);
+  if (agm.g(ix, iy) == 0 && e.cycle != agm.cycle()) e = Heard{};
   e.cycle = agm.cycle();
   e.sum += d / n;
+  ++e.hits;
+}
+
+int silentLooksNeeded(int hits, int silent, double risk) {
+  if (!(risk > 0) || risk >= 1) return 1;
+  // The answer rate: hits over hits and silent looks.
+  const double p = static_cast<double>(std::max(hits, 1)) / static_cast<double>(std::max(hits, 1) + std::max(silent, 0));
+  if (p >= 1) return 1;
+  const double k = std::ceil(std::log(risk) / std::log(1 - p));
+  return k > 1000 ? 1000 : std::max(1, static_cast<int>(k));
 }
 
 bool PassThrough::heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor,

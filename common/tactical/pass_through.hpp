@@ -22,6 +22,7 @@
 //    again starts counting afresh.
 #include <cstdint>
 #include <map>
+#include <tuple>
 #include <vector>
 
 #include "core/config.hpp"
@@ -47,6 +48,11 @@ struct PassThroughParams {
   // plane answers only a transducer near its normal, so silence from elsewhere is what a pane gives
   // (a pane heard sparsely is no line to the line test); from there it would have answered.
   bool heard_from_gate = true;
+  // ... and empties it only after k silent looks in a row, (1 - p)^k <= silence_risk, p the
+  // cell's answer rate (hits over hits and silent looks, this run's too: what it would be if the
+  // reflector were still there): a weak reflector that answers now and then (a mesh) needs many,
+  // a person or a post that answered every time 2-4. 0: clear_after, as for echoes.
+  double silence_risk = 0.05;
   bool unverifiable() const { return beyond_limit || silence; }
   bool enabled() const { return core > 0; }
 };
@@ -67,6 +73,11 @@ struct Sounding {
 // principal direction of the neighbourhood's remembered cells (their evidence points).
 bool rememberedLineNormal(const AccumulativeGridMap& agm, int ix, int iy, const PassThroughParams& p,
                           geom::Vec2& normal);
+
+// The silent looks in a row after which a cell that answered `hits` times and was silent
+// `silent` times is taken to be gone: the least k with (1 - p)^k <= risk, p = hits / (hits +
+// silent) (at least one hit counted), at most 1000.
+int silentLooksNeeded(int hits, int silent, double risk);
 
 class PassThrough {
  public:
@@ -91,17 +102,25 @@ class PassThrough {
  private:
   struct Passes {
     int64_t last_hit = 0;  // the cell's last increment when counting started
-    int n = 0;
+    int n = 0;             // looks by echoes since
+    int silent = 0;        // silent looks since
+  };
+  struct Look {
+    int ix = 0, iy = 0;
+    bool silent = false;
+    bool operator<(const Look& o) const { return std::tie(ix, iy, silent) < std::tie(o.ix, o.iy, o.silent); }
   };
   PassThroughParams p_;
   struct Heard {
     geom::Vec2 sum{0, 0};  // unit vectors from the cell to where it was heard from
     int64_t cycle = -1;    // the map's cycle at the last note
+    int hits = 0;          // noted hits
+    int silent = 0;        // silent looks that passed the heard-from gate
   };
   bool heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor, double half) const;
   std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
   std::map<std::pair<int64_t, int64_t>, Heard> heard_;    // by global cell
-  std::vector<std::pair<int, int>> cells_;                 // this group's (window cells)
+  std::vector<Look> cells_;                                // this group's (window cells)
 };
 
 }  // namespace lasonic

@@ -160,14 +160,40 @@ TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
     pt.apply(echo, agm);
     EXPECT_EQ(pt.apply(echo, agm), 1);
   }
-  // Silent from where it was heard: gone after two looks.
+  // Silent from where it was heard: it answered 5 times, so after four silent looks in a row
+  // ((1 - 5/9)^4 <= 0.05; three: (1 - 5/8)^3 > 0.05) it is gone.
   {
     PassThrough pt(p);
     AccumulativeGridMap agm = heard(pt);
     const std::vector<Sounding> silent = {{Pose2{0, 0.05, 0}, 2.2, kBeam, true}};
-    EXPECT_EQ(pt.apply(silent, agm), 0);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply(silent, agm), 0) << i;
     EXPECT_EQ(pt.apply(silent, agm), 1);
     EXPECT_EQ(gAt(agm, blob), 0);
+  }
+  // A weak reflector (a mesh) that answered every other look needs many more silent looks in a
+  // row; a hit in between starts them afresh.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm(smallAgm());
+    agm.centreOn({0, 0});
+    const auto hit = [&] {
+      pt.noteHit(blob, {0, 0.05}, agm);
+      agm.update({blob});
+    };
+    hit();
+    const std::vector<Sounding> silent = {{Pose2{0, 0.05, 0}, 2.2, kBeam, true}};
+    for (int round = 0; round < 10; ++round) {
+      EXPECT_EQ(pt.apply(silent, agm), 0) << round;
+      hit();
+    }
+    // 11 hits and 10 silent looks before: six in a row ((1 - 11/27)^6 <= 0.05), where one that
+    // answered every time needs four.
+    int looks = 0;
+    while (gAt(agm, blob) > 0 && looks < 50) {
+      pt.apply(silent, agm);
+      ++looks;
+    }
+    EXPECT_EQ(looks, 6);
   }
   // Without the gate, silence from anywhere in the core passes it; without notes, nothing does.
   {
@@ -188,6 +214,17 @@ TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
   }
 }
 
+TEST(PassThrough, SilentLooksNeededFollowTheAnswerRate) {
+  EXPECT_EQ(silentLooksNeeded(10, 1, 0.05), 2);   // p = 10/11: (1/11)^2 <= 0.05
+  EXPECT_EQ(silentLooksNeeded(5, 4, 0.05), 4);    // p = 5/9: (4/9)^4 = 0.039, (4/9)^3 = 0.088
+  EXPECT_EQ(silentLooksNeeded(1, 1, 0.05), 5);    // p = 1/2: 0.5^5 = 0.031
+  EXPECT_EQ(silentLooksNeeded(1, 9, 0.05), 29);   // p = 0.1: 0.9^29 = 0.047
+  EXPECT_EQ(silentLooksNeeded(0, 0, 0.05), 1);    // no silence yet: p = 1
+  EXPECT_EQ(silentLooksNeeded(1, 100000, 0.05), 1000);  // capped
+  EXPECT_EQ(silentLooksNeeded(1, 9, 0), 1);       // 0: off (clear_after decides)
+  EXPECT_GT(silentLooksNeeded(3, 7, 0.01), silentLooksNeeded(3, 7, 0.05));
+}
+
 TEST(PassThrough, MalformedSoundingsAreIgnored) {
   AccumulativeGridMap agm = withBlob();
   PassThrough pt(on());
@@ -206,6 +243,8 @@ TEST(PassThrough, ConfigNamesTheKey) {
   EXPECT_THROW(passThroughParams(Config::fromString("cores: 0.5")), ConfigError);
   EXPECT_THROW(passThroughParams(Config::fromString("silence: maybe")), ConfigError);
   EXPECT_FALSE(passThroughParams(Config::fromString("heard_from_gate: false")).heard_from_gate);
+  EXPECT_THROW(passThroughParams(Config::fromString("silence_risk: 1.5")), ConfigError);
+  EXPECT_DOUBLE_EQ(passThroughParams(Config::fromString("silence_risk: 0.2")).silence_risk, 0.2);
   const PassThroughParams p = passThroughParams(Config::fromString("core: 0.4\nclear_after: 3"));
   EXPECT_DOUBLE_EQ(p.core, 0.4);
   EXPECT_EQ(p.clear_after, 3);
