@@ -125,7 +125,8 @@ void BM_NavigatorPerFiringGroup(benchmark::State& state) {
     auto node = std::make_unique<Node>("n", lcm, Node::Options{false, false});
     NavigatorConfig cfg;
     if (state.range(0) == 3) cfg.pass_through.core = 0;  // shipped but no pass-through
-    if (state.range(0) != 1 && state.range(0) != 3) cfg.scan_matching.enabled = false;
+    if (state.range(0) == 4) cfg.pass_through.beyond_limit = cfg.pass_through.silence = false;  // echoes alone
+    if (state.range(0) == 2 || state.range(0) == 0) cfg.scan_matching.enabled = false;
     if (state.range(0) == 0) cfg.laser_glints.max_incidence = 0;  // neither: LASER_SCAN not taken
     auto nav = std::make_unique<NavigatorStage>(*node, cfg);
     state.ResumeTiming();
@@ -144,8 +145,8 @@ void BM_NavigatorPerFiringGroup(benchmark::State& state) {
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["us_per_group"].flags = benchmark::Counter::kIsRate | benchmark::Counter::kInvert;
 }
-// Arg 1: the shipped configuration; 3: without pass-through; 2: without scan matching; 0: without
-// it and the laser glints.
-BENCHMARK(BM_NavigatorPerFiringGroup)->Arg(1)->Arg(3)->Arg(2)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
+// Arg 1: the shipped configuration; 4: pass-through by echoes alone (not by silence); 3: without
+// pass-through; 2: without scan matching; 0: without it and the laser glints.
+BENCHMARK(BM_NavigatorPerFiringGroup)->Arg(1)->Arg(4)->Arg(3)->Arg(2)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace
