@@ -158,7 +158,25 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       }
       c.end = geom::Vec2(r.end_x, r.end_y);
       if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
-    } else if (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) {
+      out.push_back(c);
+      continue;
+    }
+    // A reading used only as sound that passed what lies nearer (tactical/pass_through.hpp): its
+    // range so far checked (ok), then its pose; usable with its range, hypothesis, pose and beam.
+    const auto asSounding = [&](bool ok, double range) {
+      if (ok && !plausiblePose(r.sensor_pose)) {
+        problems.push_back({"rejected.complement_pose", field_name(i, "sensor_pose") + " is not finite (or beyond " +
+                                                            num(kMaxCoordinate) + " m): not used"});
+        ok = false;
+      }
+      c.usable = ok;
+      if (!ok) return;
+      c.range = range;
+      c.hypothetical_range = r.hypothetical_range;
+      c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+      if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
+    };
+    if (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) {
       // Heard at or beyond the laser's surface: used only as sound that passed what lies nearer.
       const std::pair<const char*, double> fields[] = {{"range", r.range}, {"hypothetical_range", r.hypothetical_range}};
       bool ok = true;
@@ -169,18 +187,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
           ok = false;
         }
       }
-      if (ok && !plausiblePose(r.sensor_pose)) {
-        problems.push_back({"rejected.complement_pose", field_name(i, "sensor_pose") + " is not finite (or beyond " +
-                                                            num(kMaxCoordinate) + " m): not used"});
-        ok = false;
-      }
-      c.usable = ok;
-      if (ok) {
-        c.range = r.range;
-        c.hypothetical_range = r.hypothetical_range;
-        c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
-        if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
-      }
+      asSounding(ok, r.range);
     } else if (c.cls == SonarClass::Unverifiable && m.radar_map_stale == 0) {
       // Nothing answered within the hypothesis' range limit (an echo beyond it, or none): used
       // only as sound that passed what lies nearer than the hypothesis. A stale Radar Map's
@@ -199,18 +206,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
                                                              num(kMaxSonarRange) + "] m): not used"});
         ok = false;
       }
-      if (ok && !plausiblePose(r.sensor_pose)) {
-        problems.push_back({"rejected.complement_pose", field_name(i, "sensor_pose") + " is not finite (or beyond " +
-                                                            num(kMaxCoordinate) + " m): not used"});
-        ok = false;
-      }
-      c.usable = ok;
-      if (ok) {
-        c.range = c.echo ? static_cast<double>(r.range) : static_cast<double>(r.hypothetical_range);
-        c.hypothetical_range = r.hypothetical_range;
-        c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
-        if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
-      }
+      asSounding(ok, c.echo ? static_cast<double>(r.range) : static_cast<double>(r.hypothetical_range));
     }
     out.push_back(c);
   }
