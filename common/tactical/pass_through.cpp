@@ -45,6 +45,20 @@ bool rememberedLineNormal(const AccumulativeGridMap& agm, int ix, int iy, const 
   return true;
 }
 
+namespace {
+// Erases the entries (by global cell) whose cell has left the map's window or is no longer live.
+template <typename Map, typename Live>
+void sweep(Map& map, const AccumulativeGridMap& agm, Live live) {
+  const double c = agm.cellSize();
+  for (auto it = map.begin(); it != map.end();) {
+    int ix = 0, iy = 0;
+    const geom::Vec2 centre((static_cast<double>(it->first.first) + 0.5) * c,
+                            (static_cast<double>(it->first.second) + 0.5) * c);
+    it = agm.cellAt(centre, ix, iy) && live(ix, iy, it->second) ? std::next(it) : map.erase(it);
+  }
+}
+}  // namespace
+
 int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& agm) {
   if (!p_.enabled()) return 0;
   cells_.clear();
@@ -120,26 +134,16 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
     passes_.erase(key);
     heard_.erase(key);
   }
-  // Directions of cells forgotten since (by time, or emptied by the footprint) go.
-  if (heard_.size() > 4096) {
-    for (auto it = heard_.begin(); it != heard_.end();) {
-      int ix = 0, iy = 0;
-      const geom::Vec2 centre((static_cast<double>(it->first.first) + 0.5) * c,
-                              (static_cast<double>(it->first.second) + 0.5) * c);
-      const bool live = agm.cellAt(centre, ix, iy) && agm.g(ix, iy) > 0;
-      it = live ? std::next(it) : heard_.erase(it);
-    }
+  // Directions of cells forgotten since (by time, or emptied by the footprint) go; so do the
+  // counts of cells emptied or hit since (their count would restart anyway). Amortised: a map
+  // with more live cells than the bound is not swept at every group.
+  if (heard_.size() > heard_prune_at_) {
+    sweep(heard_, agm, [&agm](int ix, int iy, const Heard&) { return agm.g(ix, iy) > 0; });
+    heard_prune_at_ = std::max<size_t>(4096, 2 * heard_.size());
   }
-  // Entries of cells emptied or hit since (their count would restart anyway) go: the map holds
-  // only cells still counting.
-  if (passes_.size() > 4096) {
-    for (auto it = passes_.begin(); it != passes_.end();) {
-      int ix = 0, iy = 0;
-      const geom::Vec2 centre((static_cast<double>(it->first.first) + 0.5) * c,
-                              (static_cast<double>(it->first.second) + 0.5) * c);
-      const bool live = agm.cellAt(centre, ix, iy) && agm.lastHitCycle(ix, iy) == it->second.last_hit;
-      it = live ? std::next(it) : passes_.erase(it);
-    }
+  if (passes_.size() > passes_prune_at_) {
+    sweep(passes_, agm, [&agm](int ix, int iy, const Passes& e) { return agm.lastHitCycle(ix, iy) == e.last_hit; });
+    passes_prune_at_ = std::max<size_t>(4096, 2 * passes_.size());
   }
   return emptied;
 }

@@ -94,6 +94,8 @@ class PassThrough {
   bool notesHits() const { return p_.enabled() && p_.unverifiable() && p_.heard_from_gate; }
   // Cells passed at least once and not yet emptied or hit again (for tests and status).
   size_t pending() const { return passes_.size(); }
+  // Cells whose heard-from direction is kept (for tests and status).
+  size_t noted() const { return heard_.size(); }
   void clear() {
     passes_.clear();
     heard_.clear();
@@ -120,6 +122,7 @@ class PassThrough {
   bool heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor, double half) const;
   std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
   std::map<std::pair<int64_t, int64_t>, Heard> heard_;    // by global cell
+  size_t passes_prune_at_ = 4096, heard_prune_at_ = 4096;  // sizes above which forgotten cells are swept
   std::vector<Look> cells_;                                // this group's (window cells)
 };
 

@@ -214,6 +214,26 @@ TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
   }
 }
 
+// What is kept per cell is swept once the cells are forgotten, not at every group: 5,000 cells
+// heard once and forgotten by time leave nothing behind after the next sweep.
+TEST(PassThrough, ForgottenCellsAreSwept) {
+  AgmParams ap = smallAgm();
+  ap.size = 100;
+  ap.h_max = 3;
+  AccumulativeGridMap agm(ap);
+  agm.centreOn({0, 0});
+  PassThrough pt(on());
+  std::vector<Vec2> hits;
+  for (int i = 0; i < 5000; ++i) hits.emplace_back(-4.95 + 0.1 * (i % 100), -4.95 + 0.1 * (i / 100));
+  for (const Vec2& h : hits) pt.noteHit(h, {0, 0}, agm);
+  agm.update(hits);
+  EXPECT_EQ(pt.noted(), 5000u);
+  for (int i = 0; i < 20; ++i) agm.update({});
+  ASSERT_EQ(gAt(agm, hits.front()), 0);  // forgotten by time
+  pt.apply({{Pose2{0, 0, 0}, 2.5, kBeam}}, agm);
+  EXPECT_EQ(pt.noted(), 0u);
+}
+
 TEST(PassThrough, SilentLooksNeededFollowTheAnswerRate) {
   EXPECT_EQ(silentLooksNeeded(10, 1, 0.05), 2);   // p = 10/11: (1/11)^2 <= 0.05
   EXPECT_EQ(silentLooksNeeded(5, 4, 0.05), 4);    // p = 5/9: (4/9)^4 = 0.039, (4/9)^3 = 0.088
