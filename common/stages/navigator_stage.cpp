@@ -332,7 +332,10 @@ std::vector<Sounding> NavigatorStage::soundingsOf(const std::vector<complement::
 void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime) {
   // What the sound has passed since the memory last heard something there (before this group's
   // own echoes go in: a cell hit now starts counting afresh).
-  if (const int n = pass_through_.apply(soundings, agm_); n > 0) node_.count("agm.passed_through", n);
+  if (const int n = pass_through_.apply(soundings, agm_); n > 0) {
+    node_.count("agm.passed_through", n);
+    if (pass_through_.emptiedBySilence() > 0) node_.count("agm.passed_through_silence", pass_through_.emptiedBySilence());
+  }
   // The robot's mean speed since the previous group (its newest odometry speed when there is
   // none within a second): how fast it drove past what this group heard.
   double v = speed_;

@@ -107,6 +107,7 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
                            [](const Look& a, const Look& b) { return a.ix == b.ix && a.iy == b.iy; }),
                cells_.end());
   int emptied = 0;
+  emptied_by_silence_ = 0;
   for (const Look& l : cells_) {
     const int ix = l.ix, iy = l.iy;
     const std::pair<int64_t, int64_t> key{agm.originX() + ix, agm.originY() + iy};
@@ -130,7 +131,9 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
     }
     if (e.n < p_.clear_after && e.n + e.silent < needed) continue;
     const geom::Vec2 centre = agm.cellCorner(ix, iy) + geom::Vec2(0.5 * c, 0.5 * c);
-    emptied += agm.clearDisc(centre, 0.25 * c);
+    const int n = agm.clearDisc(centre, 0.25 * c);
+    emptied += n;
+    if (e.n < p_.clear_after) emptied_by_silence_ += n;  // the echoes alone would not have
     passes_.erase(key);
     heard_.erase(key);
   }

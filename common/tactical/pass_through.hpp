@@ -96,6 +96,9 @@ class PassThrough {
   size_t pending() const { return passes_.size(); }
   // Cells whose heard-from direction is kept (for tests and status).
   size_t noted() const { return heard_.size(); }
+  // Of the cells the last apply() emptied, those that silence emptied (the echoes alone would not
+  // have yet).
+  int emptiedBySilence() const { return emptied_by_silence_; }
   void clear() {
     passes_.clear();
     heard_.clear();
@@ -123,6 +126,7 @@ class PassThrough {
   std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
   std::map<std::pair<int64_t, int64_t>, Heard> heard_;    // by global cell
   size_t passes_prune_at_ = 4096, heard_prune_at_ = 4096;  // sizes above which forgotten cells are swept
+  int emptied_by_silence_ = 0;
   std::vector<Look> cells_;                                // this group's (window cells)
 };
 

@@ -49,6 +49,7 @@ struct PipelineRun {
   std::vector<sector_map_t> sector_maps;
   std::vector<sim_state_t> truth;
   int64_t navigator_errors = 0;
+  int64_t passed_through = 0, passed_through_silence = 0;  // the navigator's counters
 };
 
 // The simulated run through complement, pilot and (optionally) navigator on one memq:// bus.
@@ -95,6 +96,8 @@ PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = tr
     for (auto& o : sonar.onSimState(st)) publish(channels::SONAR_RING, o.ring);
   }
   run.navigator_errors = nav_node.errors();
+  run.passed_through = nav_node.counter("agm.passed_through");
+  run.passed_through_silence = nav_node.counter("agm.passed_through_silence");
   return run;
 }
 
@@ -512,6 +515,11 @@ TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
   EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);
   EXPECT_EQ(b.navigator_errors, 0);
   EXPECT_EQ(c.navigator_errors, 0);
+  // The status says what silence emptied: nothing with echoes alone.
+  EXPECT_EQ(a.passed_through_silence, 0);
+  EXPECT_GT(c.passed_through_silence, 0);
+  EXPECT_LE(c.passed_through_silence, c.passed_through);
+  EXPECT_LE(b.passed_through_silence, b.passed_through);
 }
 
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {

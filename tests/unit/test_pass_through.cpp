@@ -159,6 +159,7 @@ TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
     const std::vector<Sounding> echo = {{Pose2{from.x(), from.y(), geom::deg2rad(60)}, 2.2, kBeam, false}};
     pt.apply(echo, agm);
     EXPECT_EQ(pt.apply(echo, agm), 1);
+    EXPECT_EQ(pt.emptiedBySilence(), 0);
   }
   // Silent from where it was heard: it answered 5 times, so after four silent looks in a row
   // ((1 - 5/9)^4 <= 0.05; three: (1 - 5/8)^3 > 0.05) it is gone.
@@ -168,6 +169,7 @@ TEST(PassThrough, SilencePassesOnlyFromWhereTheCellWasHeard) {
     const std::vector<Sounding> silent = {{Pose2{0, 0.05, 0}, 2.2, kBeam, true}};
     for (int i = 0; i < 3; ++i) EXPECT_EQ(pt.apply(silent, agm), 0) << i;
     EXPECT_EQ(pt.apply(silent, agm), 1);
+    EXPECT_EQ(pt.emptiedBySilence(), 1);
     EXPECT_EQ(gAt(agm, blob), 0);
   }
   // A weak reflector (a mesh) that answered every other look needs many more silent looks in a
