@@ -70,7 +70,7 @@ struct ComplementInput {
   // Unverifiable readings (no echo, or an echo beyond the hypothesis' range limit): usable = a
   // fresh Radar Map (the message's radar_map_stale = 0), a hypothetical range in [0, range_limit]
   // and a plausible sensor pose; `echo` tells an echo beyond the limit (a finite end point) from
-  // none.
+  // none (then `range` is the hypothesis: as far as the sound is known to have gone).
   bool usable = false;
   bool echo = true;  // false: an unverifiable reading without an echo
   double range = 0;

@@ -18,8 +18,9 @@
 //    elsewhere than where the cell answered before: a plane met obliquely is silent too, and a
 //    pane heard sparsely is no line to the test above (heard_from_gate);
 //  - the reflector is weak and answers only now and then (a mesh): so a cell is emptied only
-//    once `clear_after` firing groups have passed through it since it was last hit; a cell hit
-//    again starts counting afresh.
+//    once `clear_after` firing groups have passed through it since it was last hit, and by
+//    silence only after as many silent looks as its answer rate makes unlikely (silence_risk); a
+//    cell hit again starts counting afresh.
 #include <cstdint>
 #include <map>
 #include <tuple>
@@ -66,7 +67,7 @@ struct Sounding {
   geom::Pose2 sensor;
   double reach = 0;
   double beam_width = 0;
-  bool unverifiable = false;  // nothing answered within the range limit (PassThroughParams::beyond_limit)
+  bool unverifiable = false;  // nothing answered within the range limit: an echo beyond it, or none
 };
 
 // The remembered line through a cell, if its neighbourhood is one: the unit normal of the
