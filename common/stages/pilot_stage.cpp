@@ -177,23 +177,22 @@ std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const st
   return cells;
 }
 
+void navigatorToOdometryFrame(std::vector<geom::Vec2>& points, const geom::Pose2& here, const geom::Pose2& there) {
+  if (here.x == there.x && here.y == there.y && here.theta == there.theta) return;
+  const geom::Pose2 ours_from_theirs = here.compose(there.inverse());
+  for (geom::Vec2& p : points) p = ours_from_theirs.transform(p);
+}
+
 void PilotStage::setRemembered() {
   static const std::vector<geom::Segment> kNoLines;
   const bool same_cycle = agm_lines_utime_ && last_tactical_utime_ && *agm_lines_utime_ == *last_tactical_utime_;
   std::vector<geom::Vec2> points = rememberedPoints(tactical_points_, same_cycle ? agm_lines_ : kNoLines, cfg_);
-  // The navigator keeps its maps in its own frame (the odometry corrected by scan matching) and
-  // says where the robot was in it: through that pose and ours at the same time, its points
-  // come into our odometry frame. (Without scan matching the two poses are the same.)
   const auto here = poses_.at(*last_tactical_utime_);
   if (!here) {
     node_.count("remembered.no_odometry");
     return;
   }
-  const geom::Pose2& there = tactical_robot_pose_;
-  if (here->x != there.x || here->y != there.y || here->theta != there.theta) {
-    const geom::Pose2 ours_from_theirs = here->compose(there.inverse());
-    for (geom::Vec2& p : points) p = ours_from_theirs.transform(p);
-  }
+  navigatorToOdometryFrame(points, *here, tactical_robot_pose_);
   sector_map_.setRemembered(*last_tactical_utime_, std::move(points));
 }
 

@@ -137,6 +137,11 @@ void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask);
 std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const std::vector<geom::Segment>& lines,
                                          const PilotConfig& cfg);
 
+// The navigator keeps its maps in its own frame (the odometry corrected by scan matching) and
+// says where the robot was in it (`there`); through that pose and ours at the same time
+// (`here`), its points come into our odometry frame. Without scan matching the two are equal.
+void navigatorToOdometryFrame(std::vector<geom::Vec2>& points, const geom::Pose2& here, const geom::Pose2& there);
+
 class PilotStage {
  public:
   PilotStage(Node& node, const PilotConfig& cfg);

@@ -223,6 +223,7 @@ class Replayer {
         if (g.gp[static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix)] >= threshold)
           tactical_points_.emplace_back(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
     tactical_utime_ = g.utime;
+    tactical_pose_ = {g.robot_pose.x, g.robot_pose.y, g.robot_pose.theta};
     setRemembered();
     return false;
   }
@@ -234,10 +235,15 @@ class Replayer {
   }
 
  private:
-  // PilotStage::setRemembered: the cells taken onto the lines of the same navigator cycle.
+  // PilotStage::setRemembered: the cells taken onto the lines of the same navigator cycle, in
+  // the odometry frame.
   void setRemembered() {
-    sector_map_.setRemembered(tactical_utime_, rememberedPoints(tactical_points_,
-                                                                lines_utime_ == tactical_utime_ ? lines_ : kNoLines, pcfg_));
+    std::vector<geom::Vec2> points =
+        rememberedPoints(tactical_points_, lines_utime_ == tactical_utime_ ? lines_ : kNoLines, pcfg_);
+    const auto here = (one_process_ ? pilot_poses_ : poses_).at(tactical_utime_);
+    if (!here) return;
+    navigatorToOdometryFrame(points, *here, tactical_pose_);
+    sector_map_.setRemembered(tactical_utime_, std::move(points));
   }
   static inline const std::vector<geom::Segment> kNoLines;
 
@@ -274,6 +280,7 @@ class Replayer {
   std::vector<uint8_t> no_return_;
   std::vector<geom::Vec2> tactical_points_;
   std::vector<geom::Segment> lines_;
+  geom::Pose2 tactical_pose_;  // where the navigator says the robot was, in its frame
   int64_t tactical_utime_ = -1, lines_utime_ = -2;
 };
 
