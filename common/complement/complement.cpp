@@ -45,6 +45,65 @@ std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, con
   return 0.5 * path.norm();
 }
 
+std::optional<double> mirrorHalfPath(const geom::Segment& s, const geom::Vec2& e, const geom::Vec2& axis_e,
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double lobe) {
+  const geom::Vec2 d = s.b - s.a;
+  const double len = d.norm();
+  if (!(len > 1e-9)) return std::nullopt;
+  const geom::Vec2 n(-d.y() / len, d.x() / len);
+  const double he = n.dot(e - s.a), hp = n.dot(p - s.a);
+  if (he * hp <= 0) return std::nullopt;  // not both in front of the same face
+  const geom::Vec2 mirrored = e - 2.0 * he * n;
+  // The mirror point: where the straight line from p to e's image meets the line.
+  const geom::Vec2 q = p + (hp / (hp + he)) * (mirrored - p);
+  const double u = (q - s.a).dot(d) / (len * len);
+  if (u < 0.0 || u > 1.0) return std::nullopt;
+  const double cos_lobe = std::cos(std::min(lobe, 0.5 * geom::kPi));
+  const geom::Vec2 out = q - e, in = q - p;
+  if (out.dot(axis_e) < cos_lobe * out.norm() || in.dot(axis_p) < cos_lobe * in.norm()) return std::nullopt;
+  return 0.5 * (mirrored - p).norm();
+}
+
+std::optional<double> firstLateEcho(const geom::Pose2& listener, double listener_beam, int64_t utime,
+                                    const std::vector<Ping>& earlier, const RadarMap& rm, int64_t window_us) {
+  const geom::Vec2 p = listener.position(), axis_p = geom::unitVector(listener.theta);
+  std::optional<double> first;
+  for (const Ping& ping : earlier) {
+    const int64_t dt_us = utime - ping.utime;
+    if (dt_us <= 0 || dt_us > window_us) continue;
+    const double gone = 0.5 * kSpeedOfSound * static_cast<double>(dt_us) * 1e-6;
+    const geom::Vec2 e = ping.sensor.position(), axis_e = geom::unitVector(ping.sensor.theta);
+    // Far walls answer strongly only near both axes; one full opening admits the side lobes.
+    const double lobe = std::max(listener_beam, ping.beam_width);
+    const double cos_lobe = std::cos(std::min(lobe, 0.5 * geom::kPi));
+    auto arrival = [&](std::optional<double> half_path) {
+      if (!half_path || *half_path - gone <= 0) return;
+      if (!first || *half_path - gone < *first) first = *half_path - gone;
+    };
+    for (const RmSegment& s : rm.segments) arrival(mirrorHalfPath(s.seg, e, axis_e, p, axis_p, lobe));
+    for (const RmCorner& c : rm.corners) {
+      // A corner sends the sound back parallel to how it came: both ends of the path point
+      // along 2v - e - p.
+      const geom::Vec2 path = 2.0 * c.vertex - e - p;
+      const double cl = cos_lobe * path.norm();
+      if (path.dot(axis_e) < cl || path.dot(axis_p) < cl) continue;
+      arrival(crosstalkRange(c, e, axis_e, p, axis_p));
+    }
+  }
+  return first;
+}
+
+const std::vector<Ping>& PingHistory::before(int64_t utime, int64_t window_us) {
+  while (!pings_.empty() && utime - pings_.front().utime > window_us) pings_.pop_front();
+  out_.assign(pings_.begin(), pings_.end());
+  return out_;
+}
+
+void PingHistory::add(const GroupComplement& g) {
+  for (const ClassifiedReading& r : g.readings)
+    if (r.sensor_pose) pings_.push_back({g.utime, *r.sensor_pose, r.beam_width});
+}
+
 std::vector<BeamOverlap> overlappingBeams(const SonarGroup& g, double default_beam_width) {
   std::vector<BeamOverlap> out;
   const auto width = [&](const SonarReading& r) { return r.beam_width > 0 ? r.beam_width : default_beam_width; };
@@ -71,7 +130,7 @@ bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {
 }
 
 GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
-                                  const RadarMap* rm, const ComplementParams& p) {
+                                  const RadarMap* rm, const ComplementParams& p, const std::vector<Ping>& earlier) {
   GroupComplement out;
   out.utime = g.utime;
   out.group = g.group;
@@ -143,6 +202,18 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
         }
     }
   }
+  // Late echoes of earlier pings by way of a laser-seen wall or corner: the listener reads the
+  // first one to arrive, so only the earliest predicted arrival explains a reading.
+  if (p.late_echoes && rm && !earlier.empty())
+    for (ClassifiedReading& c : out.readings) {
+      if (c.cls != SonarClass::Complementary || !c.sensor_pose) continue;
+      const auto first = firstLateEcho(*c.sensor_pose, c.beam_width, g.utime, earlier, *rm, p.late_echo_window_us);
+      if (first && std::abs(c.range - *first) <= p.tolerance) {
+        c.cls = SonarClass::Redundant;
+        c.hypothetical_range = *first;
+        c.by_late_echo = true;
+      }
+    }
   for (size_t i = 0; i < out.readings.size(); ++i) {
     ClassifiedReading& c = out.readings[i];
     const SonarReading& r = g.readings[i];

@@ -9,6 +9,7 @@
 // missing laser must never make all sonar readings look complementary. The hypothesis is still
 // computed on the newest Radar Map (none: the limit) so that a viewer shows what was compared.
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <vector>
 
@@ -65,7 +66,41 @@ struct ComplementParams {
   // crosstalkRange) is that crosstalk, explained by what the laser sees: Redundant. false: the
   // paper's rule (such a reading stays complementary).
   bool crosstalk_corners = true;
+  // Late echoes (beyond the paper; paper: such a reading stays complementary). A ping of an
+  // earlier firing group that met a laser-seen wall beyond the sonar's range comes back while
+  // this group listens, at half its path less half the way sound went between the two
+  // firings, and reads short. A complementary reading within `tolerance` of the first such
+  // arrival the Radar Map predicts (firstLateEcho) is that echo: redundant (counted
+  // redundant.late_echo). Pings fired up to late_echo_window_us before the group are followed.
+  bool late_echoes = true;
+  int64_t late_echo_window_us = 65'000;
 };
+
+// A ping fired before the group being classified: when, from where (global frame, acoustic
+// axis along theta) and how wide its beam.
+struct Ping {
+  int64_t utime = 0;
+  geom::Pose2 sensor;
+  double beam_width = 0;  // [rad]
+};
+
+constexpr double kSpeedOfSound = 343.0;  // [m/s] in air at 20 C
+
+// Half the length of the path from a transducer at e to one at p by way of segment s as a
+// mirror (|e' - p| / 2, e' = e mirrored in s's line), if both lie in front of the same face,
+// the mirror point lies on s, and the path leaves e and reaches p within `lobe` [rad] of their
+// axes (unit vectors axis_*); else nullopt.
+std::optional<double> mirrorHalfPath(const geom::Segment& s, const geom::Vec2& e, const geom::Vec2& axis_e,
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double lobe);
+
+// The range at which a listener (global pose, beam width) firing at `utime` reads the first
+// late echo the Radar Map predicts: over the earlier pings fired within window_us before utime,
+// and every Radar Map line (as a mirror, mirrorHalfPath) and right-angled corner (sending the
+// sound back parallel: the half path |2v - e - p| / 2), with the path within one full opening
+// of both axes (the main lobe and the first side lobes), the least positive (half path - half
+// the distance sound travelled since that ping). nullopt: none predicted.
+std::optional<double> firstLateEcho(const geom::Pose2& listener, double listener_beam, int64_t utime,
+                                    const std::vector<Ping>& earlier, const RadarMap& rm, int64_t window_us);
 
 // The range a listener at p reads for a ping sent from e by way of the corner: half the length of
 // the path e -> corner -> p, |(2v - e) - p| / 2; nullopt if either lies outside the corner or
@@ -86,6 +121,7 @@ struct ClassifiedReading {
   std::optional<geom::Vec2> end;           // Segment Map point (echo readings only)
   bool by_pole = false;  // Redundant because it matched a pole of the Radar Map (poleEcho)
   bool by_crosstalk = false;  // Redundant because it matched crosstalk by way of a corner
+  bool by_late_echo = false;  // Redundant because it matched a late echo of an earlier ping (firstLateEcho)
 };
 
 struct GroupComplement {
@@ -115,7 +151,23 @@ bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us);
 
 // Classifies one firing group. robot_pose: the robot's global pose at the firing time (nullopt:
 // unknown, every reading Invalid). rm: the newest Radar Map, or nullptr.
+// earlier: the pings fired before g (PingHistory::before), for late echoes.
 GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
-                                  const RadarMap* rm, const ComplementParams& p);
+                                  const RadarMap* rm, const ComplementParams& p,
+                                  const std::vector<Ping>& earlier = {});
+
+// The pings of the groups classified so far that late echoes may still come from.
+class PingHistory {
+ public:
+  // The pings fired within window_us before utime (the group about to be classified).
+  const std::vector<Ping>& before(int64_t utime, int64_t window_us);
+  // A classified group's pings: every reading whose transducer pose was known.
+  void add(const GroupComplement& g);
+  void clear() { pings_.clear(); }
+
+ private:
+  std::deque<Ping> pings_;
+  std::vector<Ping> out_;
+};
 
 }  // namespace lasonic::complement

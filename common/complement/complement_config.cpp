@@ -6,7 +6,7 @@ namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
   c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles",
-               "crosstalk"});
+               "crosstalk", "late_echoes", "late_echo_window_s"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
   p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
@@ -19,6 +19,9 @@ ComplementConfig complementConfig(const Config& c) {
   p.outside_view_complementary = c.getChoice("outside_laser_view", p.outside_view_complementary,
                                               {{"complementary", true}, {"paper", false}});
   p.crosstalk_corners = c.getChoice("crosstalk", p.crosstalk_corners, {{"corners", true}, {"paper", false}});
+  p.late_echoes = c.getChoice("late_echoes", p.late_echoes, {{"laser_map", true}, {"paper", false}});
+  p.late_echo_window_us = std::llround(
+      1e6 * c.get("late_echo_window_s", static_cast<double>(p.late_echo_window_us) * 1e-6, Range::positive()));
 
   cfg.radar_map = radarMapConfig(c.section("radar_map"));
   RadarMapConfig& r = cfg.radar_map;

@@ -25,6 +25,7 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     poles_.reset();
     last_scan_utime_.reset();
     overlapping_reported_.clear();  // a restarted driver may fire another ring
+    pings_.clear();
   }
   return c != ClockCheck::Bad;
 }
@@ -113,13 +114,15 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
     node_.reportError("rejected.sonar_no_odometry", "SONAR_RING utime " + std::to_string(m.utime) +
                                                         ": no odometry at the firing time; group " +
                                                         std::to_string(m.group) + " classified invalid");
-  const cp::GroupComplement result =
-      cp::extractComplement(group, robot, radar_map_ ? &*radar_map_ : nullptr, cfg_.params);
+  const cp::GroupComplement result = cp::extractComplement(group, robot, radar_map_ ? &*radar_map_ : nullptr, cfg_.params,
+                                                           pings_.before(m.utime, cfg_.params.late_echo_window_us));
+  pings_.add(result);
   for (const auto& r : result.readings) {
     node_.count(classCounter(r.cls));
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");
     if (r.by_pole && r.cls == cp::SonarClass::Redundant) node_.count("redundant.pole");  // (not if outside_view)
     if (r.by_crosstalk) node_.count("redundant.crosstalk");
+    if (r.by_late_echo) node_.count("redundant.late_echo");
   }
   cp::hypothesisToMessageInto(hyp_msg_, result, cfg_.params);
   node_.publish(hypothesis_channel_, hyp_msg_);

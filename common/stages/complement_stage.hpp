@@ -6,10 +6,11 @@
 // Counters (PROCESS_STATUS): class.<complementary|redundant|false|unverifiable|invalid>,
 // unverifiable.stale_radar_map, redundant.pole (of the redundant ones, those a pole of the
 // Radar Map explained: complement/pole_tracker.hpp), redundant.crosstalk (those a right-angled
-// Radar Map corner explained as another sensor's ping: rightAngleCorners), rejected.* for every
-// kind of bad input, ring.overlapping_beams (pairs of sensors fired in one group close enough to
-// hear each other's pings, complement::overlappingBeams; each pair reported once: their crosstalk
-// passes as complementary, a ring configuration to fix).
+// Radar Map corner explained as another sensor's ping: rightAngleCorners), redundant.late_echo
+// (those it explained as a late echo of an earlier group's ping: firstLateEcho), rejected.* for
+// every kind of bad input, ring.overlapping_beams (pairs of sensors fired in one group close
+// enough to hear each other's pings, complement::overlappingBeams; each pair reported once:
+// their crosstalk passes as complementary, a ring configuration to fix).
 //
 // Time comes only from the messages, never from the wall clock, so a replay is deterministic.
 //
@@ -74,6 +75,7 @@ class ComplementStage {
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
+  complement::PingHistory pings_;  // for late echoes
   std::set<std::pair<int, int>> overlapping_reported_;  // sensor pairs with overlapping beams, reported
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   // The per-group channels' names made once (16 characters: a heap string for each publish).

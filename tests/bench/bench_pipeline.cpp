@@ -195,7 +195,9 @@ class Replayer {
       // Complement stage: hypothetical scan and classification.
       const cp::SonarGroup group = cp::sonarGroupFromMessage(*ring, problems_);
       const cp::GroupComplement result =
-          cp::extractComplement(group, poses_.at(ring->utime), rm_ ? &*rm_ : nullptr, ccfg_.params);
+          cp::extractComplement(group, poses_.at(ring->utime), rm_ ? &*rm_ : nullptr, ccfg_.params,
+                                pings_.before(ring->utime, ccfg_.params.late_echo_window_us));
+      pings_.add(result);
       benchmark::DoNotOptimize(result.readings.data());
       // Pilot stage: the AGM cycle on the SONAR_COMPLEMENT message (its readings as the pilot
       // decodes them, prepared by Run: the message layer is not timed), then the sector map.
@@ -266,6 +268,7 @@ class Replayer {
   double speed_ = 0;
   std::optional<cp::RadarMap> rm_;
   cp::PoleTracker poles_{ccfg_.poles};
+  cp::PingHistory pings_;  // the earlier groups' pings, for late echoes (as ComplementStage)
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;

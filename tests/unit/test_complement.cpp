@@ -453,6 +453,134 @@ TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
   EXPECT_FALSE(complementConfig(Config::fromString("complement: {crosstalk: paper}").section("complement"))
                    .params.crosstalk_corners);
   EXPECT_NE(err("complement: {crosstalk: no}").find("complement.crosstalk"), std::string::npos);
+  EXPECT_TRUE(def.params.late_echoes);
+  EXPECT_EQ(def.params.late_echo_window_us, 65'000);
+  const auto paper = complementConfig(
+      Config::fromString("complement: {late_echoes: paper, late_echo_window_s: 0.1}").section("complement"));
+  EXPECT_FALSE(paper.params.late_echoes);
+  EXPECT_EQ(paper.params.late_echo_window_us, 100'000);
+  EXPECT_NE(err("complement: {late_echoes: yes}").find("complement.late_echoes"), std::string::npos);
+  EXPECT_NE(err("complement: {late_echo_window_s: 0}").find("complement.late_echo_window_s"), std::string::npos);
+}
+
+TEST(MirrorHalfPath, IsTheWayByTheWallAsAMirrorWithinBothLobes) {
+  // e at the origin facing 45 deg, p 1 m to its right facing 135 deg, a wall along y = 1: the
+  // mirror point is (0.5, 1), 18.4 deg off both axes; the path |(0, 2) - (1, 0)| = sqrt(5).
+  const geom::Segment wall{{-5, 1}, {5, 1}};
+  const geom::Vec2 e(0, 0), p(1, 0), axis_e = geom::unitVector(geom::kPi / 4), axis_p = geom::unitVector(0.75 * geom::kPi);
+  const double lobe = geom::deg2rad(30);
+  const auto h = mirrorHalfPath(wall, e, axis_e, p, axis_p, lobe);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(*h, 0.5 * std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(*mirrorHalfPath({wall.b, wall.a}, e, axis_e, p, axis_p, lobe), *h, 1e-12);  // either direction
+  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, p, axis_p, geom::deg2rad(15)));            // outside the lobes
+  EXPECT_FALSE(mirrorHalfPath({{-5, 1}, {0.4, 1}}, e, axis_e, p, axis_p, lobe));          // the wall ends before it
+  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, {1, 2}, axis_p, lobe));                    // p behind the wall
+  EXPECT_FALSE(mirrorHalfPath(wall, e, -axis_e, p, axis_p, lobe));                        // e facing away
+}
+
+namespace {
+// A hall whose far wall (x = 6) lies beyond the sonar's range: MOBOT-IV's ring at the origin,
+// sensor 0 facing the wall pings at t0, sensor 1 (15 deg) listens 30 ms later. The wall
+// mirrors sensor 0's ping to sensor 1 along |e' - p|; by then sound has gone 343 * 0.03 m.
+struct LateEchoHall {
+  RadarMap rm;
+  std::vector<geom::Pose2> mounts = fixture::ringMounts();
+  int64_t t0 = 1'000'000;
+  LateEchoHall() {
+    rm.utime = t0;
+    rm.segments = {{{{6, -3}, {6, 3}}, 100, 0}};
+    rm.corners = rightAngleCorners(rm.segments);
+  }
+  Ping ping(int id, int64_t utime) const { return {utime, mounts[static_cast<size_t>(id)], geom::deg2rad(30)}; }
+  double arrival(int64_t dt_us) const {  // sensor 0's ping as sensor 1 reads it dt_us later
+    const geom::Vec2 e = mounts[0].position(), p = mounts[1].position();
+    const geom::Vec2 mirrored(12.0 - e.x(), e.y());
+    return 0.5 * (mirrored - p).norm() - 0.5 * kSpeedOfSound * static_cast<double>(dt_us) * 1e-6;
+  }
+  SonarGroup listener(int64_t utime, double range) const {
+    SonarGroup g;
+    g.utime = utime;
+    g.readings.push_back({1, range, false, mounts[1], true, geom::deg2rad(30)});
+    return g;
+  }
+};
+}  // namespace
+
+TEST(FirstLateEcho, IsTheEarliestArrivalOfTheEarlierPings) {
+  const LateEchoHall hall;
+  const geom::Pose2& listener = hall.mounts[1];
+  const double beam = geom::deg2rad(30);
+  const int64_t t = hall.t0 + 30'000;
+  const auto first = firstLateEcho(listener, beam, t, {hall.ping(0, hall.t0)}, hall.rm, 65'000);
+  ASSERT_TRUE(first);
+  EXPECT_NEAR(*first, hall.arrival(30'000), 1e-9);  // about 0.56 m
+  EXPECT_GT(*first, 0.4);
+  EXPECT_LT(*first, 0.7);
+  // A ping 25 ms before arrives later in the window: the one of 30 ms before comes first.
+  const auto both = firstLateEcho(listener, beam, t, {hall.ping(0, hall.t0 + 5'000), hall.ping(0, hall.t0)}, hall.rm, 65'000);
+  EXPECT_NEAR(*both, *first, 1e-12);
+  // Older than the window, fired at or after the listener, or back before it was heard: nothing.
+  EXPECT_FALSE(firstLateEcho(listener, beam, t, {hall.ping(0, hall.t0)}, hall.rm, 29'000));
+  EXPECT_FALSE(firstLateEcho(listener, beam, t, {hall.ping(0, t)}, hall.rm, 65'000));
+  EXPECT_FALSE(firstLateEcho(listener, beam, hall.t0 + 40'000, {hall.ping(0, hall.t0)}, hall.rm, 65'000));  // 5.7 m < 6.9 m gone
+  // A transducer facing away from the wall (sensor 12) neither sends nor hears it.
+  EXPECT_FALSE(firstLateEcho(listener, beam, t, {hall.ping(12, hall.t0)}, hall.rm, 65'000));
+  EXPECT_FALSE(firstLateEcho(hall.mounts[12], beam, t, {hall.ping(0, hall.t0)}, hall.rm, 65'000));
+}
+
+TEST(ExtractComplement, ALateEchoOfAnEarlierPingIsRedundantNotComplementary) {
+  const LateEchoHall hall;
+  const int64_t t = hall.t0 + 30'000;
+  const double late = hall.arrival(30'000);
+  const std::vector<Ping> earlier = {hall.ping(0, hall.t0)};
+  ComplementParams p;
+  // Without the earlier ping the hypothesis (nothing within 2.20 m) calls it complementary.
+  EXPECT_EQ(extractComplement(hall.listener(t, late + 0.03), Pose2{}, &hall.rm, p).readings[0].cls,
+            SonarClass::Complementary);
+  const auto out = extractComplement(hall.listener(t, late + 0.03), Pose2{}, &hall.rm, p, earlier);
+  EXPECT_EQ(out.readings[0].cls, SonarClass::Redundant);
+  EXPECT_TRUE(out.readings[0].by_late_echo);
+  EXPECT_NEAR(out.readings[0].hypothetical_range, late, 1e-9);
+  // Another range, or the paper's rule: complementary.
+  const auto other = extractComplement(hall.listener(t, late + 0.5), Pose2{}, &hall.rm, p, earlier);
+  EXPECT_EQ(other.readings[0].cls, SonarClass::Complementary);
+  EXPECT_FALSE(other.readings[0].by_late_echo);
+  p.late_echoes = false;
+  EXPECT_EQ(extractComplement(hall.listener(t, late), Pose2{}, &hall.rm, p, earlier).readings[0].cls,
+            SonarClass::Complementary);
+  // A reading at a later arrival is not that echo: the first one would have been read.
+  p.late_echoes = true;
+  const std::vector<Ping> two = {hall.ping(0, hall.t0), hall.ping(0, hall.t0 + 5'000)};
+  EXPECT_EQ(extractComplement(hall.listener(t, hall.arrival(25'000)), Pose2{}, &hall.rm, p, two).readings[0].cls,
+            SonarClass::Complementary);
+}
+
+TEST(PingHistory, KeepsThePingsOfTheWindowBeforeTheGroup) {
+  PingHistory h;
+  auto group = [](int64_t utime, std::vector<int> ids) {
+    GroupComplement g;
+    g.utime = utime;
+    for (int id : ids) {
+      ClassifiedReading c;
+      c.sensor_id = id;
+      c.beam_width = 0.5;
+      if (id >= 0) c.sensor_pose = geom::Pose2{0.1 * id, 0, 0};  // a negative id: no pose, no ping
+      g.readings.push_back(c);
+    }
+    return g;
+  };
+  EXPECT_TRUE(h.before(0, 65'000).empty());
+  h.add(group(0, {0, 6, -1}));
+  h.add(group(30'000, {1, 7}));
+  EXPECT_EQ(h.before(60'000, 65'000).size(), 4u);
+  const auto& kept = h.before(70'000, 65'000);  // the first group is 70 ms old
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].utime, 30'000);
+  EXPECT_NEAR(kept[1].sensor.x, 0.7, 1e-12);
+  EXPECT_DOUBLE_EQ(kept[1].beam_width, 0.5);
+  h.clear();
+  EXPECT_TRUE(h.before(70'000, 65'000).empty());
 }
 
 TEST(ExtractComplement, EachReadingsHypothesisUsesItsOwnBeam) {

@@ -184,3 +184,27 @@ TEST_F(StageTest, SensorsFiredTogetherWithOverlappingBeamsAreReportedOnce) {
   EXPECT_EQ(node.counter("ring.overlapping_beams"), 1);
   ASSERT_EQ(comps.size(), 3u);  // and still classified
 }
+
+TEST_F(StageTest, ALateEchoOfTheGroupBeforeIsExplainedByTheFarWall) {
+  // A hall whose far wall (x = 6 m from the robot) lies beyond the sonar's range. Sensor 0
+  // faces it and pings; 30 ms later sensor 1 (15 deg) hears that ping come back by way of the
+  // wall: at half the mirror path less half the 10.3 m sound has gone since, about 0.56 m.
+  traj = fixture::still({0, 0, 0});
+  fixture::World hall;
+  hall.laser_visible = {{{6, -3}, {6, 3}}, {{6, 3}, {-2, 3}}, {{-2, 3}, {-2, -3}}, {{-2, -3}, {6, -3}}};
+  odometry(0, 400'000);
+  send(channels::LASER_SCAN, fixture::simulateScan(hall, traj, 0, 100'000));
+  const auto mounts = fixture::ringMounts();
+  const geom::Vec2 e = mounts[0].position(), p = mounts[1].position();
+  const double late = 0.5 * (geom::Vec2(12.0 - e.x(), e.y()) - p).norm() - 0.5 * 343.0 * 0.030;
+  send(channels::SONAR_RING, fixture::sonarGroup(150'000, 0, {0}, {-1.0}));  // no echo within 3 m
+  send(channels::SONAR_RING, fixture::sonarGroup(180'000, 1, {1}, {late + 0.02}));
+  ASSERT_EQ(comps.size(), 2u);
+  EXPECT_EQ(cls(0), kRedundant);
+  EXPECT_NEAR(comps.back().readings[0].hypothetical_range, late, 0.02);  // the Radar Map's line, not the wall itself
+  EXPECT_EQ(node.counter("redundant.late_echo"), 1);
+  // The same reading 80 ms after the ping (beyond the 65 ms window): complementary.
+  send(channels::SONAR_RING, fixture::sonarGroup(260'000, 1, {1}, {late + 0.02}));
+  EXPECT_EQ(cls(0), kComplementary);
+  EXPECT_EQ(node.counter("redundant.late_echo"), 1);
+}
