@@ -101,7 +101,9 @@ const std::vector<Ping>& PingHistory::before(int64_t utime, int64_t window_us) {
 
 void PingHistory::add(const GroupComplement& g) {
   for (const ClassifiedReading& r : g.readings)
-    if (r.sensor_pose) pings_.push_back({g.utime, *r.sensor_pose, r.beam_width});
+    if (r.sensor_pose && std::isfinite(r.sensor_pose->x) && std::isfinite(r.sensor_pose->y) &&
+        std::isfinite(r.sensor_pose->theta) && std::isfinite(r.beam_width))
+      pings_.push_back({g.utime, *r.sensor_pose, r.beam_width});
 }
 
 std::vector<BeamOverlap> overlappingBeams(const SonarGroup& g, double default_beam_width) {

@@ -161,7 +161,7 @@ class PingHistory {
  public:
   // The pings fired within window_us before utime (the group about to be classified).
   const std::vector<Ping>& before(int64_t utime, int64_t window_us);
-  // A classified group's pings: every reading whose transducer pose was known.
+  // A classified group's pings: every reading whose transducer pose was known (and finite).
   void add(const GroupComplement& g);
   void clear() { pings_.clear(); }
 

@@ -566,12 +566,13 @@ TEST(PingHistory, KeepsThePingsOfTheWindowBeforeTheGroup) {
       c.sensor_id = id;
       c.beam_width = 0.5;
       if (id >= 0) c.sensor_pose = geom::Pose2{0.1 * id, 0, 0};  // a negative id: no pose, no ping
+      if (id == 99) c.sensor_pose->theta = std::numeric_limits<double>::quiet_NaN();  // a broken mount: no ping
       g.readings.push_back(c);
     }
     return g;
   };
   EXPECT_TRUE(h.before(0, 65'000).empty());
-  h.add(group(0, {0, 6, -1}));
+  h.add(group(0, {0, 6, -1, 99}));
   h.add(group(30'000, {1, 7}));
   EXPECT_EQ(h.before(60'000, 65'000).size(), 4u);
   const auto& kept = h.before(70'000, 65'000);  // the first group is 70 ms old
