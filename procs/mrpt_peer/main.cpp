@@ -105,6 +105,7 @@ void readWindow(const mrpt::maps::COccupancyGridMap2D& grid, const geom::Vec2& r
 int run(const std::string& log_path, const std::string& scenario_path, const Config& root, const std::string& json) {
   const eval::BaselinesConfig cfg = eval::baselinesConfig(root);
   const complement::ComplementConfig ccfg = complement::complementConfig(root.section("complement"));
+  complement::PingHistory pings;  // the earlier groups' pings, for late echoes (as ComplementStage)
   const sim::Scenario sc = sim::loadScenario(scenario_path);
   const eval::RunLog log = eval::loadRunLog(log_path);
   const eval::EvalOptions o;
@@ -235,7 +236,9 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
     mrpt_group_insert.us.push_back(insert_us);
 
     const auto t0 = Clock::now();
-    const auto gc = complement::extractComplement(g, robot, rm ? &*rm : nullptr, ccfg.params);
+    const auto gc = complement::extractComplement(g, robot, rm ? &*rm : nullptr, ccfg.params,
+                                                  pings.before(msg.utime, ccfg.params.late_echo_window_us));
+    pings.add(gc);
     std::vector<geom::Vec2> hits;
     for (const auto& c : gc.readings)
       if ((c.cls == complement::SonarClass::Complementary || c.cls == complement::SonarClass::OutsideView) && c.end)
