@@ -219,8 +219,9 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
   for (size_t i = 0; i < out.readings.size(); ++i) {
     ClassifiedReading& c = out.readings[i];
     const SonarReading& r = g.readings[i];
-    // (Crosstalk is explained whatever the listener's arc covers: it is not an echo from there.)
-    if (p.outside_view_complementary && rm && c.end && c.sensor_pose && !c.by_crosstalk &&
+    // (Crosstalk and late echoes are explained whatever the listener's arc covers: they are no
+    // echo from there.)
+    if (p.outside_view_complementary && rm && c.end && c.sensor_pose && !c.by_crosstalk && !c.by_late_echo &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
         !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))
       c.cls = SonarClass::OutsideView;

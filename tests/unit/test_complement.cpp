@@ -549,8 +549,18 @@ TEST(ExtractComplement, ALateEchoOfAnEarlierPingIsRedundantNotComplementary) {
   p.late_echoes = false;
   EXPECT_EQ(extractComplement(hall.listener(t, late), Pose2{}, &hall.rm, p, earlier).readings[0].cls,
             SonarClass::Complementary);
-  // A reading at a later arrival is not that echo: the first one would have been read.
+  // Behind a 270 deg scanner's view the explained reading stays redundant: it is no echo from
+  // its arc (as crosstalk), so it is not taken for something the laser could not see there.
   p.late_echoes = true;
+  RadarMap blind = hall.rm;
+  blind.view.full_circle = false;
+  blind.view.sensor = Pose2{};
+  blind.view.angle_min = -geom::kPi;
+  blind.view.angle_max = -geom::kPi / 2;
+  const auto behind = extractComplement(hall.listener(t, late), Pose2{}, &blind, p, earlier);
+  EXPECT_EQ(behind.readings[0].cls, SonarClass::Redundant);
+  EXPECT_TRUE(behind.readings[0].by_late_echo);
+  // A reading at a later arrival is not that echo: the first one would have been read.
   const std::vector<Ping> two = {hall.ping(0, hall.t0), hall.ping(0, hall.t0 + 5'000)};
   EXPECT_EQ(extractComplement(hall.listener(t, hall.arrival(25'000)), Pose2{}, &hall.rm, p, two).readings[0].cls,
             SonarClass::Complementary);
