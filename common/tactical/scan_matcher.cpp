@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -59,6 +61,27 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   LineMatch out;
   if (ls.empty() || points.empty()) return out;
 
+  // The lines each point can pair with: those within gate + kReach of where it starts (x = 0).
+  // In an iteration a point lies at most |t| + |heading| |v| from there, so while that stays
+  // below kReach no other line comes within the gate (the distance to a segment changes no
+  // faster than the point moves): the same pairs as searching every line, from the few near it.
+  constexpr double kReach = 0.25;  // [m] far more than a match moves a point (centimetres)
+  std::vector<uint32_t> first(points.size() + 1, 0), near;
+  near.reserve(points.size() * 2);
+  const double reach2 = (p.gate + kReach) * (p.gate + kReach);
+  for (size_t i = 0; i < points.size(); ++i) {
+    first[i] = static_cast<uint32_t>(near.size());
+    if (!points[i].allFinite()) continue;
+    for (size_t k = 0; k < ls.size(); ++k) {
+      const geom::Vec2 e = points[i] - ls[k].a;
+      const double along = e.dot(ls[k].u);
+      const double beyond = std::max({0.0, -along, along - ls[k].length});
+      const double across = e.dot(ls[k].n);
+      if (across * across + beyond * beyond <= reach2) near.push_back(static_cast<uint32_t>(k));
+    }
+  }
+  first[points.size()] = static_cast<uint32_t>(near.size());
+
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  // tx, ty, heading about pivot
   Eigen::Matrix3d data = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d prior = Eigen::Matrix3d::Zero();
@@ -71,14 +94,16 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // the pairs' information (the prior's below)
     Eigen::Vector3d g = prior * x;
     int pairs = 0;
-    for (const geom::Vec2& q0 : points) {
+    const double moved = std::hypot(x(0), x(1)), turned = std::abs(x(2));
+    for (size_t i = 0; i < points.size(); ++i) {
+      const geom::Vec2& q0 = points[i];
       if (!q0.allFinite()) continue;
       const geom::Vec2 v = q0 - pivot;
       const geom::Vec2 rv{c * v.x() - s * v.y(), s * v.x() + c * v.y()};
       const geom::Vec2 q = rv + pivot + geom::Vec2{x(0), x(1)};
       int best = -1;
       double best_d2 = gate2;
-      for (size_t k = 0; k < ls.size(); ++k) {
+      auto consider = [&](size_t k) {
         const Line& l = ls[k];
         const geom::Vec2 e = q - l.a;
         const double along = e.dot(l.u);
@@ -86,7 +111,11 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
         const double across = e.dot(l.n);
         const double d2 = across * across + beyond * beyond;
         if (d2 < best_d2) best_d2 = d2, best = static_cast<int>(k);
-      }
+      };
+      if (moved + turned * v.norm() < kReach - 1e-6)
+        for (uint32_t j = first[i]; j < first[i + 1]; ++j) consider(near[j]);
+      else
+        for (size_t k = 0; k < ls.size(); ++k) consider(k);
       if (best < 0) continue;
       const Line& l = ls[static_cast<size_t>(best)];
       const double r = (q - l.a).dot(l.n);
