@@ -37,16 +37,17 @@ bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const L
 }
 
 std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, const geom::Vec2& axis_e,
-                                     const geom::Vec2& p, const geom::Vec2& axis_p) {
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double cos_lobe) {
   if (!c.inside(e) || !c.inside(p)) return std::nullopt;
   // Sent towards the listener's image 2v - p, heard from the emitter's image 2v - e: one direction.
   const geom::Vec2 path = 2.0 * c.vertex - e - p;
-  if (path.dot(axis_e) <= 0 || path.dot(axis_p) <= 0) return std::nullopt;
+  const double in_lobe = cos_lobe * path.norm();
+  if (path.dot(axis_e) <= in_lobe || path.dot(axis_p) <= in_lobe) return std::nullopt;
   return 0.5 * path.norm();
 }
 
 std::optional<double> mirrorHalfPath(const geom::Segment& s, const geom::Vec2& e, const geom::Vec2& axis_e,
-                                     const geom::Vec2& p, const geom::Vec2& axis_p, double lobe) {
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double cos_lobe) {
   const geom::Vec2 d = s.b - s.a;
   const double len = d.norm();
   if (!(len > 1e-9)) return std::nullopt;
@@ -58,7 +59,6 @@ std::optional<double> mirrorHalfPath(const geom::Segment& s, const geom::Vec2& e
   const geom::Vec2 q = p + (hp / (hp + he)) * (mirrored - p);
   const double u = (q - s.a).dot(d) / (len * len);
   if (u < 0.0 || u > 1.0) return std::nullopt;
-  const double cos_lobe = std::cos(std::min(lobe, 0.5 * geom::kPi));
   const geom::Vec2 out = q - e, in = q - p;
   if (out.dot(axis_e) < cos_lobe * out.norm() || in.dot(axis_p) < cos_lobe * in.norm()) return std::nullopt;
   return 0.5 * (mirrored - p).norm();
@@ -80,15 +80,8 @@ std::optional<double> firstLateEcho(const geom::Pose2& listener, double listener
       if (!half_path || *half_path - gone <= 0) return;
       if (!first || *half_path - gone < *first) first = *half_path - gone;
     };
-    for (const RmSegment& s : rm.segments) arrival(mirrorHalfPath(s.seg, e, axis_e, p, axis_p, lobe));
-    for (const RmCorner& c : rm.corners) {
-      // A corner sends the sound back parallel to how it came: both ends of the path point
-      // along 2v - e - p.
-      const geom::Vec2 path = 2.0 * c.vertex - e - p;
-      const double cl = cos_lobe * path.norm();
-      if (path.dot(axis_e) < cl || path.dot(axis_p) < cl) continue;
-      arrival(crosstalkRange(c, e, axis_e, p, axis_p));
-    }
+    for (const RmSegment& s : rm.segments) arrival(mirrorHalfPath(s.seg, e, axis_e, p, axis_p, cos_lobe));
+    for (const RmCorner& c : rm.corners) arrival(crosstalkRange(c, e, axis_e, p, axis_p, cos_lobe));
   }
   return first;
 }

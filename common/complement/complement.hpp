@@ -16,6 +16,7 @@
 #include "complement/hypothetical_scan.hpp"
 #include "complement/radar_map.hpp"
 #include "core/geometry.hpp"
+#include "core/physics.hpp"
 
 namespace lasonic::complement {
 
@@ -84,14 +85,12 @@ struct Ping {
   double beam_width = 0;  // [rad]
 };
 
-constexpr double kSpeedOfSound = 343.0;  // [m/s] in air at 20 C
-
 // Half the length of the path from a transducer at e to one at p by way of segment s as a
 // mirror (|e' - p| / 2, e' = e mirrored in s's line), if both lie in front of the same face,
-// the mirror point lies on s, and the path leaves e and reaches p within `lobe` [rad] of their
-// axes (unit vectors axis_*); else nullopt.
+// the mirror point lies on s, and the path leaves e and reaches p within their lobes (unit axes
+// axis_*; cos_lobe: the cosine of the lobe's half angle); else nullopt.
 std::optional<double> mirrorHalfPath(const geom::Segment& s, const geom::Vec2& e, const geom::Vec2& axis_e,
-                                     const geom::Vec2& p, const geom::Vec2& axis_p, double lobe);
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double cos_lobe);
 
 // The range at which a listener (global pose, beam width) firing at `utime` reads the first
 // late echo the Radar Map predicts: over the earlier pings fired within window_us before utime,
@@ -104,9 +103,11 @@ std::optional<double> firstLateEcho(const geom::Pose2& listener, double listener
 
 // The range a listener at p reads for a ping sent from e by way of the corner: half the length of
 // the path e -> corner -> p, |(2v - e) - p| / 2; nullopt if either lies outside the corner or
-// the path leaves or reaches either transducer from behind (heading along `axis_*`, unit vectors).
+// the path leaves or reaches either transducer outside its lobe (heading along `axis_*`, unit
+// vectors): the corner sends the sound back parallel to how it came, so both ends of the path
+// point along 2v - e - p, whose cosine with each axis must exceed cos_lobe (0: from in front).
 std::optional<double> crosstalkRange(const RmCorner& c, const geom::Vec2& e, const geom::Vec2& axis_e,
-                                     const geom::Vec2& p, const geom::Vec2& axis_p);
+                                     const geom::Vec2& p, const geom::Vec2& axis_p, double cos_lobe = 0.0);
 
 // True if the scanner's view covers the whole arc at `range` across the sensor's beam.
 bool arcSeen(const geom::Pose2& sensor, double range, double beam_width, const LaserView& view);

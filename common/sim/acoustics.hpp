@@ -14,9 +14,11 @@
 //          + material terms                 reflection loss, coherent / incoherent share
 #include <vector>
 
+#include "core/physics.hpp"
+
 namespace lasonic::sim::acoustics {
 
-constexpr double kSpeedOfSound = 343.0;  // [m/s] in air at 20 °C
+using lasonic::kSpeedOfSound;  // [m/s] core/physics.hpp
 
 // Atmospheric absorption of sound [dB/m], ISO 9613-1:1993 (pure-tone formula), for a frequency
 // [Hz], temperature [°C], relative humidity [%] and pressure [kPa]. 49.4 kHz at 20 °C, 50 % RH:

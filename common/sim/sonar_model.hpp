@@ -38,11 +38,10 @@
 
 #include <lasonic/sonar_cause_t.hpp>
 
+#include "core/physics.hpp"
 #include "sim/drivers.hpp"
 
 namespace lasonic::sim {
-
-constexpr double kSpeedOfSound = 343.0;  // [m/s] in air at 20 °C
 
 // Round trip of an echo from a target at `range` [m], in seconds.
 inline double timeOfFlight(double range) { return 2.0 * range / kSpeedOfSound; }

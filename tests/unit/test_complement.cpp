@@ -468,15 +468,15 @@ TEST(MirrorHalfPath, IsTheWayByTheWallAsAMirrorWithinBothLobes) {
   // mirror point is (0.5, 1), 18.4 deg off both axes; the path |(0, 2) - (1, 0)| = sqrt(5).
   const geom::Segment wall{{-5, 1}, {5, 1}};
   const geom::Vec2 e(0, 0), p(1, 0), axis_e = geom::unitVector(geom::kPi / 4), axis_p = geom::unitVector(0.75 * geom::kPi);
-  const double lobe = geom::deg2rad(30);
-  const auto h = mirrorHalfPath(wall, e, axis_e, p, axis_p, lobe);
+  const double cos_lobe = std::cos(geom::deg2rad(30));
+  const auto h = mirrorHalfPath(wall, e, axis_e, p, axis_p, cos_lobe);
   ASSERT_TRUE(h);
   EXPECT_NEAR(*h, 0.5 * std::sqrt(5.0), 1e-12);
-  EXPECT_NEAR(*mirrorHalfPath({wall.b, wall.a}, e, axis_e, p, axis_p, lobe), *h, 1e-12);  // either direction
-  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, p, axis_p, geom::deg2rad(15)));            // outside the lobes
-  EXPECT_FALSE(mirrorHalfPath({{-5, 1}, {0.4, 1}}, e, axis_e, p, axis_p, lobe));          // the wall ends before it
-  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, {1, 2}, axis_p, lobe));                    // p behind the wall
-  EXPECT_FALSE(mirrorHalfPath(wall, e, -axis_e, p, axis_p, lobe));                        // e facing away
+  EXPECT_NEAR(*mirrorHalfPath({wall.b, wall.a}, e, axis_e, p, axis_p, cos_lobe), *h, 1e-12);  // either direction
+  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, p, axis_p, std::cos(geom::deg2rad(15))));  // outside the lobes
+  EXPECT_FALSE(mirrorHalfPath({{-5, 1}, {0.4, 1}}, e, axis_e, p, axis_p, cos_lobe));          // the wall ends before it
+  EXPECT_FALSE(mirrorHalfPath(wall, e, axis_e, {1, 2}, axis_p, cos_lobe));                    // p behind the wall
+  EXPECT_FALSE(mirrorHalfPath(wall, e, -axis_e, p, axis_p, cos_lobe));                        // e facing away
 }
 
 namespace {
