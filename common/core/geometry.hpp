@@ -53,6 +53,24 @@ struct Segment {
   double length() const { return (b - a).norm(); }
 };
 
+// Pose2::transform for many points: the pose's cos and sin taken once (the same values, bit for
+// bit: the same expression on the same numbers).
+class PoseTransform {
+ public:
+  explicit PoseTransform(const Pose2& p)
+      : x_(p.x), y_(p.y), theta_(p.theta), c_(std::cos(p.theta)), s_(std::sin(p.theta)) {}
+  Vec2 operator()(const Vec2& l) const { return {x_ + c_ * l.x() - s_ * l.y(), y_ + s_ * l.x() + c_ * l.y()}; }
+  Segment operator()(const Segment& s) const { return {(*this)(s.a), (*this)(s.b)}; }
+  // Pose2::compose.
+  Pose2 operator()(const Pose2& o) const {
+    const Vec2 p = (*this)(o.position());
+    return {p.x(), p.y(), normalizeAngle(theta_ + o.theta)};
+  }
+
+ private:
+  double x_, y_, theta_, c_, s_;
+};
+
 struct Circle {
   Vec2 center;
   double radius = 0;

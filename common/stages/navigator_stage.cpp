@@ -152,9 +152,9 @@ void NavigatorStage::processScan() {
   if (!cfg_.laser_glints.enabled()) return;
   geom::Vec2 viewpoint = scanner;
   if (cfg_.scan_matching.enabled) {
-    const geom::Pose2 c = correctionAt(last);
-    for (complement::RmSegment& s : segments_) s.seg = {c.transform(s.seg.a), c.transform(s.seg.b)};
-    viewpoint = c.transform(scanner);
+    const geom::PoseTransform c(correctionAt(last));
+    for (complement::RmSegment& s : segments_) s.seg = c(s.seg);
+    viewpoint = c(scanner);
   }
   const std::vector<complement::RmSegment> glints = glints_.update(last, viewpoint, segments_);
   if (glints.empty()) return;
@@ -439,11 +439,11 @@ geom::Pose2 NavigatorStage::correctionAt(int64_t utime) const {
 
 void NavigatorStage::toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const {
   if (!cfg_.scan_matching.enabled) return;
-  const geom::Pose2 c = correctionAt(utime);
+  const geom::PoseTransform c(correctionAt(utime));
   for (GroupReading& r : group) {
     if (!r.echo) continue;
-    r.e.sensor = c.compose(r.e.sensor);
-    r.axis_end = c.transform(r.axis_end);
+    r.e.sensor = c(r.e.sensor);
+    r.axis_end = c(r.axis_end);
   }
 }
 

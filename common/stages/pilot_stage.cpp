@@ -179,8 +179,8 @@ std::vector<geom::Vec2> rememberedPoints(std::vector<geom::Vec2> cells, const st
 
 void navigatorToOdometryFrame(std::vector<geom::Vec2>& points, const geom::Pose2& here, const geom::Pose2& there) {
   if (here.x == there.x && here.y == there.y && here.theta == there.theta) return;
-  const geom::Pose2 ours_from_theirs = here.compose(there.inverse());
-  for (geom::Vec2& p : points) p = ours_from_theirs.transform(p);
+  const geom::PoseTransform ours_from_theirs(here.compose(there.inverse()));
+  for (geom::Vec2& p : points) p = ours_from_theirs(p);
 }
 
 void PilotStage::setRemembered() {

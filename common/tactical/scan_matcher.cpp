@@ -66,21 +66,32 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   // below kReach no other line comes within the gate (the distance to a segment changes no
   // faster than the point moves): the same pairs as searching every line, from the few near it.
   constexpr double kReach = 0.25;  // [m] far more than a match moves a point (centimetres)
-  std::vector<uint32_t> first(points.size() + 1, 0), near;
+  struct Point {
+    geom::Vec2 v;       // from the pivot
+    double v_norm = 0;  // |v|: how far a turn moves it
+    uint32_t first = 0, end = 0;  // its lines: near[first, end)
+  };
+  std::vector<Point> pts;
+  std::vector<uint32_t> near;
+  pts.reserve(points.size());
   near.reserve(points.size() * 2);
   const double reach2 = (p.gate + kReach) * (p.gate + kReach);
-  for (size_t i = 0; i < points.size(); ++i) {
-    first[i] = static_cast<uint32_t>(near.size());
-    if (!points[i].allFinite()) continue;
+  for (const geom::Vec2& q0 : points) {
+    if (!q0.allFinite()) continue;
+    Point pt;
+    pt.v = q0 - pivot;
+    pt.v_norm = pt.v.norm();
+    pt.first = static_cast<uint32_t>(near.size());
     for (size_t k = 0; k < ls.size(); ++k) {
-      const geom::Vec2 e = points[i] - ls[k].a;
+      const geom::Vec2 e = q0 - ls[k].a;
       const double along = e.dot(ls[k].u);
       const double beyond = std::max({0.0, -along, along - ls[k].length});
       const double across = e.dot(ls[k].n);
       if (across * across + beyond * beyond <= reach2) near.push_back(static_cast<uint32_t>(k));
     }
+    pt.end = static_cast<uint32_t>(near.size());
+    pts.push_back(pt);
   }
-  first[points.size()] = static_cast<uint32_t>(near.size());
 
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  // tx, ty, heading about pivot
   Eigen::Matrix3d data = Eigen::Matrix3d::Zero();
@@ -89,16 +100,16 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   prior(2, 2) = 1.0 / (sigma_heading * sigma_heading);
   const double w0 = 1.0 / (p.point_sigma * p.point_sigma);
   const double gate2 = p.gate * p.gate;
+  // Per iteration the pairs first (residual r and Jacobian j), then their Cauchy weights in one
+  // pass (the divisions independent of each other, so they overlap), then the sums in pair order.
+  std::vector<double> r(pts.size()), w(pts.size());
+  std::vector<Eigen::Vector3d> j(pts.size());
   for (int it = 0; it < p.iterations; ++it) {
     const double c = std::cos(x(2)), s = std::sin(x(2));
-    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // the pairs' information (the prior's below)
-    Eigen::Vector3d g = prior * x;
-    int pairs = 0;
     const double moved = std::hypot(x(0), x(1)), turned = std::abs(x(2));
-    for (size_t i = 0; i < points.size(); ++i) {
-      const geom::Vec2& q0 = points[i];
-      if (!q0.allFinite()) continue;
-      const geom::Vec2 v = q0 - pivot;
+    size_t pairs = 0;
+    for (const Point& pt : pts) {
+      const geom::Vec2& v = pt.v;
       const geom::Vec2 rv{c * v.x() - s * v.y(), s * v.x() + c * v.y()};
       const geom::Vec2 q = rv + pivot + geom::Vec2{x(0), x(1)};
       int best = -1;
@@ -112,22 +123,28 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
         const double d2 = across * across + beyond * beyond;
         if (d2 < best_d2) best_d2 = d2, best = static_cast<int>(k);
       };
-      if (moved + turned * v.norm() < kReach - 1e-6)
-        for (uint32_t j = first[i]; j < first[i + 1]; ++j) consider(near[j]);
+      if (moved + turned * pt.v_norm < kReach - 1e-6)
+        for (uint32_t i = pt.first; i < pt.end; ++i) consider(near[i]);
       else
         for (size_t k = 0; k < ls.size(); ++k) consider(k);
       if (best < 0) continue;
       const Line& l = ls[static_cast<size_t>(best)];
-      const double r = (q - l.a).dot(l.n);
-      const double z = r / p.point_sigma;
-      const double w = w0 / (1.0 + z * z);  // Cauchy
+      r[pairs] = (q - l.a).dot(l.n);
       // d q / d heading = perp(R v)
-      const Eigen::Vector3d j(l.n.x(), l.n.y(), l.n.x() * -rv.y() + l.n.y() * rv.x());
-      h.noalias() += w * j * j.transpose();
-      g.noalias() += w * r * j;
+      j[pairs] = {l.n.x(), l.n.y(), l.n.x() * -rv.y() + l.n.y() * rv.x()};
       ++pairs;
     }
-    out.pairs = pairs;
+    for (size_t i = 0; i < pairs; ++i) {
+      const double z = r[i] / p.point_sigma;
+      w[i] = w0 / (1.0 + z * z);  // Cauchy
+    }
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // the pairs' information (the prior's below)
+    Eigen::Vector3d g = prior * x;
+    for (size_t i = 0; i < pairs; ++i) {
+      h.noalias() += w[i] * j[i] * j[i].transpose();
+      g.noalias() += w[i] * r[i] * j[i];
+    }
+    out.pairs = static_cast<int>(pairs);
     data = h;
     const Eigen::Vector3d step = -(h + prior).ldlt().solve(g);
     if (!step.allFinite()) break;

@@ -623,7 +623,7 @@ TEST(EvalTacticalBreakdown, SamplesCsvRowPerPointAgreeingWithTheShares) {
   std::getline(again, line);
   std::getline(again, line);
   const double t = std::stod(line.substr(0, line.find(',')));
-  EXPECT_NEAR(t, (850'000 - heard.sim_states.front().utime) * 1e-6, 1e-9);
+  EXPECT_NEAR(t, static_cast<double>(850'000 - heard.sim_states.front().utime) * 1e-6, 1e-9);
 }
 
 TEST(EvalTacticalBreakdown, RedoesTheLineGenerationWithTheRunsConfig) {
