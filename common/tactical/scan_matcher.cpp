@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -10,7 +11,7 @@
 namespace lasonic {
 
 ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams p) {
-  c.allowOnly({"enabled", "point_sigma_m", "gate_m", "max_range_m", "min_line_length_m", "max_line_rms_m", "min_pairs",
+  c.allowOnly({"enabled", "point_sigma_m", "gate_m", "max_range_m", "min_line_length_m", "max_line_rms_m", "min_pairs", "point_spacing_m",
                "iterations", "constrained_m", "constrained_rad", "keyframe_distance_m", "keyframe_turn_deg", "prior_trans_per_m", "prior_heading_per_m",
                "prior_heading_per_rad", "prior_trans_floor_m", "prior_heading_floor", "pose_trans_noise", "pose_rot_noise",
                "pose_drift_noise"});
@@ -21,6 +22,7 @@ ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams p) {
   p.min_line_length = c.get("min_line_length_m", p.min_line_length, Range::nonNegative());
   p.max_line_rms = c.get("max_line_rms_m", p.max_line_rms, Range::between(0, 1));
   p.min_pairs = c.get("min_pairs", p.min_pairs, Range::between(3, 100000));
+  p.point_spacing = c.get("point_spacing_m", p.point_spacing, Range::between(0, 1));
   p.iterations = c.get("iterations", p.iterations, Range::between(1, 100));
   p.constrained_trans = c.get("constrained_m", p.constrained_trans, Range::between(0, 10));
   p.constrained_heading = c.get("constrained_rad", p.constrained_heading, Range::between(0, 10));
@@ -48,7 +50,7 @@ struct Line {
 
 LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::vector<geom::Segment>& lines,
                              const geom::Vec2& pivot, double sigma_trans, double sigma_heading,
-                             const ScanMatchParams& p) {
+                             const ScanMatchParams& p, const std::vector<int>& counts) {
   std::vector<Line> ls;
   ls.reserve(lines.size());
   for (const geom::Segment& s : lines) {
@@ -68,6 +70,7 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   constexpr double kReach = 0.25;  // [m] far more than a match moves a point (centimetres)
   struct Point {
     geom::Vec2 v;       // from the pivot
+    int count = 1;      // the returns it stands for
     double v_norm = 0;  // |v|: how far a turn moves it
     uint32_t first = 0, end = 0;  // its lines: near[first, end)
   };
@@ -76,10 +79,12 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   pts.reserve(points.size());
   near.reserve(points.size() * 2);
   const double reach2 = (p.gate + kReach) * (p.gate + kReach);
-  for (const geom::Vec2& q0 : points) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    const geom::Vec2& q0 = points[i];
     if (!q0.allFinite()) continue;
     Point pt;
     pt.v = q0 - pivot;
+    if (i < counts.size()) pt.count = std::max(1, counts[i]);
     pt.v_norm = pt.v.norm();
     pt.first = static_cast<uint32_t>(near.size());
     for (size_t k = 0; k < ls.size(); ++k) {
@@ -102,12 +107,13 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
   const double gate2 = p.gate * p.gate;
   // Per iteration the pairs first (residual r and Jacobian j), then their Cauchy weights in one
   // pass (the divisions independent of each other, so they overlap), then the sums in pair order.
-  std::vector<double> r(pts.size()), w(pts.size());
+  std::vector<double> r(pts.size()), w(pts.size()), returns(pts.size());
   std::vector<Eigen::Vector3d> j(pts.size());
   for (int it = 0; it < p.iterations; ++it) {
     const double c = std::cos(x(2)), s = std::sin(x(2));
     const double moved = std::hypot(x(0), x(1)), turned = std::abs(x(2));
     size_t pairs = 0;
+    int paired_returns = 0;
     for (const Point& pt : pts) {
       const geom::Vec2& v = pt.v;
       const geom::Vec2 rv{c * v.x() - s * v.y(), s * v.x() + c * v.y()};
@@ -132,11 +138,13 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
       r[pairs] = (q - l.a).dot(l.n);
       // d q / d heading = perp(R v)
       j[pairs] = {l.n.x(), l.n.y(), l.n.x() * -rv.y() + l.n.y() * rv.x()};
+      returns[pairs] = pt.count;
+      paired_returns += pt.count;
       ++pairs;
     }
     for (size_t i = 0; i < pairs; ++i) {
       const double z = r[i] / p.point_sigma;
-      w[i] = w0 / (1.0 + z * z);  // Cauchy
+      w[i] = returns[i] * (w0 / (1.0 + z * z));  // Cauchy, once per return the point stands for
     }
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // the pairs' information (the prior's below)
     Eigen::Vector3d g = prior * x;
@@ -144,7 +152,7 @@ LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::v
       h.noalias() += w[i] * j[i] * j[i].transpose();
       g.noalias() += w[i] * r[i] * j[i];
     }
-    out.pairs = static_cast<int>(pairs);
+    out.pairs = paired_returns;
     data = h;
     const Eigen::Vector3d step = -(h + prior).ldlt().solve(g);
     if (!step.allFinite()) break;
@@ -170,9 +178,9 @@ void ScanMatcher::clear() { *this = ScanMatcher(p_); }
 
 void ScanMatcher::takeKeyframe(const std::vector<complement::RmSegment>& segments) {
   key_lines_.clear();
+  const geom::PoseTransform c(c_);
   for (const complement::RmSegment& s : segments)
-    if (s.seg.length() >= p_.min_line_length && s.rms <= p_.max_line_rms)
-      key_lines_.push_back({c_.transform(s.seg.a), c_.transform(s.seg.b)});
+    if (s.seg.length() >= p_.min_line_length && s.rms <= p_.max_line_rms) key_lines_.push_back(c(s.seg));
   driven_since_key_ = turned_since_key_ = 0;
   have_keyframe_ = true;
 }
@@ -192,15 +200,41 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
     r.new_keyframe = true;
     return r;
   }
-  points_.clear();
   const double max2 = p_.max_range * p_.max_range;
-  for (const complement::ScanPoint& q : points)
-    if (q.valid && q.p.allFinite() && (q.p - scanner_odometry).squaredNorm() <= max2) points_.push_back(c_.transform(q.p));
+  // Consecutive returns within point_spacing of a cluster's first are matched as their mean,
+  // weighted by their number: the same information (their residuals to a wall average out, their
+  // weights add up) at a fraction of the cost, since a 0.5 deg scanner puts a near wall's returns
+  // a centimetre apart.
+  points_.clear();
+  counts_.clear();
+  const geom::PoseTransform c(c_);
+  const double spacing2 = p_.point_spacing * p_.point_spacing;
+  geom::Vec2 first{0, 0}, sum{0, 0};
+  int n = 0;
+  auto close = [&] {
+    if (n > 0) points_.push_back(c(n == 1 ? sum : geom::Vec2(sum / n))), counts_.push_back(n);
+    n = 0;
+  };
+  for (const complement::ScanPoint& q : points) {
+    if (!q.valid || !q.p.allFinite() || (q.p - scanner_odometry).squaredNorm() > max2) {
+      close();
+      continue;
+    }
+    if (n > 0 && (q.p - first).squaredNorm() < spacing2) {
+      sum += q.p;
+      ++n;
+      continue;
+    }
+    close();
+    first = sum = q.p;
+    n = 1;
+  }
+  close();
   const double sigma_trans = std::max(p_.prior_trans_floor, p_.prior_trans_per_m * driven_since_key_);
   const double sigma_heading = std::max(
       p_.prior_heading_floor, p_.prior_heading_per_m * driven_since_key_ + p_.prior_heading_per_rad * turned_since_key_);
   const LineMatch m =
-      matchPointsToLines(points_, key_lines_, c_.transform(robot_odometry.position()), sigma_trans, sigma_heading, p_);
+      matchPointsToLines(points_, key_lines_, c_.transform(robot_odometry.position()), sigma_trans, sigma_heading, p_, counts_);
   r.pairs = m.pairs;
   if (m.pairs >= p_.min_pairs) {
     c_ = m.motion.compose(c_);

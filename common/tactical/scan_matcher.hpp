@@ -13,6 +13,9 @@
 // The rule, per scan:
 // - The scan's readings, placed with the odometry (each at its own time), are taken into the
 //   navigator's frame by the current correction C (navigator frame <- odometry frame).
+// - Consecutive returns within point_spacing of a cluster's first are matched as their mean,
+//   weighted by their number (a near wall's returns lie a centimetre apart: the same information at a
+//   fraction of the cost).
 // - They are matched to the lines of the keyframe, an earlier scan's segments (at least
 //   min_line_length long: walls, not people) already in the navigator's frame: point-to-line
 //   Gauss-Newton (Censi's PL-ICP without its second-order model) over a rigid motion about the
@@ -46,6 +49,7 @@ struct ScanMatchParams {
   double min_line_length = 1.0;   // [m] keyframe lines at least this long (a person is 0.5 m across)
   double max_line_rms = 0.03;     // [m] ... and this flat
   int min_pairs = 40;             // fewer pairs: no correction for this scan
+  double point_spacing = 0.1;     // [m] returns within this of a cluster's first match as their mean
   int iterations = 8;
   // A match constrains the pose when the returns alone (without the prior) fix every direction
   // of the position to constrained_trans and the heading to constrained_heading (1 sigma).
@@ -71,16 +75,18 @@ ScanMatchParams scanMatchParams(const Config& c, ScanMatchParams base = {});
 
 struct LineMatch {
   geom::Pose2 motion;  // rigid motion (navigator frame) that puts the points on the lines
-  int pairs = 0;       // points paired in the last iteration
+  int pairs = 0;       // returns paired in the last iteration
   bool constrained = false;  // the pairs alone fix the motion (ScanMatchParams::constrained_*)
 };
 
 // The rigid motion D that best puts D(points) on `lines` (both in one frame), as a rotation about
 // `pivot` and a translation, against a zero-mean prior of 1-sigma sigma_trans [m] (each axis)
 // and sigma_heading [rad]. Segments shorter than 1e-6 m and non-finite points are skipped.
+// counts[i] (if given) is how many returns points[i] stands for: its weight, and what it adds
+// to LineMatch::pairs.
 LineMatch matchPointsToLines(const std::vector<geom::Vec2>& points, const std::vector<geom::Segment>& lines,
                              const geom::Vec2& pivot, double sigma_trans, double sigma_heading,
-                             const ScanMatchParams& p);
+                             const ScanMatchParams& p, const std::vector<int>& counts = {});
 
 class ScanMatcher {
  public:
@@ -113,7 +119,8 @@ class ScanMatcher {
   std::vector<geom::Segment> key_lines_;  // navigator frame
   double driven_since_key_ = 0, turned_since_key_ = 0;  // [m], [rad] odometry
   geom::Pose2 last_robot_odometry_;
-  std::vector<geom::Vec2> points_;  // storage reused
+  std::vector<geom::Vec2> points_;  // storage reused: the returns (clusters) matched ...
+  std::vector<int> counts_;         // ... and how many returns each stands for
 };
 
 }  // namespace lasonic

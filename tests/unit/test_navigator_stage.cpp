@@ -440,6 +440,11 @@ TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
 // away, and the robot's front-right transducers hear the end wall through the place it stood,
 // from where they heard the case. Without pass-through the memory keeps the case there; with it
 // the place is emptied, and the glass pane on the left, heard face-on, stays.
+//
+// The case is remembered in one to four cells; whether the last of them (at its edge nearest the
+// robot) is crossed by a beam that hears through it depends on the sub-millimetre noise of the
+// matched pose, so the tests run seeds 1-8 and ask per seed what must always hold and over the
+// seeds what holds on most (on one seed alone they would be a statement about that seed).
 const char* kTrolleyScenario = R"(
 name: trolley
 duration_s: 14
@@ -457,69 +462,99 @@ robot:
 )";
 bool whereTheStandWas(const Vec2& c) { return (c - Vec2(2.2, -0.5)).norm() < 0.45; }
 
+// The trolley scene with the simulator's seed `seed`.
+std::string trolleyWithSeed(int seed) {
+  std::string text = kTrolleyScenario;
+  const size_t at = text.find("seed: 7");
+  text.replace(at, 7, "seed: " + std::to_string(seed));
+  return text;
+}
+constexpr int kTrolleySeeds = 8;
+
 TEST(NavigatorStage, PassThroughForgetsWhatWasWheeledAwayAndKeepsThePane) {
   NavigatorConfig off, on;  // on: shipped (deploy/config/lasonic.yaml)
   off.pass_through.core = 0;
   ASSERT_TRUE(on.pass_through.enabled());
-  const PipelineRun a = runPipeline(off, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  const PipelineRun b = runPipeline(on, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  ASSERT_GT(a.tactical.size(), 20u);
-  ASSERT_EQ(a.tactical.size(), b.tactical.size());
-  // While it stood, both remembered it.
-  const auto at = [](const PipelineRun& r, double s) {
-    const int64_t t = r.truth.front().utime + static_cast<int64_t>(s * 1e6);
-    for (const grid_map_t& g : r.tactical)
-      if (g.utime >= t) return g;
-    return r.tactical.back();
-  };
-  EXPECT_GT(countCells({at(a, 5.0)}, whereTheStandWas), 0);
-  EXPECT_GT(countCells({at(b, 5.0)}, whereTheStandWas), 0);
-  // At the end, only the paper's memory still holds it; both hold the pane.
-  EXPECT_GT(countCells({a.tactical.back()}, whereTheStandWas), 0);
-  EXPECT_EQ(countCells({b.tactical.back()}, whereTheStandWas), 0);
-  EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
-  EXPECT_GE(countCells({b.tactical.back()}, nearPane), countCells({a.tactical.back()}, nearPane) - 2);
-  EXPECT_EQ(b.navigator_errors, 0);
+  int emptied = 0;
+  for (int seed = 1; seed <= kTrolleySeeds; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const std::string scene = trolleyWithSeed(seed);
+    const PipelineRun a = runPipeline(off, true, true, 0.2, PilotConfig{}.predict_movers, scene.c_str());
+    const PipelineRun b = runPipeline(on, true, true, 0.2, PilotConfig{}.predict_movers, scene.c_str());
+    ASSERT_GT(a.tactical.size(), 20u);
+    ASSERT_EQ(a.tactical.size(), b.tactical.size());
+    // While it stood, both remembered it.
+    const auto at = [](const PipelineRun& r, double s) {
+      const int64_t t = r.truth.front().utime + static_cast<int64_t>(s * 1e6);
+      for (const grid_map_t& g : r.tactical)
+        if (g.utime >= t) return g;
+      return r.tactical.back();
+    };
+    EXPECT_GT(countCells({at(a, 5.0)}, whereTheStandWas), 0);
+    EXPECT_GT(countCells({at(b, 5.0)}, whereTheStandWas), 0);
+    // At the end the paper's memory still holds it; with pass-through less of it is left (at
+    // most its last cell); both hold the pane.
+    const int left_off = countCells({a.tactical.back()}, whereTheStandWas);
+    const int left_on = countCells({b.tactical.back()}, whereTheStandWas);
+    EXPECT_GT(left_off, 0);
+    EXPECT_LT(left_on, left_off);
+    EXPECT_LE(left_on, 1);
+    emptied += left_on == 0;
+    EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
+    EXPECT_GE(countCells({b.tactical.back()}, nearPane), countCells({a.tactical.back()}, nearPane) - 2);
+    EXPECT_EQ(b.navigator_errors, 0);
+  }
+  // And on most seeds none of it.
+  EXPECT_GE(emptied, kTrolleySeeds / 2);
 }
 
 // Readings the hypothesis cannot verify as evidence too: once the stand has gone, the transducers
 // facing where it stood hear the far wall (y = -1.6), more than the 2.20 m range limit away from
 // most of the path, or nothing: unverifiable readings. Taken from any direction (no heard-from
-// gate) they empty the stand no later than echoes alone and change the maps; shipped (gated:
-// only from where the stand answered before) the stand goes and the pane, met face-on, stays.
+// gate) they empty the stand no later than echoes alone and, on some seeds, change the maps;
+// shipped (gated: only from where the stand answered before) the stand goes and the pane, met
+// face-on, stays.
 TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
   NavigatorConfig shipped, echoes_only, ungated;
   ASSERT_TRUE(shipped.pass_through.beyond_limit && shipped.pass_through.silence && shipped.pass_through.heard_from_gate);
   echoes_only.pass_through.beyond_limit = echoes_only.pass_through.silence = false;
   ungated.pass_through.heard_from_gate = false;
-  const PipelineRun a = runPipeline(echoes_only, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  const PipelineRun b = runPipeline(shipped, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  const PipelineRun c = runPipeline(ungated, true, true, 0.2, PilotConfig{}.predict_movers, kTrolleyScenario);
-  ASSERT_GT(a.tactical.size(), 20u);
-  ASSERT_EQ(a.tactical.size(), b.tactical.size());
-  ASSERT_EQ(a.tactical.size(), c.tactical.size());
-  // The first map after the stand left (5 s) that holds none of it.
-  const auto emptied = [](const PipelineRun& r) {
-    const int64_t t = r.truth.front().utime + 5'000'000;
-    for (size_t i = 0; i < r.tactical.size(); ++i)
-      if (r.tactical[i].utime >= t && countCells({r.tactical[i]}, whereTheStandWas) == 0) return i;
-    return r.tactical.size();
-  };
-  EXPECT_LT(emptied(c), c.tactical.size());
-  EXPECT_LE(emptied(c), emptied(a));
-  size_t differing = 0;
-  for (size_t i = 0; i < a.tactical.size(); ++i) differing += a.tactical[i].g != c.tactical[i].g;
-  EXPECT_GT(differing, 0u);
-  EXPECT_EQ(countCells({b.tactical.back()}, whereTheStandWas), 0);
-  EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
-  EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);
-  EXPECT_EQ(b.navigator_errors, 0);
-  EXPECT_EQ(c.navigator_errors, 0);
-  // The status says what silence emptied: nothing with echoes alone.
-  EXPECT_EQ(a.passed_through_silence, 0);
-  EXPECT_GT(c.passed_through_silence, 0);
-  EXPECT_LE(c.passed_through_silence, c.passed_through);
-  EXPECT_LE(b.passed_through_silence, b.passed_through);
+  int changed = 0, silence_acted = 0, emptied_shipped = 0;
+  for (int seed = 1; seed <= kTrolleySeeds; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const std::string scene = trolleyWithSeed(seed);
+    const PipelineRun a = runPipeline(echoes_only, true, true, 0.2, PilotConfig{}.predict_movers, scene.c_str());
+    const PipelineRun b = runPipeline(shipped, true, true, 0.2, PilotConfig{}.predict_movers, scene.c_str());
+    const PipelineRun c = runPipeline(ungated, true, true, 0.2, PilotConfig{}.predict_movers, scene.c_str());
+    ASSERT_GT(a.tactical.size(), 20u);
+    ASSERT_EQ(a.tactical.size(), b.tactical.size());
+    ASSERT_EQ(a.tactical.size(), c.tactical.size());
+    // The first map after the stand left (5 s) that holds none of it.
+    const auto emptied = [](const PipelineRun& r) {
+      const int64_t t = r.truth.front().utime + 5'000'000;
+      for (size_t i = 0; i < r.tactical.size(); ++i)
+        if (r.tactical[i].utime >= t && countCells({r.tactical[i]}, whereTheStandWas) == 0) return i;
+      return r.tactical.size();
+    };
+    EXPECT_LE(emptied(c), emptied(a));
+    size_t differing = 0;
+    for (size_t i = 0; i < a.tactical.size(); ++i) differing += a.tactical[i].g != c.tactical[i].g;
+    changed += differing > 0;
+    silence_acted += c.passed_through_silence > 0;
+    EXPECT_LE(countCells({b.tactical.back()}, whereTheStandWas), 1);
+    emptied_shipped += countCells({b.tactical.back()}, whereTheStandWas) == 0;
+    EXPECT_GT(countCells({b.tactical.back()}, nearPane), 5);
+    EXPECT_GT(countCells({c.tactical.back()}, nearPane), 5);
+    EXPECT_EQ(b.navigator_errors, 0);
+    EXPECT_EQ(c.navigator_errors, 0);
+    // The status says what silence emptied: nothing with echoes alone.
+    EXPECT_EQ(a.passed_through_silence, 0);
+    EXPECT_LE(c.passed_through_silence, c.passed_through);
+    EXPECT_LE(b.passed_through_silence, b.passed_through);
+  }
+  EXPECT_GT(changed, 0);
+  EXPECT_GT(silence_acted, 0);
+  EXPECT_GE(emptied_shipped, kTrolleySeeds / 2);
 }
 
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {

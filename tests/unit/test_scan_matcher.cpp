@@ -92,6 +92,58 @@ TEST(ScanMatcher, MatchRecoversASmallRigidMotion) {
   EXPECT_NEAR(fixed.theta, robot.theta, 0.001);
 }
 
+TEST(ScanMatcher, APointThatStandsForNReturnsWeighsAsNCopies) {
+  const std::vector<Segment> lines = {{{-5, 1}, {5, 1}}, {{2, -5}, {2, 5}}, {{-5, -1}, {5, -1}}};
+  const std::vector<Vec2> once = {{0.3, 1.012}, {-0.8, 0.995}, {1.985, 0.2}, {2.01, -0.5}, {0.5, -0.99}};
+  const std::vector<int> counts = {3, 1, 2, 1, 4};
+  std::vector<Vec2> copies;
+  for (size_t i = 0; i < once.size(); ++i) copies.insert(copies.end(), static_cast<size_t>(counts[i]), once[i]);
+  ScanMatchParams p;
+  p.min_pairs = 3;
+  const LineMatch a = matchPointsToLines(once, lines, {0, 0}, 0.1, 0.1, p, counts);
+  const LineMatch b = matchPointsToLines(copies, lines, {0, 0}, 0.1, 0.1, p);
+  EXPECT_EQ(a.pairs, 11);  // returns, not points
+  EXPECT_EQ(b.pairs, 11);
+  EXPECT_NEAR(a.motion.x, b.motion.x, 1e-12);
+  EXPECT_NEAR(a.motion.y, b.motion.y, 1e-12);
+  EXPECT_NEAR(a.motion.theta, b.motion.theta, 1e-12);
+  EXPECT_GT(std::abs(a.motion.y), 1e-4);  // (a motion there is: the returns sit off their lines)
+  // Without the counts each point is one return: another motion.
+  const LineMatch c = matchPointsToLines(once, lines, {0, 0}, 0.1, 0.1, p);
+  EXPECT_EQ(c.pairs, 5);
+  EXPECT_GT(std::abs(c.motion.y - a.motion.y), 1e-5);
+}
+
+TEST(ScanMatcher, ClusteredReturnsFixTheMotionAsAllReturnsDo) {
+  // The drive of TheFrameStaysWithTheRoomWhileTheOdometryDrifts, with and without clustering the
+  // returns (point_spacing): the same frame within a millimetre, from a third of the points.
+  ScanMatchParams all;
+  all.point_spacing = 0;
+  ScanMatchParams clustered;
+  clustered.point_spacing = 0.1;
+  ScanMatcher a(all), b(clustered);
+  Pose2 odo{1.0, 1.2, 0.0}, truth = odo;
+  int pairs_a = 0, pairs_b = 0;
+  for (int k = 0; k <= 30; ++k) {
+    if (k > 0) {
+      truth = truth.compose({0.08, 0, 0});
+      odo = odo.compose({0.08 * 1.02, 0, 0.01 * 0.08});
+    }
+    const auto pts = scan(room(), truth, odo, k);
+    const auto ra = a.update(pts, segmentsOf(pts), odo, odo.position());
+    const auto rb = b.update(pts, segmentsOf(pts), odo, odo.position());
+    EXPECT_EQ(ra.matched, rb.matched) << k;
+    EXPECT_EQ(ra.constrained, rb.constrained) << k;
+    pairs_a += ra.pairs, pairs_b += rb.pairs;
+  }
+  EXPECT_GT(pairs_a, 30 * 600);
+  EXPECT_NEAR(pairs_b, pairs_a, 0.02 * pairs_a);  // pairs count returns
+  const Pose2 na = a.toNavigator(odo), nb = b.toNavigator(odo);
+  EXPECT_LT((na.position() - nb.position()).norm(), 0.001);
+  EXPECT_LT(std::abs(geom::angleDiff(na.theta, nb.theta)), 0.0003);
+  EXPECT_GT((na.position() - nb.position()).norm(), 0.0);  // (clustered: not the same numbers)
+}
+
 TEST(ScanMatcher, AlongACorridorThePriorKeepsTheOdometrysMotion) {
   const Pose2 robot{0.0, 0.2, 0.0};
   std::vector<Segment> lines;
@@ -199,4 +251,6 @@ TEST(ScanMatcher, ConfigKeysAndTheirRanges) {
   EXPECT_THROW(scanMatchParams(Config::fromString("gate: 0.5\n")), ConfigError);           // unknown key
   EXPECT_THROW(scanMatchParams(Config::fromString("point_sigma_m: 0\n")), ConfigError);    // out of range
   EXPECT_THROW(scanMatchParams(Config::fromString("min_pairs: 2\n")), ConfigError);
+  EXPECT_EQ(scanMatchParams(Config::fromString("point_spacing_m: 0.05\n")).point_spacing, 0.05);
+  EXPECT_THROW(scanMatchParams(Config::fromString("point_spacing_m: -0.1\n")), ConfigError);
 }
