@@ -210,11 +210,13 @@ int main(int argc, char** argv) {
   lasonic::setupLogging("lasonic-replay");
   try {
     const lasonic::Config root = lasonic::Config::loadFiles(config_files);
-    // Auto: a thread per stage needs four cores (three stages and the log writer); on two, two
-    // threads were fastest (the third costs more in hand-overs than it gains); on one, one.
+    // Auto: a thread per stage from two cores up (three stages and the log writer). On two cores
+    // two threads were fastest while the pilot was the most work; since the navigator's scan
+    // matching the navigator is, and sharing its thread with the complement costs more than a
+    // third thread's hand-overs (README "Performance"); on one core, one.
     if (threads == 0) {
       const unsigned cores = std::thread::hardware_concurrency();
-      threads = cores >= 4 ? 3 : cores >= 2 ? 2 : 1;
+      threads = cores >= 2 ? 3 : 1;
     }
     return replay(in_path, out_path, root, stages, threads, print_status);
   } catch (const lasonic::ConfigError& e) {
