@@ -49,6 +49,8 @@ AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p)
   if (p_.arc_vote_tau > 0) {
     av_.assign(cells, 0.f);
     av_cycle_.assign(cells, 0);
+    fade_.resize(kFadeAges);
+    for (int64_t age = 0; age < kFadeAges; ++age) fade_[age] = std::exp(-static_cast<double>(age) / p_.arc_vote_tau);
   }
   ox_ = oy_ = -(n_ / 2);  // centred on the global origin until the robot is known
 }
@@ -332,7 +334,9 @@ int64_t AccumulativeGridMap::lastHitCycle(int ix, int iy) const {
 
 double AccumulativeGridMap::fadedVotes(size_t s) const {
   if (av_[s] == 0.f) return 0.0;
-  return static_cast<double>(av_[s]) * std::exp(-static_cast<double>(cycle_ - av_cycle_[s]) / p_.arc_vote_tau);
+  const int64_t age = cycle_ - av_cycle_[s];
+  if (age >= 0 && age < kFadeAges) return static_cast<double>(av_[s]) * fade_[static_cast<size_t>(age)];
+  return static_cast<double>(av_[s]) * std::exp(-static_cast<double>(age) / p_.arc_vote_tau);
 }
 
 double AccumulativeGridMap::arcVotes(int ix, int iy) const {

@@ -214,6 +214,10 @@ class AccumulativeGridMap {
   // arc_vote_tau: votes at cycle av_cycle_ (read faded by exp(-(cycle_ - av_cycle_) / tau)).
   std::vector<float> av_;
   std::vector<int64_t> av_cycle_;
+  // exp(-age / tau) for ages 0 .. kFadeAges-1 cycles, taken once (the same expression, so the
+  // same values): fadedVotes is read for every sample of every arc.
+  static constexpr int64_t kFadeAges = 1024;
+  std::vector<double> fade_;
   void forgetHits(size_t s) {
     if (p_.hit_centroids) hx_[s] = hy_[s] = 0, hn_[s] = 0;
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lasonic {
 
@@ -63,6 +64,8 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
   if (!p_.enabled()) return 0;
   cells_.clear();
   const double c = agm.cellSize();
+  double r_half = std::numeric_limits<double>::quiet_NaN();  // the half width whose cos and sin r holds
+  geom::Vec2 r(1, 0);
   for (const Sounding& s : group) {
     const double reach = s.reach - p_.margin_m;
     const double half = p_.core * 0.5 * s.beam_width;
@@ -71,10 +74,15 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
       continue;
     // The core sector's bounding box: the transducer, both edges' ends and the axis' end, a cell
     // of margin for the arc's bulge.
+    // (The edges turned from the axis by the half width's cos and sin: within rounding of their
+    // own unit vectors, far inside the cell of margin.)
     const geom::Vec2 o = s.sensor.position();
+    if (half != r_half) r = geom::unitVector(half), r_half = half;
+    const geom::Vec2 u = geom::unitVector(s.sensor.theta);
     geom::Vec2 lo = o, hi = o;
-    for (const double b : {s.sensor.theta - half, s.sensor.theta, s.sensor.theta + half}) {
-      const geom::Vec2 e = o + reach * geom::unitVector(b);
+    for (const geom::Vec2& d : {u, geom::Vec2(r.x() * u.x() - r.y() * u.y(), r.y() * u.x() + r.x() * u.y()),
+                                geom::Vec2(r.x() * u.x() + r.y() * u.y(), -r.y() * u.x() + r.x() * u.y())}) {
+      const geom::Vec2 e = o + reach * d;
       lo = lo.cwiseMin(e), hi = hi.cwiseMax(e);
     }
     int ix0 = 0, iy0 = 0, ix1 = 0, iy1 = 0;
