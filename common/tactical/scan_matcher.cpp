@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -212,7 +211,9 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
   geom::Vec2 first{0, 0}, sum{0, 0};
   int n = 0;
   auto close = [&] {
-    if (n > 0) points_.push_back(c(n == 1 ? sum : geom::Vec2(sum / n))), counts_.push_back(n);
+    if (n == 0) return;
+    points_.push_back(c(n == 1 ? sum : geom::Vec2(sum / n)));
+    counts_.push_back(n);
     n = 0;
   };
   for (const complement::ScanPoint& q : points) {

@@ -14,8 +14,9 @@
 // - The scan's readings, placed with the odometry (each at its own time), are taken into the
 //   navigator's frame by the current correction C (navigator frame <- odometry frame).
 // - Consecutive returns within point_spacing of a cluster's first are matched as their mean,
-//   weighted by their number (a near wall's returns lie a centimetre apart: the same information at a
-//   fraction of the cost).
+//   weighted by their number: a near wall's returns lie a centimetre apart, and along a wall a
+//   return's residual and Jacobian are linear in its position, so the mean carries the
+//   cluster's information at a fraction of the cost.
 // - They are matched to the lines of the keyframe, an earlier scan's segments (at least
 //   min_line_length long: walls, not people) already in the navigator's frame: point-to-line
 //   Gauss-Newton (Censi's PL-ICP without its second-order model) over a rigid motion about the
