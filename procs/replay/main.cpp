@@ -66,7 +66,9 @@ struct Recorder {
 // The thread of each stage: the chain complement -> navigator -> pilot (the pilot reads the
 // navigator's AGM_TACTICAL, so it runs on the navigator's thread or a later one; StagePipeline
 // checks it), the stages that run spread over at most `threads` threads. With fewer threads than
-// stages the first ones share a thread: the pilot, the most work, keeps one to itself.
+// stages the first ones share a thread and the pilot keeps one to itself (with two threads the
+// complement and the navigator share: since scan matching the navigator is as much work as the
+// pilot, so three threads are faster even on two cores, README "Recording and replaying").
 std::map<std::string, int> stageThreads(const std::set<std::string>& stages, int threads) {
   std::vector<std::string> chain;
   for (const char* s : {"complement", "navigator", "pilot"})
