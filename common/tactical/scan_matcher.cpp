@@ -235,7 +235,7 @@ ScanMatcher::Result ScanMatcher::update(const std::vector<complement::ScanPoint>
   const double sigma_heading = std::max(
       p_.prior_heading_floor, p_.prior_heading_per_m * driven_since_key_ + p_.prior_heading_per_rad * turned_since_key_);
   const LineMatch m =
-      matchPointsToLines(points_, key_lines_, c_.transform(robot_odometry.position()), sigma_trans, sigma_heading, p_, counts_);
+      matchPointsToLines(points_, key_lines_, c(robot_odometry.position()), sigma_trans, sigma_heading, p_, counts_);
   r.pairs = m.pairs;
   if (m.pairs >= p_.min_pairs) {
     c_ = m.motion.compose(c_);
