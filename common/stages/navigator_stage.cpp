@@ -15,7 +15,7 @@ AgmParams NavigatorConfig::tacticalAgmDefaults() {
   AgmParams p;
   p.size = 200;
   p.cell_size = 0.10;
-  p.h_max = 2000;
+  p.h_max = 10000;
   p.h_max_m = 0;
   p.forget_sigma_m = 0.08;
   p.t = 1;
