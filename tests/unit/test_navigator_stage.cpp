@@ -1,7 +1,8 @@
 // NavigatorStage on memq://, fed by the real simulator and the real complement and pilot stages:
 // a person walking past is seen by the operational AGM and not kept by the tactical one; a glass
 // pane is; the CSM is tagged and in the odometry frame; the navigator publishes at its own rate
-// and its presence changes nothing in SECTOR_MAP; bad input is counted.
+// and its presence changes nothing in SECTOR_MAP; a slow robot remembers for minutes; bad input is
+// counted.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -433,6 +434,41 @@ TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
   EXPECT_GT(total_g(b.back()), total_g(b.front()));
   // The pane heard while driving is still there.
   EXPECT_GT(countCells({a.back()}, nearPane), 0);
+}
+
+// A slow robot: it creeps (0.1 m/s) past the end of a glass pane on its left, heard face-on in
+// its first seconds and at its end until the robot is ~3 m on (t ~ 30 s), then along a plaster
+// wall (which fixes its matched pose) to 4.5 m, where it waits. From there the pane is silent, so
+// what the memory holds of it at the end (t = 110 s) was heard over a minute before. The shipped
+// time limit (300 s) keeps it; the former 60 s (2000 cycles) forgot it, although the robot had
+// driven only 4.5 m.
+const char* kCreepScenario = R"(
+name: creep
+duration_s: 110
+seed: 3
+obstacles:
+  - {shape: segment, material: glass, from: [-0.5, 1.2], to: [1.0, 1.2]}
+  - {shape: segment, material: wall, from: [-2.0, -1.6], to: [8.0, -1.6]}
+robot:
+  radius: 0.35
+  path: [[0.0, 0.0], [4.5, 0.0]]
+  speed: 0.1
+)";
+bool nearCreepPane(const Vec2& c) { return c.x() > -0.7 && c.x() < 1.2 && std::abs(c.y() - 1.2) < 0.2; }
+
+TEST(NavigatorStage, ASlowRobotStillRemembersThePaneItHeardAMinuteBefore) {
+  NavigatorConfig minute;
+  minute.agm.h_max = 2000;
+  ASSERT_GT(NavigatorConfig{}.agm.h_max, minute.agm.h_max);
+  const PipelineRun shipped = runPipeline(NavigatorConfig{}, true, true, 0.1, PilotConfig{}.predict_movers, kCreepScenario);
+  const PipelineRun former = runPipeline(minute, true, true, 0.1, PilotConfig{}.predict_movers, kCreepScenario);
+  ASSERT_FALSE(shipped.tactical.empty());
+  ASSERT_FALSE(former.tactical.empty());
+  // Both held the pane once; the robot then stood 4 m from it, inside the published window.
+  EXPECT_GT(countCells(former.tactical, nearCreepPane), 0);
+  EXPECT_GT(countCells({shipped.tactical.back()}, nearCreepPane), 0);
+  EXPECT_EQ(countCells({former.tactical.back()}, nearCreepPane), 0);
+  EXPECT_EQ(shipped.navigator_errors, 0);
 }
 
 // Pass-through: a glass display case on a trolley (laser-invisible, heard by the sonar) waits
