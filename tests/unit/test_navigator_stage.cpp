@@ -437,8 +437,8 @@ TEST(NavigatorStage, AStandingRobotAddsNoTacticalWeightBelowTheLowSpeed) {
 }
 
 // A slow robot: it creeps (0.1 m/s) past the end of a glass pane on its left, heard face-on in
-// its first seconds and at its end until the robot is ~3 m on (t ~ 30 s), then along a plaster
-// wall (which fixes its matched pose) to 4.5 m, where it waits. From there the pane is silent, so
+// its first seconds and at its end until the robot is ~3 m on (t ~ 30 s), then on beside a
+// plaster wall (the scan matcher's) to 4.5 m, where it waits. From there the pane is silent, so
 // what the memory holds of it at the end (t = 110 s) was heard over a minute before. The shipped
 // time limit (300 s) keeps it; the former 60 s (2000 cycles) forgot it, although the robot had
 // driven only 4.5 m.
