@@ -87,6 +87,8 @@ struct PlacedEcho {
   geom::Pose2 sensor;     // the transducer: position and acoustic axis
   double range = 0;       // [m]
   double beam_width = 0;  // [rad] the transducer's full opening (0: the config's)
+  int sensor_id = -1;
+  int64_t utime = 0;      // firing time
 };
 
 class EchoPlacer {
@@ -110,6 +112,7 @@ class EchoPlacer {
  private:
   struct Waiting {
     SonarEcho echo;
+    int sensor_id = -1;
     double estimate = 0;   // [rad] its bearing estimate
     double halfwidth = 0;  // [rad] the estimate's uncertainty: where later arcs may place it
     int64_t cycle = 0;    // the AGM cycle it arrived in

@@ -69,7 +69,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "dark_continuation_m"};
+                                   "laser_memory_coast_s", "dark_continuation_m", "motion_confirmation"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -84,6 +84,13 @@ PilotConfig pilotConfig(const Config& c) {
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
   p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::positive());
   p.placement = echoPlacementConfig(c, p.placement);
+  {
+    const Config m = c.section("motion_confirmation");
+    m.allowOnly({"enabled", "tolerance_m"});
+    p.motion_confirmation.enabled = m.get<bool>("enabled", p.motion_confirmation.enabled);
+    p.motion_confirmation.tolerance_m = m.get("tolerance_m", p.motion_confirmation.tolerance_m, Range::between(0, 1));
+    p.motion_confirmation.max_age_s = p.placement.params.max_age_s;
+  }
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
   s.copy_rule = c.getChoice("copy_rule", s.copy_rule,
@@ -133,6 +140,7 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       agm_(cfg.agm),
       sector_map_(cfg.sector_map),
       placer_(cfg.placement),
+      motion_confirmation_(cfg.motion_confirmation),
       movers_(cfg.mover_prediction),
       laser_memory_(laserMemoryParams(cfg)) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
@@ -412,7 +420,9 @@ void PilotStage::onComplement(const complement_t& m) {
   std::vector<complement::InputProblem> problems;
   const std::vector<complement::ComplementInput> readings = complement::complementFromMessage(m, problems);
   reportProblems(node_, problems);
-  const std::vector<geom::Vec2> hits = placer_.place(toGroupReadings(readings, m.utime), agm_);
+  std::vector<geom::Vec2> hits = placer_.place(toGroupReadings(readings, m.utime), agm_);
+  if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
+    node_.count("agm.motion_confirmed", n);
 
   if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
     node_.count("agm.recentred");

@@ -57,6 +57,7 @@
 #include "operational/evidence_placement.hpp"
 #include "operational/laser_memory.hpp"
 #include "operational/mover_prediction.hpp"
+#include "operational/motion_confirmation.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
 
@@ -75,6 +76,10 @@ struct PilotConfig {
   double map_max_interval_s = 0.1;
   // The one cell a complementary reading increments (operational/echo_placer.hpp).
   EchoPlacementConfig placement;
+  // Beyond the paper: an echo that its sensor's previous echo, spread apart by the robot's own
+  // motion, confirms counts twice (operational/motion_confirmation.hpp); max_age_s is the
+  // placement's neighbour_bearing.max_age_s (one ring cycle). enabled false: the paper.
+  MotionConfirmationParams motion_confirmation = {true, 0.25, 0.10};
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
@@ -167,6 +172,7 @@ class PilotStage {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
+  MotionConfirmation motion_confirmation_;
   MoverPrediction movers_;
   LaserMemory laser_memory_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,

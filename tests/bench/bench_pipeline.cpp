@@ -129,6 +129,7 @@ class Replayer {
         agm_(pcfg_.agm),
         sector_map_(pcfg_.sector_map),
         placer_(pcfg_.placement),
+        motion_confirmation_(pcfg_.motion_confirmation),
         movers_(pcfg_.mover_prediction) {}
 
   bool done() const { return next_ >= run_.inputs.size(); }
@@ -202,7 +203,8 @@ class Replayer {
       // Pilot stage: the AGM cycle on the SONAR_COMPLEMENT message (its readings as the pilot
       // decodes them, prepared by Run: the message layer is not timed), then the sector map.
       const std::vector<GroupReading>& readings = groupReadings(group_index_++, result);
-      const std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
+      std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
+      motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits);
       if (const auto pose = poses_.at(ring->utime)) agm_.follow(pose->position(), speed_);
       agm_.update(hits);
       sector_map_.setSonarTime(ring->utime);
@@ -272,6 +274,7 @@ class Replayer {
   AccumulativeGridMap agm_;
   SectorMap sector_map_;
   EchoPlacer placer_;
+  MotionConfirmation motion_confirmation_;
   MoverPrediction movers_;
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;

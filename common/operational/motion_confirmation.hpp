@@ -1,0 +1,49 @@
+// Motion confirmation (beyond the paper; README "Method", step 4): the Accumulative Grid Map
+// confirms a surface when two echoes land within one neighbourhood (t cells) of each other. A
+// transducer that passes a surface hears its foot, the nearest point in its beam, move along the
+// surface as far as the transducer moved: one ring cycle (0.18 s on MOBOT-IV) apart, 0.07 m at
+// 0.4 m/s, inside the 3 x 3 neighbourhood, but 0.22 m at 1.2 m/s, beyond it, so a mesh beside a
+// fast robot stays below G_T however often it is heard. Here an echo whose own sensor's previous
+// echo (at most one ring cycle before) lies outside its neighbourhood, yet no farther from it than
+// the transducer moved plus a tolerance (the placement's own error), counts twice: the two echoes
+// together confirm it, as they would have standing closer. A single echo (crosstalk, a foreign
+// source) never does, nor does a robot that stands (its transducers do not move) or drives
+// slowly (the two echoes are neighbours anyway).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/geometry.hpp"
+#include "operational/agm.hpp"
+#include "operational/echo_placer.hpp"
+
+namespace lasonic {
+
+struct MotionConfirmationParams {
+  bool enabled = false;
+  double max_age_s = 0.25;   // [s] the sensor's previous echo: one ring cycle and a margin
+  double tolerance_m = 0.10; // [m] beyond the transducer's own displacement
+};
+
+class MotionConfirmation {
+ public:
+  explicit MotionConfirmation(const MotionConfirmationParams& p) : p_(p) {}
+  const MotionConfirmationParams& params() const { return p_; }
+  // For each echo of `placed` (in order): appends its point to `hits` once more where its
+  // sensor's previous echo confirms it as above, then records it as that sensor's latest.
+  // Returns the number of points appended. Echoes without a sensor id (< 0) are skipped.
+  int apply(const std::vector<PlacedEcho>& placed, const AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);
+
+ private:
+  struct Last {
+    geom::Vec2 point;
+    geom::Vec2 sensor;
+    int64_t utime = 0;
+  };
+  MotionConfirmationParams p_;
+  std::unordered_map<int, Last> last_;
+};
+
+}  // namespace lasonic
