@@ -14,7 +14,8 @@ int MotionConfirmation::apply(const std::vector<PlacedEcho>& placed, const Accum
   for (const PlacedEcho& e : placed) {
     if (e.sensor_id < 0 || !e.point.allFinite() || !e.sensor.position().allFinite()) continue;
     const geom::Vec2 sensor = e.sensor.position();
-    if (const auto it = last_.find(e.sensor_id); it != last_.end()) {
+    const auto it = last_.find(e.sensor_id);
+    if (it != last_.end()) {
       const Last& prev = it->second;
       const int64_t age = e.utime - prev.utime;
       int ix = 0, iy = 0, px = 0, py = 0;
@@ -24,10 +25,14 @@ int MotionConfirmation::apply(const std::vector<PlacedEcho>& placed, const Accum
         hits.push_back(e.point);
         ++added;
       }
+      // (an echo that waited for later arcs is older than its sensor's latest: not recorded)
+      if (e.utime > prev.utime) it->second = {e.point, sensor, e.utime};
+      continue;
     }
-    // (an echo that waited for later arcs is older than its sensor's latest: not recorded)
-    if (const auto it = last_.find(e.sensor_id); it == last_.end() || e.utime > it->second.utime)
-      last_[e.sensor_id] = {e.point, sensor, e.utime};
+    // No ring has this many transducers: a stream of ever new ids (malformed messages) must not
+    // grow the table without bound.
+    if (last_.size() >= kMaxSensors) last_.clear();
+    last_.emplace(e.sensor_id, Last{e.point, sensor, e.utime});
   }
   return added;
 }

@@ -11,6 +11,7 @@
 // slowly (the two echoes are neighbours anyway).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -42,6 +43,7 @@ class MotionConfirmation {
     geom::Vec2 sensor;
     int64_t utime = 0;
   };
+  static constexpr size_t kMaxSensors = 1024;
   MotionConfirmationParams p_;
   std::unordered_map<int, Last> last_;
 };

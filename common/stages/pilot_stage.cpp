@@ -243,6 +243,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
+  motion_confirmation_ = MotionConfirmation(cfg_.motion_confirmation);
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
