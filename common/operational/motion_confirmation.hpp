@@ -30,12 +30,15 @@ struct MotionConfirmationParams {
 
 class MotionConfirmation {
  public:
+  static constexpr size_t kMaxSensors = 1024;
   explicit MotionConfirmation(const MotionConfirmationParams& p) : p_(p) {}
   const MotionConfirmationParams& params() const { return p_; }
   // For each echo of `placed` (in order): appends its point to `hits` once more where its
   // sensor's previous echo confirms it as above, then records it as that sensor's latest.
   // Returns the number of points appended. Echoes without a sensor id (< 0) are skipped.
   int apply(const std::vector<PlacedEcho>& placed, const AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);
+  // How many sensors' latest echoes are kept (at most kMaxSensors).
+  size_t sensors() const { return last_.size(); }
 
  private:
   struct Last {
@@ -43,7 +46,6 @@ class MotionConfirmation {
     geom::Vec2 sensor;
     int64_t utime = 0;
   };
-  static constexpr size_t kMaxSensors = 1024;
   MotionConfirmationParams p_;
   std::unordered_map<int, Last> last_;
 };

@@ -67,6 +67,11 @@ geom::Vec2 SonarBearingTracker::place(int id, const SonarEcho& e) const {
   return e.sensor.position() + e.range * geom::unitVector(bearing(id, e));
 }
 
-void SonarBearingTracker::record(int id, const std::optional<SonarEcho>& e) { latest_[id] = e; }
+void SonarBearingTracker::record(int id, const std::optional<SonarEcho>& e) {
+  // No ring has this many transducers: a stream of ever new ids (malformed messages) must not
+  // grow the table without bound.
+  if (latest_.size() >= kMaxSensors && latest_.find(id) == latest_.end()) latest_.clear();
+  latest_[id] = e;
+}
 
 }  // namespace lasonic

@@ -24,6 +24,7 @@
 // The echo point is at range r from the sensor along the chosen bearing. Everything is in the
 // global frame (the sensor poses at their firing times), so the robot's rotation between two
 // firings is accounted for.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <map>
@@ -71,6 +72,7 @@ geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others
 // Keeps, per sensor id, its latest echo, and places new echoes with echoPoint().
 class SonarBearingTracker {
  public:
+  static constexpr size_t kMaxSensors = 1024;
   explicit SonarBearingTracker(const SonarBearingParams& p) : p_(p) {}
   const SonarBearingParams& params() const { return p_; }
   // Bearing / point of the echo of sensor `id` against the latest echoes of the other sensors.
@@ -80,6 +82,8 @@ class SonarBearingTracker {
   geom::Vec2 place(int id, const SonarEcho& e) const;
   // Records the latest echo of sensor `id`; nullopt: its latest reading has no usable echo.
   void record(int id, const std::optional<SonarEcho>& e);
+  // How many sensors' latest readings are kept (at most kMaxSensors).
+  size_t sensors() const { return latest_.size(); }
 
  private:
   SonarBearingParams p_;

@@ -127,6 +127,7 @@ TEST(MotionConfirmation, EverNewSensorIdsDoNotGrowWithoutBound) {
   // Malformed messages with a new id each: nothing confirmed, and the stage goes on working.
   for (int id = 0; id < 5000; ++id) EXPECT_EQ(mc.apply({echo(id, 0.001 * id, Vec2(0, 0), Vec2(0, 1))}, agm, hits), 0);
   EXPECT_TRUE(hits.empty());
+  EXPECT_LE(mc.sensors(), MotionConfirmation::kMaxSensors);
   EXPECT_EQ(mc.apply({echo(9, 5.00, Vec2(0.0, 0), Vec2(0.0, 1.0))}, agm, hits), 0);
   EXPECT_EQ(mc.apply({echo(9, 5.18, Vec2(0.2, 0), Vec2(0.22, 1.0))}, agm, hits), 1);
 }

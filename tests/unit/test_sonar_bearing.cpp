@@ -182,3 +182,12 @@ TEST(SonarBearingTracker, LatestEchoPerSensor) {
   t.record(1, std::nullopt);
   EXPECT_EQ(t.bearing(0, e), 0.0);
 }
+
+TEST(SonarBearingTracker, EverNewSensorIdsDoNotGrowWithoutBound) {
+  SonarBearingTracker t(kP);
+  // Malformed messages with a new id each, then a real neighbour: it still counts.
+  for (int id = 100; id < 5100; ++id) t.record(id, SonarEcho{0, 2.9, ringSensor(180.0)});
+  EXPECT_LE(t.sensors(), SonarBearingTracker::kMaxSensors);
+  t.record(1, SonarEcho{70'000, 1.2, ringSensor(15.0)});
+  EXPECT_NEAR(t.bearing(0, SonarEcho{100'000, 1.5, ringSensor(0.0)}), deg2rad(15.0), 1e-12);
+}
