@@ -8,4 +8,4 @@ lasonic_add_gtest(test_echo_placer SOURCES test_echo_placer.cpp LIBS lasonic_ope
 lasonic_add_gtest(test_mover_prediction SOURCES test_mover_prediction.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_laser_memory SOURCES test_laser_memory.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_remembered_on_lines SOURCES test_remembered_on_lines.cpp LIBS lasonic_operational)
-lasonic_add_gtest(test_motion_confirmation SOURCES test_motion_confirmation.cpp LIBS lasonic_operational)
+lasonic_add_gtest(test_motion_confirmation SOURCES test_motion_confirmation.cpp LIBS lasonic_stages)

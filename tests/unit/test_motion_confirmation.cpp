@@ -7,22 +7,15 @@
 
 #include "operational/agm.hpp"
 #include "operational/motion_confirmation.hpp"
+#include "stages/pilot_stage.hpp"
 
 using namespace lasonic;
 using geom::Vec2;
 
 namespace {
 
-AgmParams operational() {
-  AgmParams p;
-  p.size = 100;
-  p.cell_size = 0.1;
-  p.t = 1;
-  p.g_threshold = 2;
-  p.h_max = 18;
-  p.g_max = 100;
-  return p;
-}
+// The operational AGM as shipped (100 x 100 cells of 0.1 m, t = 1, G_T = 2, h_max 18).
+AgmParams operational() { return PilotConfig::operationalAgmDefaults(); }
 
 MotionConfirmationParams on() {
   MotionConfirmationParams p;
