@@ -57,6 +57,12 @@ LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
 }
 }  // namespace
 
+MotionConfirmationParams motionConfirmationParams(const PilotConfig& c) {
+  MotionConfirmationParams m = c.motion_confirmation;
+  m.max_age_s = c.placement.params.max_age_s;
+  return m;
+}
+
 PilotConfig pilotConfigFromRoot(const Config& root) {
   PilotConfig cfg = pilotConfig(root.section("pilot"));
   cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
@@ -89,7 +95,6 @@ PilotConfig pilotConfig(const Config& c) {
     m.allowOnly({"enabled", "tolerance_m"});
     p.motion_confirmation.enabled = m.get<bool>("enabled", p.motion_confirmation.enabled);
     p.motion_confirmation.tolerance_m = m.get("tolerance_m", p.motion_confirmation.tolerance_m, Range::between(0, 1));
-    p.motion_confirmation.max_age_s = p.placement.params.max_age_s;
   }
   s.sonar_cell_point = c.getChoice("sonar_cell_point", s.sonar_cell_point,
                                    {{"nearest", CellPoint::Nearest}, {"centre", CellPoint::Centre}});
@@ -140,7 +145,7 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       agm_(cfg.agm),
       sector_map_(cfg.sector_map),
       placer_(cfg.placement),
-      motion_confirmation_(cfg.motion_confirmation),
+      motion_confirmation_(motionConfirmationParams(cfg)),
       movers_(cfg.mover_prediction),
       laser_memory_(laserMemoryParams(cfg)) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
@@ -243,7 +248,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
-  motion_confirmation_ = MotionConfirmation(cfg_.motion_confirmation);
+  motion_confirmation_ = MotionConfirmation(motionConfirmationParams(cfg_));
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();

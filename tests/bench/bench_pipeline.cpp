@@ -129,7 +129,7 @@ class Replayer {
         agm_(pcfg_.agm),
         sector_map_(pcfg_.sector_map),
         placer_(pcfg_.placement),
-        motion_confirmation_(pcfg_.motion_confirmation),
+        motion_confirmation_(motionConfirmationParams(pcfg_)),
         movers_(pcfg_.mover_prediction) {}
 
   bool done() const { return next_ >= run_.inputs.size(); }
