@@ -116,6 +116,9 @@ struct LaserConfig {
   double beam_diameter = 0.01;    // [m] at the exit window
   int footprint_rays = 5;         // sub-rays across the footprint (mixed pixels, thin objects)
   double merge_range = 0.5;       // [m] returns closer than this merge into one reading (pulse length)
+  // [s] The scanner's host clock minus the odometry's: each LASER_SCAN (and its LASER_TRUTH)
+  // is stamped this much later than it was taken. 0: one clock (README "Clocks").
+  double clock_offset_s = 0;
 };
 LaserConfig laserConfig(const Config& c, LaserConfig base = {});
 
@@ -184,6 +187,9 @@ struct SonarConfig {
   // reads a different range every ring cycle instead of the same one (Borenstein & Koren's
   // varied firing delays against crosstalk, the paper's ref. [6]); 0: a fixed schedule.
   double group_jitter_s = 0.008;
+  // [s] The sonar's host clock minus the odometry's: SONAR_RING, SONAR_TRUTH and SONAR_GEOMETRY
+  // are stamped this much later than the firing. 0: one clock (README "Clocks").
+  double clock_offset_s = 0;
   // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
   // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
   double beam_scale = 1.0;

@@ -16,7 +16,8 @@ namespace lasonic::sim {
 
 LaserConfig laserConfig(const Config& c, LaserConfig base) {
   c.allowOnly({"profile", "scan_rate_hz", "readings", "fov_deg", "range_max", "range_min", "noise_std", "mount",
-               "range_10pct_m", "dropout_db", "beam_divergence_deg", "beam_diameter_m", "footprint_rays", "merge_range_m"});
+               "range_10pct_m", "dropout_db", "beam_divergence_deg", "beam_diameter_m", "footprint_rays", "merge_range_m",
+               "clock_offset_s"});
   base.profile = c.getChoice("profile", base.profile, {{"physical", SensorProfile::Physical}, {"ideal", SensorProfile::Ideal}});
   base.scan_rate_hz = c.get("scan_rate_hz", base.scan_rate_hz, Range::between(0.1, 100));
   base.readings = c.get("readings", base.readings, Range::between(2, 100000));
@@ -40,6 +41,8 @@ LaserConfig laserConfig(const Config& c, LaserConfig base) {
   base.beam_diameter = c.get("beam_diameter_m", base.beam_diameter, Range::between(0, 0.5));
   base.footprint_rays = c.get("footprint_rays", base.footprint_rays, Range::between(1, 100));
   base.merge_range = c.get("merge_range_m", base.merge_range, Range::nonNegative());
+  // (an hour either way: beyond that no clock is merely unsynchronised)
+  base.clock_offset_s = c.get("clock_offset_s", base.clock_offset_s, Range::between(-3600, 3600));
   return base;
 }
 
@@ -216,7 +219,7 @@ std::pair<double, int> LaserDriverCore::physicalReading(const geom::Vec2& origin
 LaserDriverCore::Output LaserDriverCore::makeScan(int64_t start_utime) {
   Output out;
   laser_scan_t& scan = out.scan;
-  scan.utime = start_utime;
+  scan.utime = start_utime + std::llround(cfg_.clock_offset_s * 1e6);  // the scanner host's clock
   scan.seq = seq_++;
   scan.mount.x = cfg_.mount.x;
   scan.mount.y = cfg_.mount.y;

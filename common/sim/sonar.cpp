@@ -77,7 +77,8 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "group_jitter_s", "beam_scale", "report_scaled_beam", "rays_per_beam",
                "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
                "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
-               "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range"});
+               "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range",
+               "clock_offset_s"});
   SonarConfig o = base;
   o.profile = c.getChoice("profile", o.profile, {{"physical", SensorProfile::Physical}, {"ideal", SensorProfile::Ideal}});
   if (c.has("ring") && c.has("sensors")) c.fail("sensors", "give either ring or sensors, not both");
@@ -98,6 +99,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.range_min = c.get("range_min", o.range_min, Range::nonNegative());
   o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
   o.group_jitter_s = c.get("group_jitter_s", o.group_jitter_s, Range::between(0, 1));
+  o.clock_offset_s = c.get("clock_offset_s", o.clock_offset_s, Range::between(-3600, 3600));
   o.beam_scale = c.get("beam_scale", o.beam_scale, Range{0, 5, true});
   o.report_scaled_beam = c.get<bool>("report_scaled_beam", o.report_scaled_beam);
   o.rays_per_beam = c.get("rays_per_beam", o.rays_per_beam, Range::between(1, 10000));
@@ -372,7 +374,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
 
   Output o;
   const int group = static_cast<int>(seq_ % static_cast<int32_t>(groups_.size()));
-  o.ring.utime = o.truth.utime = utime;
+  o.ring.utime = o.truth.utime = utime + std::llround(config_.clock_offset_s * 1e6);  // the sonar host's clock
   o.ring.seq = o.truth.seq = seq_++;
   o.ring.group = o.truth.group = static_cast<int16_t>(group);
   o.ring.num_sensors = static_cast<int16_t>(config_.sensors.size());
@@ -407,7 +409,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
 
 sonar_geometry_t SonarDriverCore::geometry(int64_t utime) const {
   sonar_geometry_t g;
-  g.utime = utime;
+  g.utime = utime + std::llround(config_.clock_offset_s * 1e6);
   for (const SonarSensor& s : config_.sensors) {
     g.mount.push_back(toMsg(s.mount));
     g.beam_width.push_back(reportedBeam(config_, s));

@@ -300,6 +300,22 @@ TEST(LaserPhysical, GlassReturnsOnlyNearNormalIncidence) {
   EXPECT_NEAR(scanFrom(ideal, {0, 0, 0}).ranges[ahead], 3.0, 1e-5);
 }
 
+// A scanner on a host whose clock runs ahead of the odometry's: LASER_SCAN and LASER_TRUTH
+// carry that clock's time, the ranges are those of the true reading times (README "Clocks").
+TEST(LaserDriver, ClockOffsetStampsTheScanNotTheReadings) {
+  const Scenario s = world("  - {shape: segment, material: wall, from: [2,-3], to: [2,3]}\n");
+  LaserConfig behind = noiseless();
+  behind.clock_offset_s = -0.02;
+  LaserDriverCore synced(s, noiseless(), 1), late(s, behind, 1);
+  const LaserDriverCore::Output a = scanAndTruthFrom(synced, {0, 0, 0});
+  const LaserDriverCore::Output b = scanAndTruthFrom(late, {0, 0, 0});
+  EXPECT_EQ(b.scan.utime, a.scan.utime - 20'000);
+  EXPECT_EQ(b.truth.utime, b.scan.utime);
+  EXPECT_EQ(b.scan.ranges, a.scan.ranges);
+  EXPECT_EQ(configMessage("  clock_offset_s: 0.01\n"), "no error");
+  EXPECT_NE(configMessage("  clock_offset_s: -4000\n").find("clock_offset_s"), std::string::npos);
+}
+
 TEST(LaserPhysical, DarkSurfacesDropOutWithRange) {
   // Black cardboard (remission 3 %) faces the scanner; with a 10 % target detected to 5 m it is
   // seen to 5 * sqrt(0.3) = 2.7 m head-on; white plaster (85 %) far beyond.

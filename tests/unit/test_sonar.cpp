@@ -344,6 +344,28 @@ TEST(SonarDriver, FiresWithTheTruthInterpolatedToTheFiringTime) {
   }
 }
 
+// A sonar on a host whose clock runs ahead of the odometry's: the messages carry that clock's
+// time, the readings are those of the true firing time (README "Clocks").
+TEST(SonarDriver, ClockOffsetStampsTheMessagesNotTheFiring) {
+  const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [3,-2], to: [3,2]}\n");
+  const std::string keys = "ring: {groups: 1}\nnoise_std: 0\nnoise_rel: 0\ncrosstalk_prob: 0\nforeign_prob: 0\n"
+                           "group_jitter_s: 0\n";
+  SonarDriverCore synced(s, sonarConfig(Config::fromString(keys)), 1);
+  SonarDriverCore ahead(s, sonarConfig(Config::fromString(keys + "clock_offset_s: 0.05\n")), 1);
+  for (SonarDriverCore* core : {&synced, &ahead}) core->onSimState(state(1'000'000, 0.0));
+  const auto a = synced.onSimState(state(1'100'000, 1.0));
+  const auto b = ahead.onSimState(state(1'100'000, 1.0));
+  ASSERT_EQ(a.size(), 3u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(b[k].ring.utime, a[k].ring.utime + 50'000);
+    EXPECT_EQ(b[k].truth.utime, b[k].ring.utime);  // the truth still joins its reading
+    EXPECT_EQ(b[k].ring.range[0], a[k].ring.range[0]);
+  }
+  EXPECT_EQ(ahead.geometry(1'000'000).utime, 1'050'000);
+  EXPECT_THROW(sonarConfig(Config::fromString("clock_offset_s: 7200\n")), ConfigError);
+}
+
 TEST(SonarDriver, SameSeedGivesIdenticalReadings) {
   const Scenario s = scenario(std::string(kRoom) +
                               "  - {shape: segment, material: metal, from: [0.5,1], to: [1.5,0.2]}\n"
