@@ -1,10 +1,12 @@
 #include "stages/complement_stage.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 
 #include "complement/messages.hpp"
+#include "core/physics.hpp"
 #include "stages/inputs.hpp"
 
 namespace lasonic {
@@ -26,13 +28,17 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     last_scan_utime_.reset();
     overlapping_reported_.clear();  // a restarted driver may fire another ring
     pings_.clear();
+    laser_stamps_.reset();
+    sonar_stamps_.reset();
   }
   return c != ClockCheck::Bad;
 }
 
 void ComplementStage::onOdometry(const odometry_t& m) {
   if (!timeOk(m.utime, channels::ODOMETRY)) return;
-  acceptOdometry(node_, poses_, m);
+  if (!acceptOdometry(node_, poses_, m)) return;
+  laser_stamps_.noteOdometry(m.utime);
+  sonar_stamps_.noteOdometry(m.utime);
 }
 
 namespace {
@@ -46,6 +52,14 @@ const std::string& classCounter(cp::SonarClass c) {
   }();
   const auto i = static_cast<size_t>(c);
   return names[i < kClasses ? i : static_cast<size_t>(cp::SonarClass::Invalid)];  // (className's "invalid")
+}
+// A datum of `channel` measured at `utime`, against the newest odometry (none yet: nothing to
+// compare); `listening_us`: how long after `utime` its driver can send at the earliest.
+void checkStamps(Node& node, StampAgreement& stamps, const PoseHistory& poses, int64_t utime, const char* channel,
+                 const char* counter_ahead, const char* counter_behind, int64_t listening_us = 0) {
+  if (poses.empty()) return;
+  if (const auto f = stamps.check(utime, poses.newestTime(), listening_us))
+    node.reportError(f->ahead ? counter_ahead : counter_behind, stamps.describe(*f, channel));
 }
 }  // namespace
 
@@ -86,6 +100,9 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
     // keep the previous Radar Map (it ages).
     if (no_pose == returns || !seen_from_known_pose) return;
   }
+  // (rm.utime: the scan's last reading, the newest pose the scan needed)
+  checkStamps(node_, laser_stamps_, poses_, rm.utime, channels::LASER_SCAN, "time.laser_ahead_of_odometry",
+              "time.laser_behind_odometry");
   rm.poles = poles_.update(rm.utime, rm.robot_pose.position(), rm.pole_candidates);
   line_map_t out = cp::radarMapToMessage(rm);
   node_.publish(channels::RADAR_MAP, out);
@@ -109,6 +126,11 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
                           "passes as complementary: fire them in different groups");
   }
 
+  // (A ring is sent once its echoes could have come back from range_max: a malformed range_max
+  // only makes that allowance 0 or at most a second.)
+  const double flight_s = std::isfinite(m.range_max) ? std::clamp(2.0 * m.range_max / kSpeedOfSound, 0.0, 1.0) : 0.0;
+  checkStamps(node_, sonar_stamps_, poses_, m.utime, channels::SONAR_RING, "time.sonar_ahead_of_odometry",
+              "time.sonar_behind_odometry", static_cast<int64_t>(flight_s * 1e6));
   const auto robot = poses_.at(m.utime);
   if (!robot)
     node_.reportError("rejected.sonar_no_odometry", "SONAR_RING utime " + std::to_string(m.utime) +

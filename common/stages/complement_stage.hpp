@@ -28,10 +28,14 @@
 //   group fired when no odometry is known are classified Invalid.
 // - An input whose time jumps back by more than TimeReset::kJumpUs (a restarted simulator or
 //   driver, a looping log) resets the stage to its start state (counted: time_resets).
+// - A laser scan or firing group whose time disagrees with the odometry's (StampAgreement: a
+//   driver's computer whose clock runs ahead or behind) is reported and used as it is:
+//   time.<laser|sonar>_<ahead_of|behind>_odometry, at most once per 5 s of message time each.
 #include "complement/complement_config.hpp"
 #include "complement/radar_map.hpp"
 #include "complement/shared_placement.hpp"
 #include "core/pose_history.hpp"
+#include "core/stamp_agreement.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
 
@@ -74,6 +78,7 @@ class ComplementStage {
   complement::PoleTracker poles_;
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
+  StampAgreement laser_stamps_, sonar_stamps_;  // each driver's clock against the odometry's
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   complement::PingHistory pings_;  // for late echoes
   std::set<std::pair<int, int>> overlapping_reported_;  // sensor pairs with overlapping beams, reported

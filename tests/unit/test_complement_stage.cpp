@@ -208,3 +208,24 @@ TEST_F(StageTest, ALateEchoOfTheGroupBeforeIsExplainedByTheFarWall) {
   EXPECT_EQ(cls(0), kComplementary);
   EXPECT_EQ(node.counter("redundant.late_echo"), 1);
 }
+
+// A laser and a sonar on computers whose clocks run ahead of the odometry's (README "Clocks"):
+// reported, named, counted, and the data still used.
+TEST_F(StageTest, AClockAheadOfTheOdometryIsReportedAndTheDataStillUsed) {
+  odometry(0, 200'000);
+  scan(0);  // one clock: nothing to report
+  EXPECT_EQ(node.counter("time.laser_ahead_of_odometry"), 0);
+  scan(250'000);  // its last reading 150 ms after the newest odometry
+  EXPECT_EQ(maps.size(), 2u);
+  EXPECT_EQ(node.counter("time.laser_ahead_of_odometry"), 1);
+  EXPECT_NE(node.status().lastError().find("LASER_SCAN stamped 150 ms later than the newest ODOMETRY"), std::string::npos)
+      << node.status().lastError();
+  ring(300'000, {kDoor}, {1.5});
+  ASSERT_EQ(comps.size(), 1u);
+  EXPECT_EQ(cls(0), kComplementary);
+  EXPECT_EQ(node.counter("time.sonar_ahead_of_odometry"), 1);
+  EXPECT_NE(node.status().lastError().find("SONAR_RING stamped 100 ms later"), std::string::npos) << node.status().lastError();
+  ring(310'000, {kDoor}, {1.5});  // once per 5 s of odometry time
+  EXPECT_EQ(node.counter("time.sonar_ahead_of_odometry"), 1);
+  EXPECT_EQ(node.counter("time.laser_behind_odometry") + node.counter("time.sonar_behind_odometry"), 0);
+}
