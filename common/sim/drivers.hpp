@@ -32,7 +32,7 @@ uint64_t deriveSeed(uint64_t seed, const char* stream);
 
 // ---------------------------------------------------------------- world + odometry
 struct OdometryConfig {
-  double rate_hz = 50;            // ODOMETRY and SIM_STATE rate
+  double rate_hz = 50;            // SIM_STATE rate (the truth the drivers interpolate), and ODOMETRY's
   double trans_noise = 0.01;      // [m/sqrt(m)] std-dev of distance error per sqrt(metre) driven
   double rot_noise = 0.005;       // [rad/sqrt(rad)] heading error per sqrt(radian) turned
   double drift_noise = 0.002;     // [rad/sqrt(m)] heading error per sqrt(metre) driven (wheel-base drift)
@@ -41,6 +41,9 @@ struct OdometryConfig {
   double scale_error = 0;         // distance read = true distance * (1 + scale_error) (wheel radius)
   double turn_scale_error = 0;    // heading change read = true * (1 + turn_scale_error) (wheel base)
   double curvature_error = 0;     // [rad/m] heading change read per metre driven (unequal wheels)
+  // ODOMETRY's own rate, if lower (0: rate_hz): a base that reports every 100 ms (a Pioneer's
+  // 10 Hz) while the truth stays fine-grained. The odometry still integrates every state.
+  double publish_hz = 0;
 };
 OdometryConfig odometryConfig(const Config& c, OdometryConfig base = {});  // throws ConfigError
 
@@ -60,6 +63,9 @@ class WorldCore {
   // the true start pose.
   odometry_t odometry() const;
   int64_t periodUs() const;
+  // Whether the state at utime (one of startUtime() + k * periodUs()) publishes ODOMETRY: the
+  // first state at or after each multiple of 1 / publish_hz.
+  bool odometryDue(int64_t utime) const;
   int64_t startUtime() const { return kStartUtime; }
   bool finished(int64_t utime) const;  // past duration_s
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "sim/drivers.hpp"
@@ -93,9 +94,15 @@ PathFollower::State PathFollower::at(double t) const {
 // ---------------------------------------------------------------- odometry config
 
 OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
-  c.allowOnly({"rate_hz", "trans_noise", "rot_noise", "drift_noise", "scale_error", "turn_scale_error",
+  c.allowOnly({"rate_hz", "publish_hz", "trans_noise", "rot_noise", "drift_noise", "scale_error", "turn_scale_error",
                "curvature_error"});
   base.rate_hz = c.get("rate_hz", base.rate_hz, Range::between(1, 1000));
+  base.publish_hz = c.get("publish_hz", base.publish_hz, Range::between(0, 1000));
+  if (base.publish_hz > base.rate_hz) {
+    std::ostringstream os;
+    os << "must be <= rate_hz (" << base.rate_hz << "): ODOMETRY is published with a state";
+    c.fail("publish_hz", os.str());
+  }
   base.trans_noise = c.get("trans_noise", base.trans_noise, Range::nonNegative());
   base.rot_noise = c.get("rot_noise", base.rot_noise, Range::nonNegative());
   base.drift_noise = c.get("drift_noise", base.drift_noise, Range::nonNegative());
@@ -182,6 +189,12 @@ void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robo
 }
 
 int64_t WorldCore::periodUs() const { return std::llround(1e6 / cfg_.rate_hz); }
+
+bool WorldCore::odometryDue(int64_t utime) const {
+  if (!(cfg_.publish_hz > 0) || cfg_.publish_hz >= cfg_.rate_hz) return true;
+  const int64_t every = std::llround(1e6 / cfg_.publish_hz);
+  return (utime - kStartUtime) % every < periodUs();
+}
 
 bool WorldCore::finished(int64_t utime) const { return utime > end_utime_; }
 

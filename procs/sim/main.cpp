@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       sim_state_t st = world.stateAt(utime);
       odometry_t od = world.odometry();
       write(channels::SIM_STATE, utime, st);
-      write(channels::ODOMETRY, utime, od);
+      if (world.odometryDue(utime)) write(channels::ODOMETRY, utime, od);
       if ((utime - world.startUtime()) % 1'000'000 < world.periodUs()) {
         sonar_geometry_t g = sonar.geometry(utime);
         write(channels::SONAR_GEOMETRY, utime, g);

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
       sim_state_t st = world.stateAt(utime);
       odometry_t od = world.odometry();
       node.publish(channels::SIM_STATE, st);
-      node.publish(channels::ODOMETRY, od);
+      if (world.odometryDue(utime)) node.publish(channels::ODOMETRY, od);
       node.noteMessageTime(utime);
       ++published;
       node.spinOnce(0);  // heartbeat

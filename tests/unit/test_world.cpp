@@ -279,6 +279,28 @@ TEST(WorldCore, OdometryConfigFromYaml) {
   EXPECT_THROW(odometryConfig(Config::fromString("rate: 20\n")), ConfigError);
 }
 
+// A base that reports odometry at 10 Hz while the truth runs at 50 Hz: every fifth state
+// publishes it, from the first on.
+TEST(WorldCore, OdometryPublishedAtItsOwnRate) {
+  const Scenario s = parse(kWorld);
+  OdometryConfig c;
+  c.publish_hz = 10;
+  const WorldCore w(s, c);
+  std::vector<int64_t> due;
+  for (int64_t t = w.startUtime(); t < w.startUtime() + 500'000; t += w.periodUs())
+    if (w.odometryDue(t)) due.push_back(t - w.startUtime());
+  EXPECT_EQ(due, (std::vector<int64_t>{0, 100'000, 200'000, 300'000, 400'000}));
+  const WorldCore every(s, OdometryConfig{});
+  EXPECT_TRUE(every.odometryDue(every.startUtime() + every.periodUs()));
+  EXPECT_EQ(odometryConfig(Config::fromString("publish_hz: 10\n")).publish_hz, 10);
+  try {
+    odometryConfig(Config::fromString("rate_hz: 20\npublish_hz: 50\n"));
+    ADD_FAILURE() << "publish_hz above rate_hz accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("publish_hz: must be <= rate_hz (20)"), std::string::npos) << e.what();
+  }
+}
+
 // Systematic odometry errors (UMBmark's) grow with what was driven and turned: without noise the
 // odometry reads exactly the biased motion.
 TEST(WorldCore, SystematicOdometryErrors) {
