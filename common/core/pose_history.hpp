@@ -14,7 +14,8 @@ class PoseHistory {
  public:
   // max_age_us: entries older than (newest - max_age_us) are dropped.
   // max_extrapolation_us: how far beyond the newest (or before the oldest) pose a query may
-  // reach; the pose is then held constant (the robot cannot have moved far).
+  // reach. Beyond the newest the robot goes on at the velocity of the last interval (if that
+  // interval is no longer than this limit; else, and before the oldest, the pose is held).
   explicit PoseHistory(int64_t max_age_us = 5'000'000, int64_t max_extrapolation_us = 200'000)
       : max_age_us_(max_age_us), max_extrapolation_us_(max_extrapolation_us) {}
 

@@ -153,6 +153,25 @@ TEST(PoseHistory, InterpolatesAndRefusesGoingBackwards) {
   EXPECT_FALSE(h.at(800'000));
 }
 
+// Odometry every 100 ms (a Pioneer's 10 Hz), the robot driving 0.4 m/s while turning 0.8 rad/s:
+// a reading 60 ms after the newest odometry is placed where the robot went on to. After a pause
+// longer than the limit there is no velocity to go on with: the newest pose is held.
+TEST(PoseHistory, BeyondTheNewestGoesOnAtTheLastVelocity) {
+  lasonic::PoseHistory h(10'000'000, 200'000);
+  ASSERT_EQ(h.add(1'000'000, {1.0, 2.0, 3.10}), lasonic::PoseHistory::AddResult::Ok);
+  EXPECT_NEAR(h.at(1'050'000)->x, 1.0, 1e-12);  // one pose: held
+  ASSERT_EQ(h.add(1'100'000, {1.04, 2.0, 3.18}), lasonic::PoseHistory::AddResult::Ok);
+  const auto p = h.at(1'160'000);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x, 1.064, 1e-12);
+  EXPECT_NEAR(p->y, 2.0, 1e-12);
+  EXPECT_NEAR(p->theta, 3.228 - 2 * lasonic::geom::kPi, 1e-12);  // across +-pi
+  EXPECT_FALSE(h.at(1'300'001));
+  ASSERT_EQ(h.add(1'400'000, {2.0, 2.0, 0.0}), lasonic::PoseHistory::AddResult::Ok);  // 300 ms gap
+  EXPECT_NEAR(h.at(1'450'000)->x, 2.0, 1e-12);
+  EXPECT_NEAR(h.at(1'450'000)->theta, 0.0, 1e-12);
+}
+
 // at() keeps a search hint; queries in any order (in order, backwards, random, around pop_front)
 // give exactly what a history without any hint (a fresh copy per query) gives.
 TEST(PoseHistory, QueriesInAnyOrderGiveTheSamePoses) {
