@@ -234,6 +234,8 @@ TEST(EvalSectorMap, ObservableSplitAndMissesByMaterial) {
   EXPECT_NEAR(m.number("sector_map.missed_by_material.wall"), 0.0, 1e-12);
   EXPECT_EQ(m.number("sector_map.samples.by_material.glass"), 16.0);
   EXPECT_EQ(m.number("sector_map.samples.observable"), n - 10.0);
+  EXPECT_EQ(m.number("sector_map.samples.within_range"), n);
+  EXPECT_EQ(m.number("sector_map.samples.missed"), 4.0);
   // (The baselines, laser_only included, are scored on the raw channels: eval_baselines.sh.)
   // The one observable miss was heard once, 0.4 s before its map: within the operational memory.
   EXPECT_NEAR(m.number("sector_map.observable_missed_by_cue.echo_once"), 1.0, 1e-12);
@@ -304,6 +306,17 @@ TEST(EvalBaselines, RunFromTheRawChannelsAtTheMapTimes) {
   const double naive = m.number("baselines.naive_fusion.sector_map.missed_rate");
   EXPECT_LT(naive, m.number("baselines.sonar_himm.sector_map.missed_rate"));
   EXPECT_LT(naive, m.number("baselines.log_odds.sector_map.missed_rate") + 1e-12);
+  // Every baseline is read out on the same samples, so its count of missed samples compares with
+  // another's (and lasonic's) where the rates, printed to four decimals, tie; the count is the rate's.
+  const double within = m.number("baselines.laser_only.sector_map.samples.within_range");
+  EXPECT_GT(within, 0);
+  for (const char* name : {"laser_only", "sonar_himm", "naive_fusion", "log_odds"}) {
+    const std::string p = std::string("baselines.") + name + ".sector_map.";
+    EXPECT_EQ(m.number(p + "samples.within_range"), within) << name;
+    EXPECT_NEAR(m.number(p + "samples.missed") / within, m.number(p + "missed_rate"), 1e-12) << name;
+  }
+  EXPECT_GT(m.number("baselines.sonar_himm.sector_map.samples.missed"),
+            m.number("baselines.naive_fusion.sector_map.samples.missed"));
   // Disabled: no keys.
   Metrics off;
   BaselinesConfig cfg = baselinesConfig(Config{});
