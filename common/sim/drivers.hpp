@@ -196,6 +196,13 @@ struct SonarConfig {
   // [s] The sonar's host clock minus the odometry's: SONAR_RING, SONAR_TRUTH and SONAR_GEOMETRY
   // are stamped this much later than the firing. 0: one clock (README "Clocks").
   double clock_offset_s = 0;
+  // [s] How long after its firing a group's SONAR_RING (and SONAR_TRUTH) is sent: a driver has
+  // the group's ranges only once its listening window has closed, 2 * range_max / 343 m/s
+  // (17.5 ms at 3 m); a negative value means that window. 0: at the firing (the message is
+  // stamped with the firing time either way).
+  double send_delay_s = -1;
+  // The send delay in effect: send_delay_s, or the listening window where it is negative.
+  double sendDelay() const { return send_delay_s >= 0 ? send_delay_s : 2.0 * range_max / 343.0; }
   // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
   // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
   double beam_scale = 1.0;
@@ -245,7 +252,8 @@ class SonarDriverCore {
     sonar_ring_t ring;
     sonar_truth_t truth;
   };
-  // Every group firing at or before st.utime. A state not after the previous one, with a
+  // Every group whose SONAR_RING is due at or before st.utime: fired at least sendDelay()
+  // earlier (each computed at its firing time). A state not after the previous one, with a
   // non-finite value or an unknown mover id is refused with std::invalid_argument (nothing
   // changes).
   std::vector<Output> onSimState(const sim_state_t& st);
@@ -263,6 +271,7 @@ class SonarDriverCore {
   std::optional<sim_state_t> last_;       // previous SIM_STATE, to interpolate the truth
   int64_t next_fire_utime_ = 0;
   std::mt19937_64 schedule_rng_;          // group_jitter_s
+  std::vector<std::pair<int64_t, Output>> pending_;  // fired, not yet sent: (due utime, output)
   int32_t seq_ = 0;
   std::unique_ptr<PhysicalSonar> physical_;     // the physical profile's state (pings, fluctuations)
   std::vector<geom::Vec2> mover_velocity_;      // true, from the last two SIM_STATEs, by mover id

@@ -78,7 +78,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
                "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
                "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
                "tvg_range_m", "air_absorption_db_per_m", "ray_step_deg", "ideal_beam_deg", "ideal_range",
-               "clock_offset_s"});
+               "clock_offset_s", "send_delay_s"});
   SonarConfig o = base;
   o.profile = c.getChoice("profile", o.profile, {{"physical", SensorProfile::Physical}, {"ideal", SensorProfile::Ideal}});
   if (c.has("ring") && c.has("sensors")) c.fail("sensors", "give either ring or sensors, not both");
@@ -100,6 +100,7 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
   o.group_jitter_s = c.get("group_jitter_s", o.group_jitter_s, Range::between(0, 1));
   o.clock_offset_s = c.get("clock_offset_s", o.clock_offset_s, Range::between(-3600, 3600));
+  if (c.has("send_delay_s")) o.send_delay_s = c.requireNum("send_delay_s", Range::between(0, 10));
   o.beam_scale = c.get("beam_scale", o.beam_scale, Range{0, 5, true});
   o.report_scaled_beam = c.get<bool>("report_scaled_beam", o.report_scaled_beam);
   o.rays_per_beam = c.get("rays_per_beam", o.rays_per_beam, Range::between(1, 10000));
@@ -355,14 +356,19 @@ std::vector<SonarDriverCore::Output> SonarDriverCore::onSimState(const sim_state
         if (ma.id == m.id)
           mover_velocity_[static_cast<size_t>(m.id)] =
               geom::Vec2(m.x - ma.x, m.y - ma.y) / (static_cast<double>(st.utime - last_->utime) * 1e-6);
-  std::vector<Output> out;
   const auto jitter_us = std::llround(config_.group_jitter_s * 1e6);
+  const auto delay_us = std::llround(config_.sendDelay() * 1e6);
   for (; next_fire_utime_ <= st.utime;) {
-    out.push_back(fire(next_fire_utime_, interpolateState(*last_, st, next_fire_utime_)));
+    pending_.emplace_back(next_fire_utime_ + delay_us, fire(next_fire_utime_, interpolateState(*last_, st, next_fire_utime_)));
     next_fire_utime_ += period_us_;
     if (jitter_us > 0) next_fire_utime_ += static_cast<int64_t>(schedule_rng_() % static_cast<uint64_t>(jitter_us + 1));
   }
   last_ = st;
+  // Sent in firing order once due (the delay is the same for every group, so the due times rise).
+  std::vector<Output> out;
+  size_t sent = 0;
+  for (; sent < pending_.size() && pending_[sent].first <= st.utime; ++sent) out.push_back(std::move(pending_[sent].second));
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(sent));
   return out;
 }
 

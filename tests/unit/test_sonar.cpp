@@ -295,12 +295,17 @@ TEST(SonarDriver, FiresGroupsInOrderEveryGroupPeriod) {
   SonarDriverCore core(s, c, s.seed);
   std::vector<SonarDriverCore::Output> all;
   const int64_t t0 = 1'000'000;
+  // Sent once the listening window has closed: 2 * 3.0 m / 343 m/s after the firing, with the
+  // first state at or after that.
+  const auto window_us = std::llround(2 * 3.0 / 343.0 * 1e6);
+  EXPECT_DOUBLE_EQ(c.sendDelay(), 2 * 3.0 / 343.0);
   for (int64_t t = t0; t <= t0 + 1'000'000; t += 20'000)
     for (auto& o : core.onSimState(state(t))) {
-      EXPECT_LE(o.ring.utime, t);  // never ahead of the truth
+      EXPECT_GE(t - o.ring.utime, window_us);         // not before its echoes could be in
+      EXPECT_LT(t - o.ring.utime, window_us + 20'000);  // and with the first state after that
       all.push_back(o);
     }
-  ASSERT_EQ(all.size(), 34u);  // firings at t0 + k*30 ms, k = 0..33
+  ASSERT_EQ(all.size(), 33u);  // firings at t0 + k*30 ms, k = 0..32 (k = 33 is due after t0 + 1 s)
   const auto ring = ringSensors(24, 0.35, deg2rad(30), 6);
   for (size_t k = 0; k < all.size(); ++k) {
     const sonar_ring_t& r = all[k].ring;
@@ -331,7 +336,8 @@ TEST(SonarDriver, FiresGroupsInOrderEveryGroupPeriod) {
 TEST(SonarDriver, FiresWithTheTruthInterpolatedToTheFiringTime) {
   const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [3,-2], to: [3,2]}\n");
   SonarConfig c = sonarConfig(Config::fromString("ring: {groups: 1}\nnoise_std: 0\nnoise_rel: 0\n"
-                                                 "crosstalk_prob: 0\nforeign_prob: 0\ngroup_jitter_s: 0\n"));
+                                                 "crosstalk_prob: 0\nforeign_prob: 0\ngroup_jitter_s: 0\n"
+                                                 "send_delay_s: 0\n"));
   SonarDriverCore core(s, c, 1);
   core.onSimState(state(1'000'000, 0.0));
   const auto out = core.onSimState(state(1'100'000, 1.0));  // 10 m/s, to make the point
@@ -364,6 +370,33 @@ TEST(SonarDriver, ClockOffsetStampsTheMessagesNotTheFiring) {
   }
   EXPECT_EQ(ahead.geometry(1'000'000).utime, 1'050'000);
   EXPECT_THROW(sonarConfig(Config::fromString("clock_offset_s: 7200\n")), ConfigError);
+}
+
+// A driver sends a group once its listening window has closed: later than the firing, with the
+// same readings and the firing's time in the message (README "Sensor models").
+TEST(SonarDriver, SendsAGroupAfterItsListeningWindow) {
+  const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [3,-2], to: [3,2]}\n");
+  const std::string keys = "ring: {groups: 1}\nnoise_std: 0\nnoise_rel: 0\ncrosstalk_prob: 0\nforeign_prob: 0\n"
+                           "group_jitter_s: 0\n";
+  SonarDriverCore at_firing(s, sonarConfig(Config::fromString(keys + "send_delay_s: 0\n")), 1);
+  SonarDriverCore after(s, sonarConfig(Config::fromString(keys + "send_delay_s: 0.025\n")), 1);
+  std::vector<std::pair<int64_t, SonarDriverCore::Output>> a, b;  // (state time it came with, output)
+  for (int64_t t = 1'000'000; t <= 1'200'000; t += 10'000) {
+    for (auto& o : at_firing.onSimState(state(t, 1e-6 * static_cast<double>(t - 1'000'000)))) a.emplace_back(t, o);
+    for (auto& o : after.onSimState(state(t, 1e-6 * static_cast<double>(t - 1'000'000)))) b.emplace_back(t, o);
+  }
+  ASSERT_EQ(a.size(), 7u);  // fired at 1.00, 1.03, ..., 1.18 s
+  ASSERT_EQ(b.size(), 6u);  // the one fired at 1.18 s is due at 1.205 s
+  for (size_t k = 0; k < b.size(); ++k) {
+    EXPECT_EQ(a[k].first, a[k].second.ring.utime);  // with the state that fired it
+    EXPECT_EQ(b[k].second.ring.utime, a[k].second.ring.utime);  // stamped with the firing
+    EXPECT_EQ(b[k].second.truth.utime, b[k].second.ring.utime);
+    EXPECT_EQ(b[k].first, (b[k].second.ring.utime + 25'000 + 9'999) / 10'000 * 10'000);  // first state >= due
+    EXPECT_EQ(b[k].second.ring.range[0], a[k].second.ring.range[0]);  // read at the firing
+  }
+  // The default is the listening window of the ring's range_max; a bad value names the key.
+  EXPECT_DOUBLE_EQ(sonarConfig(Config::fromString("range_max: 5")).sendDelay(), 10.0 / 343.0);
+  EXPECT_THROW(sonarConfig(Config::fromString("send_delay_s: -1\n")), ConfigError);
 }
 
 TEST(SonarDriver, SameSeedGivesIdenticalReadings) {
@@ -449,7 +482,7 @@ TEST(SonarDriver, ScenarioOverridesLayerOverTheFileConfig) {
 
 TEST(SonarDriver, RefusesBadSimStates) {
   const Scenario s = scenario(kRoom);
-  SonarDriverCore core(s, sonarConfig(Config::fromString("group_jitter_s: 0")), 1);
+  SonarDriverCore core(s, sonarConfig(Config::fromString("group_jitter_s: 0\nsend_delay_s: 0")), 1);
   core.onSimState(state(2'000'000));
   EXPECT_THROW(core.onSimState(state(1'000'000)), std::invalid_argument);  // backwards
   EXPECT_THROW(core.onSimState(state(2'000'000)), std::invalid_argument);  // repeated

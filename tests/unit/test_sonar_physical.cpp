@@ -39,8 +39,9 @@ std::string num(double v) { return std::to_string(v); }
 std::string pt(double x, double y) { return "[" + num(x) + ", " + num(y) + "]"; }
 
 // The physical profile without noise or random misreadings.
+// (Sent at the firing: a driver core's output comes with the state that fires it.)
 SonarConfig clean(const std::string& extra = "") {
-  return sonarConfig(Config::fromString("noise_std: 0\nnoise_rel: 0\nforeign_prob: 0\n" + extra));
+  return sonarConfig(Config::fromString("noise_std: 0\nnoise_rel: 0\nforeign_prob: 0\nsend_delay_s: 0\n" + extra));
 }
 
 // One firing of sensor 0 at `sensor` (a fresh model: no earlier pings).
