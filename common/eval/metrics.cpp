@@ -118,4 +118,40 @@ std::string Metrics::toTable() const {
   return os.str();
 }
 
+std::string Metrics::brief() const {
+  std::ostringstream os;
+  const auto num = [this](const char* key) -> const double* {
+    const Value* v = find(key);
+    return v ? std::get_if<double>(v) : nullptr;
+  };
+  const auto fmt = [](double d, int digits) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, d);
+    return std::string(buf);
+  };
+  if (const double *om = num("sector_map.observable_missed_rate"), *fa = num("sector_map.false_alarm_rate"); om && fa) {
+    os << "  sector map    observable missed " << fmt(*om, 4) << ", false alarms " << fmt(*fa, 4);
+    if (const double* share = num("sector_map.false_alarm_share_of_reports")) os << " (" << fmt(*share, 3) << " of reports)";
+    if (const double* lo = num("baselines.laser_only.sector_map.observable_missed_rate"))
+      os << "; the laser alone misses " << fmt(*lo, 4);
+    os << "\n";
+  }
+  if (const double* ir = num("complement.invisible_recall")) {
+    os << "  complement    invisible recall " << fmt(*ir, 3);
+    if (const double* sr = num("complement.specular_rejection")) os << ", specular rejection " << fmt(*sr, 3);
+    os << "\n";
+  }
+  if (const double *tr = num("agm_tactical.invisible_recall"), *tp = num("agm_tactical.precision"); tr && tp) {
+    os << "  tactical AGM  invisible recall " << fmt(*tr, 3) << " at precision " << fmt(*tp, 3);
+    if (const double* ms = num("agm_tactical.mover_share")) os << ", mover share " << fmt(*ms, 3);
+    os << "\n";
+  }
+  if (const double *lc = num("lines.invisible_coverage"), *lp = num("lines.precision"); lc && lp) {
+    os << "  lines         invisible coverage " << fmt(*lc, 3) << " at precision " << fmt(*lp, 3);
+    if (const double* n = num("lines.count")) os << " (" << fmt(*n, 1) << " lines per map)";
+    os << "\n";
+  }
+  return os.str();
+}
+
 }  // namespace lasonic::eval

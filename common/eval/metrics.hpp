@@ -20,6 +20,11 @@ class Metrics {
 
   std::string toJson() const;
   std::string toTable() const;
+  // The headline of a run in a few lines, after the long table (README "Evaluation" defines the
+  // keys): the sector map's observable misses and false alarms against the laser alone, the
+  // complement's recall and rejection, the tactical memory's and its lines' recall at their
+  // precision. A part whose keys the run lacks is left out; nothing at all: "".
+  std::string brief() const;
 
  private:
   std::vector<std::pair<std::string, Value>> entries_;

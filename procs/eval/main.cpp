@@ -84,6 +84,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::cout << "lasonic-eval: " << log_path << " (scenario " << scenario.name << ")\n" << metrics.toTable();
+    if (const std::string b = metrics.brief(); !b.empty())
+      std::cout << "\nIn brief (README \"Evaluation\" defines each key, \"Results\" gives the targets):\n" << b;
     if (!json_path.empty()) {
       std::ofstream out(json_path);
       if (!out) {

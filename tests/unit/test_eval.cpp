@@ -38,6 +38,24 @@ TEST(Metrics, JsonIsNestedAndOrdered) {
   EXPECT_DOUBLE_EQ(m.number("a.c"), 3.0);
 }
 
+TEST(Metrics, BriefHasTheHeadlineOfWhatTheRunHas) {
+  Metrics m;
+  EXPECT_EQ(m.brief(), "");
+  m.set("sector_map.observable_missed_rate", 0.0158);
+  m.set("sector_map.false_alarm_rate", 0.0263);
+  m.set("baselines.laser_only.sector_map.observable_missed_rate", 0.164);
+  m.set("lines.invisible_coverage", 0.7438);
+  m.set("lines.precision", 0.6716);
+  m.set("lines.count", 1.6667);
+  const std::string b = m.brief();
+  EXPECT_NE(b.find("observable missed 0.0158, false alarms 0.0263; the laser alone misses 0.1640"), std::string::npos) << b;
+  EXPECT_NE(b.find("invisible coverage 0.744 at precision 0.672 (1.7 lines per map)"), std::string::npos) << b;
+  // Parts the run does not have are left out, not shown as zeros.
+  EXPECT_EQ(b.find("tactical AGM"), std::string::npos) << b;
+  EXPECT_EQ(b.find("complement"), std::string::npos) << b;
+  EXPECT_EQ(b.find("of reports"), std::string::npos) << b;
+}
+
 TEST(TruthTrack, Interpolates) {
   std::vector<sim_state_t> st = {state(0, 0, 0, 0), state(1000, 1, 2, 0.2)};
   TruthTrack t(st);
