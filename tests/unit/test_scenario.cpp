@@ -340,4 +340,5 @@ INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
                          ::testing::Values("experiments/people_in_the_way", "experiments/creeping_mesh_corridor",
                                            "experiments/creeping_glass_corridor", "experiments/angled_mesh_room",
                                            "experiments/shop_front_arcade", "experiments/glass_meeting_rooms",
-                                           "experiments/long_glass_hall", "experiments/glass_loop"));
+                                           "experiments/long_glass_hall", "experiments/glass_loop",
+                                           "experiments/office_glass_hour"));
