@@ -21,6 +21,7 @@
 #include <lasonic/sonar_ring_t.hpp>
 #include <lasonic/sonar_truth_t.hpp>
 
+#include "core/physics.hpp"
 #include "sim/path_follower.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
@@ -202,7 +203,7 @@ struct SonarConfig {
   // stamped with the firing time either way).
   double send_delay_s = -1;
   // The send delay in effect: send_delay_s, or the listening window where it is negative.
-  double sendDelay() const { return send_delay_s >= 0 ? send_delay_s : 2.0 * range_max / 343.0; }
+  double sendDelay() const { return send_delay_s >= 0 ? send_delay_s : timeOfFlight(range_max); }
   // The simulated transducer's beam, relative to the nominal beam_width the driver publishes in
   // SONAR_RING (which the pipeline assumes): 0.8 = every lobe 20 % narrower.
   double beam_scale = 1.0;

@@ -43,8 +43,7 @@
 
 namespace lasonic::sim {
 
-// Round trip of an echo from a target at `range` [m], in seconds.
-inline double timeOfFlight(double range) { return 2.0 * range / kSpeedOfSound; }
+using lasonic::timeOfFlight;  // core/physics.hpp
 
 // A regular ring (MOBOT-IV): sensor i at bearing offset + i*360°/count on a circle of `radius`,
 // its axis pointing outward, in group i % groups (so 24 sensors in 6 groups fire 4 at a time,

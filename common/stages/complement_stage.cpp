@@ -128,7 +128,7 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
 
   // (A ring is sent once its echoes could have come back from range_max: a malformed range_max
   // only makes that allowance 0 or at most a second.)
-  const double flight_s = std::isfinite(m.range_max) ? std::clamp(2.0 * m.range_max / kSpeedOfSound, 0.0, 1.0) : 0.0;
+  const double flight_s = std::isfinite(m.range_max) ? std::clamp(timeOfFlight(m.range_max), 0.0, 1.0) : 0.0;
   checkStamps(node_, sonar_stamps_, poses_, m.utime, channels::SONAR_RING, "time.sonar_ahead_of_odometry",
               "time.sonar_behind_odometry", static_cast<int64_t>(flight_s * 1e6));
   const auto robot = poses_.at(m.utime);
