@@ -53,6 +53,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   // Every propagated cell is a line candidate unless configured otherwise.
   LineGenerationParams lines = p.lines;
   lines.gp_threshold = p.agm.g_threshold;
+  lines.neighbourhood = p.agm.t;  // the sums Gp is made of (one source: the AGM's t)
   p.lines = lineGenerationParams(c.section("lines"), lines);
   p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include "complement/radar_map.hpp"
 
 namespace lasonic {
 
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams p) {
-  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells", "refit_weights", "hidden_cells"});
+  c.allowOnly({"gp_threshold", "angle_bin_deg", "max_gap", "split_threshold", "min_cells", "min_length", "refit", "occlusion", "merge", "refit_cells", "refit_weights", "hidden_cells", "hidden_support"});
   p.gp_threshold = c.get("gp_threshold", p.gp_threshold, Range::between(1, 1e9));
   p.angle_bin_deg = c.get("angle_bin_deg", p.angle_bin_deg, Range{0.0, 90.0, true});
   p.max_gap = c.get("max_gap", p.max_gap, Range::positive());
@@ -27,6 +28,9 @@ LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams 
   p.hidden_cells = c.getChoice("hidden_cells", p.hidden_cells,
                                {{"drop", LineGenerationParams::HiddenCells::Drop},
                                 {"peel", LineGenerationParams::HiddenCells::Peel}});
+  p.hidden_support = c.getChoice("hidden_support", p.hidden_support,
+                                 {{"shared", LineGenerationParams::HiddenSupport::Shared},
+                                  {"own", LineGenerationParams::HiddenSupport::Own}});
   p.occlusion = c.getChoice("occlusion", p.occlusion,
                             {{"global", LineGenerationParams::Occlusion::Global},
                              {"per_cluster", LineGenerationParams::Occlusion::PerCluster}});
@@ -44,7 +48,7 @@ std::vector<CandidateCell> candidateCells(const AccumulativeGridMap& agm, int gp
   agm.forEachPositiveCell(ix0, iy0, ix0 + w - 1, iy0 + w - 1, [&](int ix, int iy, int g, int gp) {
     if (gp < gp_threshold) return;
     const int64_t cycle = agm.lastHitCycle(ix, iy);
-    out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle, g});
+    out.push_back({agm.evidencePoint(ix, iy), gp, support_of ? support_of(cycle) : cycle, g, ix, iy});
   });
   return out;
 }
@@ -309,11 +313,34 @@ std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<Candidate
   return out;
 }
 
+namespace {
+int64_t cellKey(const CandidateCell& c) {
+  return (static_cast<int64_t>(c.ix) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(c.iy));
+}
+
+// HiddenSupport::Own: the cell's Gp less the echoes of the explained cells in its neighbourhood
+// still reaches G_T.
+bool ownSupport(const CandidateCell& c, const std::unordered_map<int64_t, int>& explained,
+                const LineGenerationParams& p) {
+  if (c.ix == CandidateCell::kNoIndex || c.iy == CandidateCell::kNoIndex) return true;
+  int taken = 0;
+  for (int dy = -p.neighbourhood; dy <= p.neighbourhood; ++dy)
+    for (int dx = -p.neighbourhood; dx <= p.neighbourhood; ++dx) {
+      CandidateCell n;
+      n.ix = c.ix + dx;
+      n.iy = c.iy + dy;
+      if (const auto it = explained.find(cellKey(n)); it != explained.end()) taken += it->second;
+    }
+  return c.gp - taken >= p.gp_threshold;
+}
+}  // namespace
+
 std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geom::Pose2& robot, double cell_size,
                               const LineGenerationParams& p) {
   std::vector<LineRun> out;
   const double bin = geom::deg2rad(p.angle_bin_deg);
   std::vector<PolarCell> layer_cells = toPolar(group, robot);
+  std::unordered_map<int64_t, int> explained;  // cells a nearer layer took: their echoes (G)
   for (int layer = 0; layer < kMaxLineLayers && !layer_cells.empty(); ++layer) {
     const std::vector<char> keep = nearestMask(layer_cells, bin, cell_size);
     const size_t first = out.size();
@@ -337,7 +364,14 @@ std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geo
             break;
           }
       if (!taken) hidden.push_back(layer_cells[i]);
+      else explained.emplace(cellKey(layer_cells[i].cell), layer_cells[i].cell.g);
     }
+    for (size_t i = 0; i < layer_cells.size(); ++i)
+      if (keep[i]) explained.emplace(cellKey(layer_cells[i].cell), layer_cells[i].cell.g);
+    if (p.hidden_support == LineGenerationParams::HiddenSupport::Own)
+      hidden.erase(std::remove_if(hidden.begin(), hidden.end(),
+                                  [&](const PolarCell& h) { return !ownSupport(h.cell, explained, p); }),
+                   hidden.end());
     layer_cells = std::move(hidden);
   }
   return out;

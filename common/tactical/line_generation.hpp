@@ -22,6 +22,7 @@
 // Everything is in the global (odometry) frame except the polar coordinates.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "core/config.hpp"
@@ -64,6 +65,14 @@ struct LineGenerationParams {
   // memory holds every surface it has heard, also the one behind another (a box behind a fence,
   // the far side of a railing).
   enum class HiddenCells { Drop, Peel } hidden_cells = HiddenCells::Peel;
+  // What a peeled (hidden) cell must have to stay a candidate. Shared: its Gp, as every layer-0
+  // cell (today's rule). Own: G_T echoes in its neighbourhood that no nearer layer took: an echo
+  // locates one surface, so the echoes that made the nearer surface's cells (which the contrast
+  // propagation adds into every neighbour's Gp, also a stray single echo 0.1-0.2 m behind it)
+  // do not confirm a second surface behind it. Needs the cells' grid indices (candidateCells
+  // sets them); a cell without them keeps the shared rule.
+  enum class HiddenSupport { Shared, Own } hidden_support = HiddenSupport::Own;
+  int neighbourhood = 1;  // the AGM's t: Gp sums the (2t+1)^2 cells around a cell (agm.t)
 };
 // Reads a `lines:` section over `base`. Throws ConfigError naming the key path.
 LineGenerationParams lineGenerationParams(const Config& c, LineGenerationParams base = {});
@@ -73,6 +82,11 @@ struct CandidateCell {
   int gp = 0;           // propagated weight: the candidate test (Gp >= G_T)
   int64_t support = 0;  // when the cell was last hit (the caller's time unit, e.g. utime)
   int g = 0;            // the cell's own weight G, the echoes placed in it: the refit's weight
+  // The cell's grid indices (within one map), for the neighbourhood sums of
+  // LineGenerationParams::hidden_support; kNoIndex where the cell has none (hand-made cells).
+  static constexpr int kNoIndex = std::numeric_limits<int>::min();
+  int ix = kNoIndex;
+  int iy = kNoIndex;
 };
 
 struct PolarCell {

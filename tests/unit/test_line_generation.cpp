@@ -381,3 +381,77 @@ TEST(CurrentSensorMap, TagsEachLineWithItsSourceAndSupport) {
   csm.setAgmLines({});
   EXPECT_TRUE(csm.lines().empty());
 }
+
+namespace {
+// The lines (their mid-point y, sorted) of a tactical map (G_T = 5, t = 1, 0.1 m cells) holding
+// `hits`, seen from the origin facing +y, with the given rule for hidden cells.
+std::vector<double> hiddenSupportLines(const std::vector<Vec2>& hits, LineGenerationParams::HiddenSupport s,
+                                       size_t* candidates_at_1_25 = nullptr) {
+  AgmParams ap;
+  ap.g_threshold = 5;
+  ap.t = 1;
+  ap.h_max = 1000;
+  AccumulativeGridMap agm(ap);
+  agm.centreOn({0, 0});
+  agm.update(hits);
+  const auto cells = candidateCells(agm, ap.g_threshold);
+  if (candidates_at_1_25)
+    *candidates_at_1_25 = static_cast<size_t>(std::count_if(
+        cells.begin(), cells.end(), [](const CandidateCell& c) { return std::abs(c.centre.y() - 1.25) < 0.01; }));
+  LineGenerationParams p;
+  p.gp_threshold = ap.g_threshold;
+  p.neighbourhood = ap.t;
+  p.hidden_support = s;
+  std::vector<double> ys;
+  for (const AgmLine& l : generateLines(cells, {0, 0, geom::kPi / 2}, agm.cellSize(), p)) {
+    EXPECT_LT(std::abs(std::sin(angleOf(l))), 0.05);
+    ys.push_back(0.5 * (l.seg.a.y() + l.seg.b.y()));
+  }
+  std::sort(ys.begin(), ys.end());
+  return ys;
+}
+}  // namespace
+
+TEST(LineGeneration, AHiddenCellNeedsEchoesOfItsOwn) {
+  // A wall heard 4 times per cell in a band two cells deep (y = 1.05 and 1.15: the surface at
+  // 1.10) and single stray echoes in the row behind it (y = 1.25, 0.15 m off the surface: more
+  // than split_threshold, so no wall line takes them).
+  std::vector<Vec2> wall;
+  for (double x = -0.95; x < 1.0; x += 0.1)
+    for (int k = 0; k < 4; ++k) wall.insert(wall.end(), {{x, 1.05}, {x, 1.15}});
+  std::vector<Vec2> strays = wall;
+  for (double x : {-0.55, -0.35, -0.15, 0.05, 0.25}) strays.push_back({x, 1.25});
+  // The strays are candidates by their Gp: the wall's echoes in their neighbourhood.
+  size_t at_1_25 = 0;
+  const auto shared = hiddenSupportLines(strays, LineGenerationParams::HiddenSupport::Shared, &at_1_25);
+  EXPECT_EQ(at_1_25, 5u);
+  // Shared: they make a second line behind the wall's (its band refit draws it towards the
+  // wall's echoes, so it lies between the strays and the wall: a surface that is not there).
+  ASSERT_EQ(shared.size(), 2u);
+  EXPECT_NEAR(shared[0], 1.10, 0.02);
+  EXPECT_GT(shared[1], 1.14);
+  EXPECT_LT(shared[1], 1.26);
+  // Own: their support was the wall's echoes, which located the wall.
+  const auto own = hiddenSupportLines(strays, LineGenerationParams::HiddenSupport::Own);
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_NEAR(own[0], 1.10, 0.02);
+
+  // A surface 0.5 m behind the wall heard by echoes of its own (3 per cell, two rows) keeps its
+  // line under both rules.
+  std::vector<Vec2> behind = wall;
+  for (double x = -0.95; x < 1.0; x += 0.1)
+    for (int k = 0; k < 3; ++k) behind.insert(behind.end(), {{x, 1.55}, {x, 1.65}});
+  for (const auto s : {LineGenerationParams::HiddenSupport::Shared, LineGenerationParams::HiddenSupport::Own}) {
+    const auto ys = hiddenSupportLines(behind, s);
+    ASSERT_EQ(ys.size(), 2u);
+    EXPECT_NEAR(ys[0], 1.10, 0.02);
+    EXPECT_NEAR(ys[1], 1.60, 0.02);
+  }
+}
+
+TEST(LineGeneration, HiddenSupportIsAConfigKey) {
+  Config c = Config::fromString("hidden_support: shared");
+  EXPECT_EQ(lineGenerationParams(c).hidden_support, LineGenerationParams::HiddenSupport::Shared);
+  EXPECT_EQ(LineGenerationParams{}.hidden_support, LineGenerationParams::HiddenSupport::Own);
+  EXPECT_THROW(lineGenerationParams(Config::fromString("hidden_support: maybe")), ConfigError);
+}
