@@ -26,6 +26,12 @@ void decodeInto(const LogRecord& r, std::vector<T>& out, int64_t& bad) {
   else ++bad;
 }
 
+// A grid is kept without its zero cells as soon as it is decoded (eval/sparse_grid_map.hpp).
+void decodeGrid(const LogRecord& r, std::vector<SparseGridMap>& out, int64_t& bad) {
+  if (auto m = decodeAs<grid_map_t>(r.data)) out.emplace_back(*m);
+  else ++bad;
+}
+
 geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
 
 void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
@@ -47,8 +53,8 @@ RunLog loadRunLog(const std::string& path) {
     else if (ch == channels::SONAR_HYPOTHESIS) decodeInto(*r, log.hypotheses, log.undecodable);
     else if (ch == channels::SONAR_COMPLEMENT) decodeInto(*r, log.complements, log.undecodable);
     else if (ch == channels::SECTOR_MAP) decodeInto(*r, log.sector_maps, log.undecodable);
-    else if (ch == channels::AGM_OPERATIONAL) decodeInto(*r, log.agm_operational, log.undecodable);
-    else if (ch == channels::AGM_TACTICAL) decodeInto(*r, log.agm_tactical, log.undecodable);
+    else if (ch == channels::AGM_OPERATIONAL) decodeGrid(*r, log.agm_operational, log.undecodable);
+    else if (ch == channels::AGM_TACTICAL) decodeGrid(*r, log.agm_tactical, log.undecodable);
     else if (ch == channels::CURRENT_SENSOR_MAP) decodeInto(*r, log.current_sensor_maps, log.undecodable);
   }
   // Live logs interleave processes: order by message time (stable for equal times).
@@ -363,13 +369,12 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserS
     const geom::Pose2 true_from_odom = true_robot.compose(toPose(g.robot_pose).inverse());
     const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
     std::vector<geom::Vec2> occupied;
-    for (int iy = 0; iy < g.height; ++iy)
-      for (int ix = 0; ix < g.width; ++ix) {
-        const size_t idx = static_cast<size_t>(iy) * g.width + ix;
-        if (g.gp[idx] <= 0 || g.gp[idx] < g.gp_threshold) continue;
-        const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
-        occupied.push_back(true_from_odom.transform(c));
-      }
+    for (const SparseGridMap::Cell& cell : g.cells()) {  // row by row, as the message's arrays
+      if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
+      const int ix = cell.index % g.width, iy = cell.index / g.width;
+      const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+      occupied.push_back(true_from_odom.transform(c));
+    }
     for (const auto& c : occupied) {
       double best = kInf;
       for (const auto& p : world.primitives()) {

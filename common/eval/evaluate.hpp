@@ -21,6 +21,7 @@
 #include <lasonic/sonar_truth_t.hpp>
 
 #include "eval/metrics.hpp"
+#include "eval/sparse_grid_map.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
 #include "core/odometry_error.hpp"
@@ -39,8 +40,9 @@ struct RunLog {
   std::vector<hypothetical_scan_t> hypotheses;
   std::vector<complement_t> complements;
   std::vector<sector_map_t> sector_maps;
-  std::vector<grid_map_t> agm_operational;
-  std::vector<grid_map_t> agm_tactical;
+  // The grids without their zero cells (eval/sparse_grid_map.hpp): three quarters of a log's bytes.
+  std::vector<SparseGridMap> agm_operational;
+  std::vector<SparseGridMap> agm_tactical;
   std::vector<line_map_t> current_sensor_maps;
   int64_t undecodable = 0;  // events on known channels that did not decode
 };

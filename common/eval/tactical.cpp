@@ -38,7 +38,7 @@ double staticDistance(const sim::Scenario& sc, const geom::Vec2& c) {
 struct Window {
   geom::Pose2 odom_from_true;
   double x0, y0, x1, y1;
-  explicit Window(const grid_map_t& g, const geom::Pose2& true_from_odom)
+  explicit Window(const SparseGridMap& g, const geom::Pose2& true_from_odom)
       : odom_from_true(true_from_odom.inverse()),
         x0(g.origin_x),
         y0(g.origin_y),
@@ -50,17 +50,16 @@ struct Window {
   }
 };
 
-// Occupied cells (Gp >= the map's threshold) at their centres, moved into the true frame.
-std::vector<geom::Vec2> occupiedCells(const grid_map_t& g, const geom::Pose2& true_from_odom) {
+// Occupied cells (Gp >= the map's threshold) at their centres, moved into the true frame, row by
+// row (none for an incomplete map).
+std::vector<geom::Vec2> occupiedCells(const SparseGridMap& g, const geom::Pose2& true_from_odom) {
   std::vector<geom::Vec2> out;
-  if (g.width <= 0 || g.height <= 0 || static_cast<int64_t>(g.gp.size()) < int64_t{g.width} * g.height) return out;
-  for (int iy = 0; iy < g.height; ++iy)
-    for (int ix = 0; ix < g.width; ++ix) {
-      const size_t idx = static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix);
-      if (g.gp[idx] <= 0 || g.gp[idx] < g.gp_threshold) continue;
-      const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
-      out.push_back(true_from_odom.transform(c));
-    }
+  for (const SparseGridMap::Cell& cell : g.cells()) {
+    if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
+    const int ix = cell.index % g.width, iy = cell.index / g.width;
+    const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+    out.push_back(true_from_odom.transform(c));
+  }
   return out;
 }
 
@@ -318,7 +317,7 @@ void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen
     }
     lines += static_cast<int64_t>(sonar.size());
     // Coverage: located laser-invisible boundary inside the tactical AGM's window at this time.
-    const grid_map_t* g = sameTime(log.agm_tactical, csm.utime);
+    const SparseGridMap* g = sameTime(log.agm_tactical, csm.utime);
     if (!g) continue;
     const Window win(*g, true_from_odom);
     const int scan = seen.newestAt(csm.utime);
@@ -346,11 +345,9 @@ namespace {
 struct NearCells {
   int g = 0, gp = 0;
 };
-NearCells nearCells(const grid_map_t& g, const geom::Vec2& q, double r) {
+NearCells nearCells(const SparseGridMap& g, const geom::Vec2& q, double r) {
   NearCells out;
-  if (g.width <= 0 || g.height <= 0 || static_cast<int64_t>(g.gp.size()) < int64_t{g.width} * g.height ||
-      static_cast<int64_t>(g.g.size()) < int64_t{g.width} * g.height)
-    return out;
+  if (!g.complete()) return out;
   const double cs = g.cell_size;
   const int x0 = std::max(0, static_cast<int>(std::floor((q.x() - r - g.origin_x) / cs)));
   const int x1 = std::min(g.width - 1, static_cast<int>(std::floor((q.x() + r - g.origin_x) / cs)));
@@ -360,9 +357,9 @@ NearCells nearCells(const grid_map_t& g, const geom::Vec2& q, double r) {
     for (int ix = x0; ix <= x1; ++ix) {
       const geom::Vec2 c(g.origin_x + (ix + 0.5) * cs, g.origin_y + (iy + 0.5) * cs);
       if ((c - q).norm() > r) continue;
-      const size_t idx = static_cast<size_t>(iy) * static_cast<size_t>(g.width) + static_cast<size_t>(ix);
-      out.g = std::max(out.g, int{g.g[idx]});
-      out.gp = std::max(out.gp, g.gp[idx]);
+      const int64_t idx = int64_t{iy} * g.width + ix;
+      out.g = std::max(out.g, g.g(idx));
+      out.gp = std::max(out.gp, g.gp(idx));
     }
   return out;
 }

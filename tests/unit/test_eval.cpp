@@ -255,11 +255,75 @@ TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
   EXPECT_GT(recall, 0.5);
   EXPECT_LT(recall, 1.0);
   // Without the correct cell nothing of the boundary is found.
-  log.agm_operational[0].gp[cell(2.85, 2.05)] = 0;
+  g.gp[cell(2.85, 2.05)] = 0;
+  log.agm_operational = {g};
   Metrics m2;
   evalAgmOperational(log, sc, EvalOptions{}, m2);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.recall"), 0.0);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.precision"), 0.0);
+}
+
+// The evaluation holds a grid without its zero cells: every cell must still read as the message has it.
+TEST(SparseGridMap, EveryCellReadsAsInTheMessage) {
+  grid_map_t m{};
+  m.utime = 123;
+  m.robot_pose.x = 1.5;
+  m.robot_pose.theta = 0.25;
+  m.origin_x = -2.5;
+  m.origin_y = 0.75;
+  m.cell_size = 0.1f;
+  m.width = 7;
+  m.height = 5;
+  m.gp_threshold = 3;
+  m.g.assign(35, 0);
+  m.h.assign(35, 9);  // H is not kept
+  m.gp.assign(35, 0);
+  m.g[0] = 4;        // first cell, G only
+  m.gp[8] = 2;       // Gp propagated into a cell with G = 0
+  m.g[17] = 100;     // both
+  m.gp[17] = 250;
+  m.g[20] = -1;      // not in a shipped AGM, but kept as it is
+  m.gp[34] = 70000;  // last cell, beyond int16
+  const SparseGridMap s(m);
+  EXPECT_TRUE(s.complete());
+  EXPECT_EQ(s.utime, m.utime);
+  EXPECT_EQ(s.robot_pose.x, m.robot_pose.x);
+  EXPECT_EQ(s.robot_pose.theta, m.robot_pose.theta);
+  EXPECT_EQ(s.origin_x, m.origin_x);
+  EXPECT_EQ(s.origin_y, m.origin_y);
+  EXPECT_EQ(s.cell_size, m.cell_size);
+  EXPECT_EQ(s.width, m.width);
+  EXPECT_EQ(s.height, m.height);
+  EXPECT_EQ(s.gp_threshold, m.gp_threshold);
+  for (int64_t i = 0; i < 35; ++i) {
+    EXPECT_EQ(s.g(i), m.g[static_cast<size_t>(i)]) << "cell " << i;
+    EXPECT_EQ(s.gp(i), m.gp[static_cast<size_t>(i)]) << "cell " << i;
+  }
+  std::vector<int32_t> listed;
+  for (const auto& c : s.cells()) {
+    listed.push_back(c.index);
+    EXPECT_EQ(c.g, m.g[static_cast<size_t>(c.index)]);
+    EXPECT_EQ(c.gp, m.gp[static_cast<size_t>(c.index)]);
+  }
+  EXPECT_EQ(listed, (std::vector<int32_t>{0, 8, 17, 20, 34}));  // the nonzero cells, in index order
+
+  // An empty map: complete, no cells, every cell 0.
+  grid_map_t zero = m;
+  zero.g.assign(35, 0);
+  zero.gp.assign(35, 0);
+  const SparseGridMap z(zero);
+  EXPECT_TRUE(z.complete());
+  EXPECT_TRUE(z.cells().empty());
+  for (int64_t i = 0; i < 35; ++i) {
+    EXPECT_EQ(z.g(i), 0) << "cell " << i;
+    EXPECT_EQ(z.gp(i), 0) << "cell " << i;
+  }
+
+  // Arrays shorter than width * height: scored as an empty map.
+  grid_map_t short_gp = m;
+  short_gp.gp.resize(34);
+  EXPECT_FALSE(SparseGridMap(short_gp).complete());
+  EXPECT_TRUE(SparseGridMap(short_gp).cells().empty());
 }
 
 TEST(EvalSensors, CausesReflectorsAndLaserReturnsByMaterial) {

@@ -569,7 +569,9 @@ TEST(EvalTacticalBreakdown, SaysWhyLocatedPointsAreMissed) {
 
   // The same cell below G_T: the eight points near it are below threshold, the two beyond it
   // were located only 50 ms before the map.
-  heard.agm_tactical[0].gp[static_cast<size_t>(20 * 60 + 27)] = 1;
+  grid_map_t below = agmAt(850'000);
+  below.gp[static_cast<size_t>(20 * 60 + 27)] = 1;
+  heard.agm_tactical = {below};
   const Metrics c = breakdown(heard);
   EXPECT_EQ(c.number("agm_tactical.breakdown.missed.samples"), 10.0);
   EXPECT_DOUBLE_EQ(c.number("agm_tactical.breakdown.missed.below_threshold"), 0.8);
@@ -630,8 +632,9 @@ TEST(EvalTacticalBreakdown, RedoesTheLineGenerationWithTheRunsConfig) {
   const auto sc = boxRoom();
   RunLog log = twoScans(sc);
   addBoxEcho(log, 800'000, complement_reading_t::CLASS_COMPLEMENTARY);
-  log.agm_tactical = {agmAt(850'000)};
-  log.agm_tactical[0].gp[static_cast<size_t>(21 * 60 + 27)] = 5;  // a second cell (2.75, 2.15)
+  grid_map_t two_cells = agmAt(850'000);
+  two_cells.gp[static_cast<size_t>(21 * 60 + 27)] = 5;  // a second cell (2.75, 2.15)
+  log.agm_tactical = {two_cells};
   line_map_t csm{};  // no sonar line published
   csm.utime = 850'000;
   csm.robot_pose = log.agm_tactical[0].robot_pose;
