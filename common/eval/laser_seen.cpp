@@ -39,6 +39,7 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     scan.done = s.utime;
     for (size_t i = 0; i < n; ++i) scan.done = std::max<int64_t>(scan.done, s.utime + s.offset_us[i]);
     const geom::Pose2 mount = toPose(s.mount);
+    scan.points.reserve(n);
     for (size_t i = 0; i < n; ++i) {
       const int obstacle = t.obstacle[i];
       const float r = s.ranges[i];
@@ -58,6 +59,9 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     std::sort(scan.points.begin(), scan.points.end(), [](const Point& a, const Point& b) {
       return std::tie(a.obstacle, a.cx, a.cy) < std::tie(b.obstacle, b.cx, b.cy);
     });
+    // Each scan is kept for the whole evaluation: room for every reading while filling, then no
+    // spare capacity (grown by doubling, a scan of 720 readings with ~700 returns had room for 1,024).
+    scan.points.shrink_to_fit();
     scans_.push_back(std::move(scan));
   }
   // Live logs interleave processes: keep the scans in the order they were completed.
