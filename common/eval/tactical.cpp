@@ -477,10 +477,16 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     const Window win(g, true_from_odom);
     const int scan = seen.newestAt(g.utime);
     const geom::Pose2 odom_from_true = true_from_odom.inverse();
-    // The line generation redone on this map's occupied cells (centres, odometry frame), to tell
-    // where an uncovered point's cells were lost.
+    // The line generation redone on this map's occupied cells (centres, odometry frame, with
+    // their G, Gp and indices: the echo-weighted refit and the hidden cells' own support), to
+    // tell where an uncovered point's cells were lost.
     std::vector<CandidateCell> cand;
-    for (const auto& c : occupied) cand.push_back({odom_from_true.transform(c), g.gp_threshold, 0});
+    for (const SparseGridMap::Cell& cell : g.cells()) {
+      if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
+      const int ix = cell.index % g.width, iy = cell.index / g.width;
+      cand.push_back({geom::Vec2(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size), cell.gp,
+                      0, cell.g, ix, iy});
+    }
     const geom::Pose2 robot = toPose(g.robot_pose);
     std::vector<std::vector<PolarCell>> runs;
     std::vector<std::vector<AgmLine>> run_lines;
