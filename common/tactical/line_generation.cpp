@@ -314,23 +314,20 @@ std::vector<std::vector<CandidateCell>> clusterCells(const std::vector<Candidate
 }
 
 namespace {
-int64_t cellKey(const CandidateCell& c) {
-  return (static_cast<int64_t>(c.ix) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(c.iy));
+uint64_t cellKey(int ix, int iy) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) | static_cast<uint64_t>(static_cast<uint32_t>(iy));
 }
+bool hasIndex(const CandidateCell& c) { return c.ix != CandidateCell::kNoIndex && c.iy != CandidateCell::kNoIndex; }
 
 // HiddenSupport::Own: the cell's Gp less the echoes of the explained cells in its neighbourhood
 // still reaches G_T.
-bool ownSupport(const CandidateCell& c, const std::unordered_map<int64_t, int>& explained,
+bool ownSupport(const CandidateCell& c, const std::unordered_map<uint64_t, int>& explained,
                 const LineGenerationParams& p) {
-  if (c.ix == CandidateCell::kNoIndex || c.iy == CandidateCell::kNoIndex) return true;
+  if (!hasIndex(c)) return true;
   int taken = 0;
   for (int dy = -p.neighbourhood; dy <= p.neighbourhood; ++dy)
-    for (int dx = -p.neighbourhood; dx <= p.neighbourhood; ++dx) {
-      CandidateCell n;
-      n.ix = c.ix + dx;
-      n.iy = c.iy + dy;
-      if (const auto it = explained.find(cellKey(n)); it != explained.end()) taken += it->second;
-    }
+    for (int dx = -p.neighbourhood; dx <= p.neighbourhood; ++dx)
+      if (const auto it = explained.find(cellKey(c.ix + dx, c.iy + dy)); it != explained.end()) taken += it->second;
   return c.gp - taken >= p.gp_threshold;
 }
 }  // namespace
@@ -340,7 +337,10 @@ std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geo
   std::vector<LineRun> out;
   const double bin = geom::deg2rad(p.angle_bin_deg);
   std::vector<PolarCell> layer_cells = toPolar(group, robot);
-  std::unordered_map<int64_t, int> explained;  // cells a nearer layer took: their echoes (G)
+  std::unordered_map<uint64_t, int> explained;  // cells a nearer layer took: their echoes (G)
+  const auto explain = [&explained](const CandidateCell& c) {
+    if (hasIndex(c)) explained.emplace(cellKey(c.ix, c.iy), c.g);
+  };
   for (int layer = 0; layer < kMaxLineLayers && !layer_cells.empty(); ++layer) {
     const std::vector<char> keep = nearestMask(layer_cells, bin, cell_size);
     const size_t first = out.size();
@@ -364,10 +364,10 @@ std::vector<LineRun> lineRuns(const std::vector<CandidateCell>& group, const geo
             break;
           }
       if (!taken) hidden.push_back(layer_cells[i]);
-      else explained.emplace(cellKey(layer_cells[i].cell), layer_cells[i].cell.g);
+      else explain(layer_cells[i].cell);
     }
     for (size_t i = 0; i < layer_cells.size(); ++i)
-      if (keep[i]) explained.emplace(cellKey(layer_cells[i].cell), layer_cells[i].cell.g);
+      if (keep[i]) explain(layer_cells[i].cell);
     if (p.hidden_support == LineGenerationParams::HiddenSupport::Own)
       hidden.erase(std::remove_if(hidden.begin(), hidden.end(),
                                   [&](const PolarCell& h) { return !ownSupport(h.cell, explained, p); }),
