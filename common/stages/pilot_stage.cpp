@@ -75,7 +75,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "dark_continuation_m", "motion_confirmation"};
+                                   "laser_memory_coast_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -114,6 +114,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
   p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
+  p.laser_memory_dark = c.get<bool>("laser_memory_dark", p.laser_memory_dark);
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
     const Config m = c.section("mover_prediction");
@@ -286,6 +287,40 @@ void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
                   : 0;
 }
 
+namespace {
+// The bearings of a scan whose readings came back empty (laser_memory_dark): at(p) is true where
+// the reading nearest to p's bearing from the scanner (the pose at the scan's last reading, as
+// LaserView) and its two neighbours all had no return. Readings are taken as evenly spaced
+// between the first and the last reading's angle.
+class DarkBearings {
+ public:
+  DarkBearings(const complement::LaserScan& scan, const complement::LaserView& view, const std::vector<uint8_t>& empty)
+      : view_(view), empty_(empty), n_(std::min(scan.readings.size(), empty.size())), full_(scan.full_circle) {
+    if (n_ >= 2) step_ = (view.angle_max - view.angle_min) / static_cast<double>(n_ - 1);
+  }
+  bool at(const geom::Vec2& p) const {
+    if (n_ < 2 || !(step_ > 0)) return false;
+    const geom::Vec2 d = p - view_.sensor.position();
+    double a = std::atan2(d.y(), d.x()) - view_.sensor.theta - view_.angle_min;
+    a -= 2 * geom::kPi * std::floor(a / (2 * geom::kPi));  // [0, 2 pi) from the first reading
+    const auto k = static_cast<int64_t>(std::llround(a / step_));
+    for (int64_t j = k - 1; j <= k + 1; ++j) {
+      int64_t i = j;
+      if (full_) i = ((i % static_cast<int64_t>(n_)) + static_cast<int64_t>(n_)) % static_cast<int64_t>(n_);
+      if (i < 0 || i >= static_cast<int64_t>(n_) || !empty_[static_cast<size_t>(i)]) return false;
+    }
+    return true;
+  }
+
+ private:
+  const complement::LaserView& view_;
+  const std::vector<uint8_t>& empty_;
+  size_t n_;
+  bool full_;
+  double step_ = 0;
+};
+}  // namespace
+
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
                   std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest) {
   // Every element written and the count advanced by validity (no branch per reading); the
@@ -348,8 +383,10 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
-  // A full-circle scanner sees everywhere: nothing to remember (LaserMemory would keep nothing).
-  const bool remember = laser_memory_.enabled() && !scan->full_circle && !scan->readings.empty();
+  // A full-circle scanner sees everywhere: nothing to remember (LaserMemory would keep nothing)
+  // but, with laser_memory_dark, where its readings came back empty.
+  const bool remember =
+      laser_memory_.enabled() && (!scan->full_circle || cfg_.laser_memory_dark) && !scan->readings.empty();
   if (!remember) laser_memory_.clear();
 
   int no_pose = 0;
@@ -377,11 +414,11 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   } else if (remember) {
     still = points;  // every return, before the dark continuation adds its points below
   }
+  if (cfg_.dark_continuation.length > 0 || (remember && cfg_.laser_memory_dark)) noReturnMask(m, no_return_);
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
     // scan's alone. The run's jump and fit rules are the Radar Map's (`complement.radar_map`).
-    noReturnMask(m, no_return_);
     const size_t before = points.size();
     complement::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); },
                                  cfg_.scan_cut, cfg_.dark_continuation, points);
@@ -398,8 +435,16 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // that pose nothing tells what the scan covered: nothing is remembered or recalled.
   if (const auto robot = poses_.at(newest); remember && robot) {
     const complement::LaserView view = complement::laserViewOf(*scan, *robot);
-    laser_memory_.update(newest, robot->position(), still, moving,
-                         [&view](const geom::Vec2& p) { return view.covers(p); });
+    if (cfg_.laser_memory_dark) {
+      // The newest scan decides where it looked and a reading came back; where the reading nearest
+      // in bearing and both its neighbours came back empty, an earlier return stays.
+      const DarkBearings dark(*scan, view, no_return_);
+      laser_memory_.update(newest, robot->position(), still, moving,
+                           [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !dark.at(p); });
+    } else {
+      laser_memory_.update(newest, robot->position(), still, moving,
+                           [&view](const geom::Vec2& p) { return view.covers(p); });
+    }
     const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
     if (!coasting.empty()) {
       moving.insert(moving.end(), coasting.begin(), coasting.end());

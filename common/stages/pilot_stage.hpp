@@ -102,6 +102,13 @@ struct PilotConfig {
   // A person the laser saw walking, who walked on where it does not look, is reported where they
   // would be by now for this long after the laser last saw them (LaserMemoryParams::coast_s).
   double laser_memory_coast_s = 1.0;
+  // Beyond the paper: the laser memory also keeps an earlier return where the newest scan's
+  // reading in its bearing came back empty, for any scanner (a 360 deg one too). An empty reading
+  // is no free space: a dark face at its detection limit (black cardboard up to 2.7 m head-on)
+  // returns in one scan and not in the next, and a return's surface is then still there. A return
+  // in that bearing (nearer or farther) decides, as everywhere else. false: the memory only where
+  // the scanner does not look.
+  bool laser_memory_dark = true;
   // Beyond the paper: a straight run of returns that ends in readings with no return is continued
   // along its line into them, up to `length` past its last return (complement/dark_continuation.hpp):
   // a return stands for its surface 0.10 m around it, as for laser_explains_radius. 0: off (the paper).

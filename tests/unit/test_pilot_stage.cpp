@@ -803,3 +803,61 @@ TEST(PilotDarkContinuation, ADarkFaceGoesOnPastItsLastReturn) {
     EXPECT_LT(points, mapOfADarkFace(0.10).second);
   }
 }
+
+// A 360 deg scanner (720 readings of 0.5 deg) sees a face 1 m to the left of a standing robot;
+// the next scan's readings there come back empty (a dark face at its detection limit), or hold a
+// return 2 m away. Returns the last SECTOR_MAP's value in the sector to the left.
+namespace {
+sector_map_t mapAfterTheFaceGoesDark(bool memory_dark, bool farther_return) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig cfg;
+  cfg.laser_memory_dark = memory_dark;
+  cfg.dark_continuation.length = 0;  // the memory alone
+  PilotStage stage{node, cfg};
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  const auto drain = [&node] {
+    while (node.spinOnce(0) > 0) {
+    }
+  };
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, 0.0};
+    node.publish(channels::ODOMETRY, o);
+  }
+  drain();
+  const auto scan = [&](int64_t utime, double range) {
+    laser_scan_t s = noReturnScan(utime, -kPi, geom::deg2rad(0.5), 720, 200'000);
+    if (range > 0)
+      for (int i = 540 - 60; i <= 540 + 60; ++i) {  // +90 deg +- 30 deg: a face 1 m (or 2 m) to the left
+        s.ranges[static_cast<size_t>(i)] = static_cast<float>(range / std::cos(geom::deg2rad(0.5 * (i - 540))));
+        s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+      }
+    node.publish(channels::LASER_SCAN, s);
+    drain();
+  };
+  scan(100'000, 1.0);
+  scan(400'000, farther_return ? 2.0 : 0.0);
+  EXPECT_EQ(maps.size(), 2u);
+  return maps.empty() ? sector_map_t{} : maps.back();
+}
+}  // namespace
+
+// An empty reading is no free space: the face a scan saw stays (as a laser value, remembered)
+// while the next scan reads nothing there; a return in that bearing decides; without
+// laser_memory_dark a 360 deg scanner's newest scan alone decides (the paper).
+TEST(PilotLaserMemory, AFaceThatGoesDarkStaysUntilAReturnSaysOtherwise) {
+  const int left = 36;  // [90, 97.5) deg
+  ASSERT_TRUE(PilotConfig{}.laser_memory_dark);
+  const sector_map_t dark = mapAfterTheFaceGoesDark(true, false);
+  ASSERT_EQ(dark.nsectors, 48);
+  EXPECT_EQ(dark.source[left], kLaser);
+  EXPECT_NEAR(dark.laser_distance[left], 1.0 - 0.35, 0.01);
+  const sector_map_t farther = mapAfterTheFaceGoesDark(true, true);
+  ASSERT_EQ(farther.nsectors, 48);
+  EXPECT_NEAR(farther.laser_distance[left], 2.0 - 0.35, 0.01);  // the face is gone: 2 m now
+  const sector_map_t paper = mapAfterTheFaceGoesDark(false, false);
+  ASSERT_EQ(paper.nsectors, 48);
+  EXPECT_EQ(paper.source[left], kNone);
+}
