@@ -85,6 +85,25 @@ struct LaserView {
 // The view of `scan` with the robot at `robot` (the pose at the scan's last reading).
 LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot);
 
+// The bearings in which a scan's readings came back empty (an empty reading is no free space:
+// the pilot's laser memory keeps earlier returns there). at(p) is true where the reading nearest
+// to p's bearing from the view's sensor pose and its two neighbours all had no return (empty[i]
+// nonzero for reading i). Readings are taken as evenly spaced from the first to the last
+// reading's angle; the last neighbours the first only for a full circle. Holds a reference to
+// `view`, which must outlive it.
+class DarkBearings {
+ public:
+  DarkBearings(const LaserScan& scan, const LaserView& view, const std::vector<uint8_t>& empty);
+  bool at(const geom::Vec2& p) const;
+
+ private:
+  const LaserView& view_;
+  std::vector<uint8_t> dark_;  // reading i and both neighbours came back empty
+  bool any_ = false;           // some reading is dark: else at() is false everywhere
+  bool full_ = false;          // the last reading neighbours the first
+  double step_ = 0;
+};
+
 // A corner of the Radar Map: two of its segments that meet (end points within `join`) at a
 // right angle (within `angle_tol`). A right-angled corner sends sound back parallel to how it
 // came (twice reflected), so a neighbouring transducer can hear another's ping by way of it.

@@ -61,17 +61,17 @@ class LaserMemory {
       return utime - r.utime <= max_age_us && (p_.reach <= 0 || (r.p - robot).squaredNorm() <= reach2) &&
              !covers(r.p);
     };
-    std::vector<Remembered> kept;
-    kept.reserve(remembered_.size());
+    std::vector<Remembered>& kept = kept_;  // (scratch, swapped with remembered_ below)
+    kept.clear();
     for (const Remembered& r : remembered_)
       if (keep(r)) kept.push_back(r);
     for (const geom::Vec2& p : last_)
       if (const Remembered r{p, last_utime_}; keep(r)) kept.push_back(r);
-    remembered_ = std::move(kept);
+    std::swap(remembered_, kept);
     points_.clear();
     points_.reserve(remembered_.size());
     for (const Remembered& r : remembered_) points_.push_back(r.p);
-    last_ = points;
+    last_.assign(points.begin(), points.end());  // (storage reused scan to scan)
     last_utime_ = utime;
 
     std::vector<Coasting> coasting;
@@ -109,7 +109,7 @@ class LaserMemory {
     int64_t utime = 0;  // the scan's newest reading
   };
   LaserMemoryParams p_;
-  std::vector<Remembered> remembered_;
+  std::vector<Remembered> remembered_, kept_;
   std::vector<geom::Vec2> points_;
   std::vector<geom::Vec2> last_;  // the newest scan's returns (in its own view: not remembered yet)
   int64_t last_utime_ = 0;

@@ -287,39 +287,6 @@ void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
                   : 0;
 }
 
-namespace {
-// The bearings of a scan whose readings came back empty (laser_memory_dark): at(p) is true where
-// the reading nearest to p's bearing from the scanner (the pose at the scan's last reading, as
-// LaserView) and its two neighbours all had no return. Readings are taken as evenly spaced
-// between the first and the last reading's angle.
-class DarkBearings {
- public:
-  DarkBearings(const complement::LaserScan& scan, const complement::LaserView& view, const std::vector<uint8_t>& empty)
-      : view_(view), empty_(empty), n_(std::min(scan.readings.size(), empty.size())), full_(scan.full_circle) {
-    if (n_ >= 2) step_ = (view.angle_max - view.angle_min) / static_cast<double>(n_ - 1);
-  }
-  bool at(const geom::Vec2& p) const {
-    if (n_ < 2 || !(step_ > 0)) return false;
-    const geom::Vec2 d = p - view_.sensor.position();
-    double a = std::atan2(d.y(), d.x()) - view_.sensor.theta - view_.angle_min;
-    a -= 2 * geom::kPi * std::floor(a / (2 * geom::kPi));  // [0, 2 pi) from the first reading
-    const auto k = static_cast<int64_t>(std::llround(a / step_));
-    for (int64_t j = k - 1; j <= k + 1; ++j) {
-      int64_t i = j;
-      if (full_) i = ((i % static_cast<int64_t>(n_)) + static_cast<int64_t>(n_)) % static_cast<int64_t>(n_);
-      if (i < 0 || i >= static_cast<int64_t>(n_) || !empty_[static_cast<size_t>(i)]) return false;
-    }
-    return true;
-  }
-
- private:
-  const complement::LaserView& view_;
-  const std::vector<uint8_t>& empty_;
-  size_t n_;
-  bool full_;
-  double step_ = 0;
-};
-}  // namespace
 
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
                   std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest) {
@@ -387,6 +354,11 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // but, with laser_memory_dark, where its readings came back empty.
   const bool remember =
       laser_memory_.enabled() && (!scan->full_circle || cfg_.laser_memory_dark) && !scan->readings.empty();
+  bool mask_made = false;  // no_return_ holds this scan's empty readings
+  if (remember && cfg_.laser_memory_dark) {
+    noReturnMask(m, no_return_);
+    mask_made = true;
+  }
   if (!remember) laser_memory_.clear();
 
   int no_pose = 0;
@@ -400,21 +372,24 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   std::vector<SectorMap::MovingPoint> moving;
   // What the laser memory may keep: returns known to stand still (all of them without the
   // mover prediction).
-  std::vector<geom::Vec2> still;
+  std::vector<geom::Vec2>& still = still_;  // (storage reused scan to scan)
+  still.clear();
   if (cfg_.predict_movers) {
     // The robot at the middle of the scan (its readings span one revolution).
     const int64_t mid = m.utime + (newest - m.utime) / 2;
     const std::vector<MoverPrediction::MovingRun>& runs =
         movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
-    if (remember)
+    if (remember) {
+      still.reserve(timed_.size());
       for (size_t i = 0; i < timed_.size(); ++i)
         if (movers_.still()[i]) still.push_back(timed_[i].p);
+    }
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
   } else if (remember) {
-    still = points;  // every return, before the dark continuation adds its points below
+    still.assign(points.begin(), points.end());  // every return, before the dark continuation adds its points below
   }
-  if (cfg_.dark_continuation.length > 0 || (remember && cfg_.laser_memory_dark)) noReturnMask(m, no_return_);
+  if (cfg_.dark_continuation.length > 0 && !mask_made) noReturnMask(m, no_return_);
   if (cfg_.dark_continuation.length > 0) {
     // Where a straight run of returns ends in readings that came back empty, its surface goes on
     // unseen (complement/dark_continuation.hpp). Not kept by the laser memory: it is the newest
@@ -438,7 +413,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     if (cfg_.laser_memory_dark) {
       // The newest scan decides where it looked and a reading came back; where the reading nearest
       // in bearing and both its neighbours came back empty, an earlier return stays.
-      const DarkBearings dark(*scan, view, no_return_);
+      const complement::DarkBearings dark(*scan, view, no_return_);
       laser_memory_.update(newest, robot->position(), still, moving,
                            [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !dark.at(p); });
     } else {

@@ -201,6 +201,7 @@ class PilotStage {
   std::optional<complement::LaserScan> own_scan_;  // (without placement_: the decoded scan, storage reused)
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<geom::Vec2> laser_points_;  // (the sector map's previous list, handed back: storage reused)
+  std::vector<geom::Vec2> still_;         // (the returns the laser memory may keep: storage reused)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
   std::vector<uint8_t> no_return_;  // (per reading of the scan: FLAG_NO_RETURN; storage reused)
 };

@@ -51,6 +51,7 @@
 #include "stages/inputs.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
+#include "operational/laser_memory.hpp"
 
 using namespace lasonic;
 namespace cp = lasonic::complement;
@@ -130,7 +131,9 @@ class Replayer {
         sector_map_(pcfg_.sector_map),
         placer_(pcfg_.placement),
         motion_confirmation_(motionConfirmationParams(pcfg_)),
-        movers_(pcfg_.mover_prediction) {}
+        movers_(pcfg_.mover_prediction),
+        laser_memory_(LaserMemoryParams{pcfg_.laser_memory_s, pcfg_.sector_map.robot_radius + pcfg_.sector_map.max_range,
+                                        pcfg_.laser_memory_coast_s}) {}
 
   bool done() const { return next_ >= run_.inputs.size(); }
   bool nextIsGroup() const { return !done() && std::holds_alternative<sonar_ring_t>(run_.inputs[next_]); }
@@ -173,18 +176,49 @@ class Replayer {
       std::vector<geom::Vec2>& points = points_;  // (as PilotStage: the previous scan's storage)
       int64_t newest = ls->utime;
       validReturns(placed, scan->readings, points, pcfg_.predict_movers ? &timed_ : nullptr, newest);  // (as PilotStage)
+      // pilot.laser_memory_s / laser_memory_dark: what earlier scans saw where this one does not
+      // look or read nothing (PilotStage::onLaserScan).
+      const bool remember = laser_memory_.enabled() && (!scan->full_circle || pcfg_.laser_memory_dark) &&
+                      !scan->readings.empty();
+      bool mask_made = false;
+      if (remember && pcfg_.laser_memory_dark) {
+        noReturnMask(*ls, no_return_);
+        mask_made = true;
+      }
+      if (!remember) laser_memory_.clear();
       // pilot.predict_movers: returns of small clusters moving scan to scan (PilotStage::onLaserScan).
       std::vector<SectorMap::MovingPoint> moving;
+      std::vector<geom::Vec2>& still = still_;  // (storage reused scan to scan)
+  still.clear();
       if (pcfg_.predict_movers) {
         const int64_t mid = ls->utime + (newest - ls->utime) / 2;
         const std::vector<MoverPrediction::MovingRun>& runs =
             movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+        if (remember) {
+          still.reserve(timed_.size());
+          for (size_t i = 0; i < timed_.size(); ++i)
+            if (movers_.still()[i]) still.push_back(timed_[i].p);
+        }
         takeOutMovers(timed_, runs, points, moving);
+      } else if (remember) {
+        still.assign(points.begin(), points.end());
       }
+      if (pcfg_.dark_continuation.length > 0 && !mask_made) noReturnMask(*ls, no_return_);
       if (pcfg_.dark_continuation.length > 0) {  // (as PilotStage: a surface that goes dark goes on)
-        noReturnMask(*ls, no_return_);
         cp::darkContinuation(*scan, placed, no_return_, [this](int64_t t) { return poses_.at(t); }, pcfg_.scan_cut,
                              pcfg_.dark_continuation, points);
+      }
+      if (const auto robot = poses_.at(newest); remember && robot) {
+        const cp::LaserView view = cp::laserViewOf(*scan, *robot);
+        const cp::DarkBearings dark(*scan, view, no_return_);
+        const bool use_dark = pcfg_.laser_memory_dark;
+        laser_memory_.update(newest, robot->position(), still, moving, [&](const geom::Vec2& p) {
+          return view.covers(p) && !(use_dark && dark.at(p));
+        });
+        const auto& coasting = laser_memory_.coastingMovers();
+        moving.insert(moving.end(), coasting.begin(), coasting.end());
+        const auto& remembered = laser_memory_.points();
+        points.insert(points.end(), remembered.begin(), remembered.end());
       }
       points_ = sector_map_.setLaserPoints(newest, std::move(points));
       sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);
@@ -276,6 +310,7 @@ class Replayer {
   EchoPlacer placer_;
   MotionConfirmation motion_confirmation_;
   MoverPrediction movers_;
+  LaserMemory laser_memory_;
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;
   std::vector<cp::InputProblem> problems_;
@@ -284,6 +319,7 @@ class Replayer {
   std::vector<cp::ScanPoint> own_placed_;
   std::vector<geom::Vec2> points_;  // (handed back by SectorMap::setLaserPoints)
   std::vector<uint8_t> no_return_;
+  std::vector<geom::Vec2> still_;
   std::vector<geom::Vec2> tactical_points_;
   std::vector<geom::Segment> lines_;
   geom::Pose2 tactical_pose_;  // where the navigator says the robot was, in its frame
