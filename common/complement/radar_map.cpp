@@ -819,7 +819,7 @@ DarkBearings::DarkBearings(const LaserScan& scan, const LaserView& view, const s
 }
 
 namespace {
-// atan2 within 1e-5 rad (a fifth of a thousandth of the 0.5 deg between readings), without the
+// atan2 within 1.2e-5 rad (about a thousandth of the 0.5 deg between readings), without the
 // library call: the memory asks it for each of a scan's ~700 returns.
 double approxAtan2(double y, double x) {
   const double ax = std::abs(x), ay = std::abs(y);
@@ -837,8 +837,7 @@ bool DarkBearings::at(const geom::Vec2& p) const {
   if (!any_ || !(step_ > 0)) return false;
   const geom::Vec2 d = p - view_.sensor.position();
   double a = approxAtan2(d.y(), d.x()) - view_.sensor.theta - view_.angle_min;
-  // [0, 2 pi) from the first reading (the three terms are each within (-pi, pi] or so; a few
-  // turns at most for absurd headings)
+  // [0, 2 pi) from the first reading (each of the three terms lies within a turn or so)
   for (int turns = 0; a < 0 && turns < 8; ++turns) a += 2 * geom::kPi;
   for (int turns = 0; a >= 2 * geom::kPi && turns < 8; ++turns) a -= 2 * geom::kPi;
   if (!(a >= 0 && a < 2 * geom::kPi)) return false;  // (NaN, or a heading beyond any sense)

@@ -13,7 +13,9 @@
 // paper), those older than memory_s, and those beyond reach of the robot. What is left lies
 // where the scanner does not look now: the sector map takes it as laser values.
 //
-// A full-circle scanner covers everything, so the memory stays empty and the map is the paper's.
+// A full-circle scanner covers everything, so the memory stays empty and the map is the paper's,
+// unless the caller's view leaves out the bearings whose readings came back empty (the pilot's
+// laser_memory_dark, complement::DarkBearings): an empty reading is no free space.
 // The points are in the odometry frame: their error grows with the distance driven since they
 // were seen (the odometry's drift), which over memory_s at walking speed stays far below the
 // tolerance (see deploy/config/lasonic.yaml).

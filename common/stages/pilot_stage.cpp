@@ -287,7 +287,6 @@ void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
                   : 0;
 }
 
-
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
                   std::vector<geom::Vec2>& points, std::vector<TimedPoint>* timed, int64_t& newest) {
   // Every element written and the count advanced by validity (no branch per reading); the

@@ -66,7 +66,7 @@ struct LineGenerationParams {
   // the far side of a railing).
   enum class HiddenCells { Drop, Peel } hidden_cells = HiddenCells::Peel;
   // What a peeled (hidden) cell must have to stay a candidate. Shared: its Gp, as every layer-0
-  // cell (today's rule). Own: G_T echoes in its neighbourhood that no nearer layer took: an echo
+  // cell. Own: G_T echoes in its neighbourhood that no nearer layer took: an echo
   // locates one surface, so the echoes that made the nearer surface's cells (which the contrast
   // propagation adds into every neighbour's Gp, also a stray single echo 0.1-0.2 m behind it)
   // do not confirm a second surface behind it. Needs the cells' grid indices (candidateCells
