@@ -39,7 +39,14 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     scan.done = s.utime;
     for (size_t i = 0; i < n; ++i) scan.done = std::max<int64_t>(scan.done, s.utime + s.offset_us[i]);
     const geom::Pose2 mount = toPose(s.mount);
-    scan.points.reserve(n);
+    // Sorted with their cells at hand, then kept compact (Point).
+    struct Reading {
+      int obstacle;
+      int64_t cx, cy;
+      geom::Vec2 p, world;
+    };
+    std::vector<Reading> readings;
+    readings.reserve(n);
     for (size_t i = 0; i < n; ++i) {
       const int obstacle = t.obstacle[i];
       const float r = s.ranges[i];
@@ -54,14 +61,18 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
         if (!c) continue;  // a mover SIM_STATE does not know
         p -= *c;
       }
-      scan.points.push_back({obstacle, cellOf(p.x()), cellOf(p.y()), p, w});
+      readings.push_back({obstacle, cellOf(p.x()), cellOf(p.y()), p, w});
     }
-    std::sort(scan.points.begin(), scan.points.end(), [](const Point& a, const Point& b) {
+    std::sort(readings.begin(), readings.end(), [](const Reading& a, const Reading& b) {
       return std::tie(a.obstacle, a.cx, a.cy) < std::tie(b.obstacle, b.cx, b.cy);
     });
-    // Each scan is kept for the whole evaluation: room for every reading while filling, then no
-    // spare capacity (grown by doubling, a scan of 720 readings with ~700 returns had room for 1,024).
-    scan.points.shrink_to_fit();
+    // Each scan is kept for the whole evaluation: exactly as much room as it needs.
+    size_t movers = 0;
+    while (movers < readings.size() && readings[movers].obstacle <= -2) ++movers;
+    scan.points.reserve(readings.size());
+    scan.mover_world.reserve(movers);
+    for (const Reading& r : readings) scan.points.push_back({r.obstacle, r.p.x(), r.p.y()});
+    for (size_t i = 0; i < movers; ++i) scan.mover_world.push_back(readings[i].world);
     scans_.push_back(std::move(scan));
   }
   // Live logs interleave processes: keep the scans in the order they were completed.
@@ -109,14 +120,14 @@ bool LaserSeen::saw(int scan, int obstacle, const geom::Vec2& p, double radius, 
   const int64_t k = static_cast<int64_t>(std::ceil(radius / cell_));
   const int64_t cx = cellOf(q.x()), cy = cellOf(q.y());
   const double r2 = radius * radius;
-  const auto key_less = [](const Point& a, const std::tuple<int, int64_t, int64_t>& b) {
-    return std::tie(a.obstacle, a.cx, a.cy) < b;
+  const auto key_less = [this](const Point& a, const std::tuple<int, int64_t, int64_t>& b) {
+    return std::make_tuple(a.obstacle, cellOf(a.x), cellOf(a.y)) < b;
   };
   for (int64_t x = cx - k; x <= cx + k; ++x) {
     // One run per cell column: (obstacle, x, cy - k) .. (obstacle, x, cy + k).
     auto it = std::lower_bound(pts.begin(), pts.end(), std::make_tuple(obstacle, x, cy - k), key_less);
-    for (; it != pts.end() && it->obstacle == obstacle && it->cx == x && it->cy <= cy + k; ++it)
-      if ((it->p - q).squaredNorm() <= r2) return true;
+    for (; it != pts.end() && it->obstacle == obstacle && cellOf(it->x) == x && cellOf(it->y) <= cy + k; ++it)
+      if ((it->p() - q).squaredNorm() <= r2) return true;
   }
   return false;
 }
@@ -128,8 +139,9 @@ std::optional<double> LaserSeen::nearestInSector(int scan, const geom::Sector& s
   const geom::Vec2 axis = geom::unitVector(sec.heading);
   const double cos_half = std::cos(0.5 * sec.opening), r2 = sec.radius * sec.radius;
   std::optional<double> best;
-  for (const Point& pt : scans_[static_cast<size_t>(scan)].points) {
-    const geom::Vec2 d = pt.world - sec.apex;
+  const Scan& s = scans_[static_cast<size_t>(scan)];
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const geom::Vec2 d = s.world(i) - sec.apex;
     const double d2 = d.squaredNorm();
     if (d2 > r2 || (best && d2 >= *best * *best)) continue;
     const double r = std::sqrt(d2);

@@ -57,15 +57,22 @@ class LaserSeen {
   std::optional<double> nearestInSector(int scan, const geom::Sector& sec) const;
 
  private:
+  // README "An hour of driving": an hour's index holds ~12.6 M points, so a point is kept small.
+  // Its cell is not stored but recomputed from its position (cellOf is a pure function of it, so
+  // the order and the runs are exactly those of stored cells, whatever the range of the scene).
+  // Its world position is kept only for movers: for any other obstacle it is the position itself.
   struct Point {
     int obstacle;
-    int64_t cx, cy;
-    geom::Vec2 p;      // the query frame: true world frame; for a mover relative to its centre then
-    geom::Vec2 world;  // true world frame, where the reading was taken
+    double x, y;  // the query frame: true world frame; for a mover relative to its centre then
+    geom::Vec2 p() const { return {x, y}; }
   };
   struct Scan {
-    int64_t done;                // [us] time of its last reading
-    std::vector<Point> points;   // sorted by (obstacle, cx, cy)
+    int64_t done;                     // [us] time of its last reading
+    std::vector<Point> points;        // sorted by (obstacle, cell x, cell y)
+    // True world frame, where the reading was taken, of the movers' points: they sort first
+    // (obstacle <= -2), so mover_world[i] belongs to points[i].
+    std::vector<geom::Vec2> mover_world;
+    geom::Vec2 world(size_t i) const { return i < mover_world.size() ? mover_world[i] : points[i].p(); }
   };
   int64_t cellOf(double v) const;
   std::optional<geom::Vec2> moverCentre(int obstacle, int64_t utime) const;
