@@ -371,8 +371,7 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserS
     std::vector<geom::Vec2> occupied;
     for (const SparseGridMap::Cell& cell : g.cells()) {  // row by row, as the message's arrays
       if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
-      const int ix = cell.index % g.width, iy = cell.index / g.width;
-      const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
+      const geom::Vec2 c = g.cellCentre(cell.index);
       occupied.push_back(true_from_odom.transform(c));
     }
     for (const auto& c : occupied) {

@@ -9,6 +9,8 @@
 
 #include <lasonic/grid_map_t.hpp>
 
+#include "core/geometry.hpp"
+
 namespace lasonic::eval {
 
 class SparseGridMap {
@@ -38,6 +40,11 @@ class SparseGridMap {
   bool complete() const { return complete_; }
   // The cells whose G or Gp is not 0, in index order (row by row, as the message's arrays).
   const std::vector<Cell>& cells() const { return cells_; }
+  // The centre of a cell (index iy * width + ix), in the map's (odometry) frame.
+  geom::Vec2 cellCentre(int64_t index) const {
+    const int64_t ix = index % width, iy = index / width;
+    return {origin_x + (static_cast<double>(ix) + 0.5) * cell_size, origin_y + (static_cast<double>(iy) + 0.5) * cell_size};
+  }
   // The message's G and Gp of one cell (index iy * width + ix; 0 outside the window).
   int g(int64_t index) const;
   int gp(int64_t index) const;

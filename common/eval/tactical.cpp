@@ -56,9 +56,7 @@ std::vector<geom::Vec2> occupiedCells(const SparseGridMap& g, const geom::Pose2&
   std::vector<geom::Vec2> out;
   for (const SparseGridMap::Cell& cell : g.cells()) {
     if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
-    const int ix = cell.index % g.width, iy = cell.index / g.width;
-    const geom::Vec2 c(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size);
-    out.push_back(true_from_odom.transform(c));
+    out.push_back(true_from_odom.transform(g.cellCentre(cell.index)));
   }
   return out;
 }
@@ -483,9 +481,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
     std::vector<CandidateCell> cand;
     for (const SparseGridMap::Cell& cell : g.cells()) {
       if (cell.gp <= 0 || cell.gp < g.gp_threshold) continue;
-      const int ix = cell.index % g.width, iy = cell.index / g.width;
-      cand.push_back({geom::Vec2(g.origin_x + (ix + 0.5) * g.cell_size, g.origin_y + (iy + 0.5) * g.cell_size), cell.gp,
-                      0, cell.g, ix, iy});
+      cand.push_back({g.cellCentre(cell.index), cell.gp, 0, cell.g, cell.index % g.width, cell.index / g.width});
     }
     const geom::Pose2 robot = toPose(g.robot_pose);
     std::vector<std::vector<PolarCell>> runs;

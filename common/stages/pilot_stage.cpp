@@ -1,6 +1,7 @@
 #include "stages/pilot_stage.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -409,16 +410,13 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // that pose nothing tells what the scan covered: nothing is remembered or recalled.
   if (const auto robot = poses_.at(newest); remember && robot) {
     const complement::LaserView view = complement::laserViewOf(*scan, *robot);
-    if (cfg_.laser_memory_dark) {
-      // The newest scan decides where it looked and a reading came back; where the reading nearest
-      // in bearing and both its neighbours came back empty, an earlier return stays.
-      const complement::DarkBearings dark(*scan, view, no_return_);
-      laser_memory_.update(newest, robot->position(), still, moving,
-                           [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !dark.at(p); });
-    } else {
-      laser_memory_.update(newest, robot->position(), still, moving,
-                           [&view](const geom::Vec2& p) { return view.covers(p); });
-    }
+    // The newest scan decides where it looked and a reading came back; with laser_memory_dark,
+    // where the reading nearest in bearing and both its neighbours came back empty, an earlier
+    // return stays.
+    std::optional<complement::DarkBearings> dark;
+    if (cfg_.laser_memory_dark) dark.emplace(*scan, view, no_return_);
+    laser_memory_.update(newest, robot->position(), still, moving,
+                         [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !(dark && dark->at(p)); });
     const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
     if (!coasting.empty()) {
       moving.insert(moving.end(), coasting.begin(), coasting.end());
