@@ -1,4 +1,5 @@
 #include "complement/complement.hpp"
+#include "complement/radar_map_memory.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -14,6 +15,7 @@ const char* className(SonarClass c) {
     case SonarClass::Unverifiable: return "unverifiable";
     case SonarClass::Invalid: return "invalid";
     case SonarClass::OutsideView: return "outside_view";
+    case SonarClass::SeenBefore: return "seen_before";
   }
   return "invalid";
 }
@@ -125,7 +127,8 @@ bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us) {
 }
 
 GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
-                                  const RadarMap* rm, const ComplementParams& p, const std::vector<Ping>& earlier) {
+                                  const RadarMap* rm, const ComplementParams& p, const std::vector<Ping>& earlier,
+                                  const RadarMapMemory* memory) {
   GroupComplement out;
   out.utime = g.utime;
   out.group = g.group;
@@ -164,6 +167,16 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
         const double ca = edges.axis.x(), sa = edges.axis.y();  // cos, sin of sensor.theta
         const geom::Vec2 l(r.range, 0.0);
         c.end = geom::Vec2(sensor.x + ca * l.x() - sa * l.y(), sensor.y + sa * l.x() + ca * l.y());
+        // An echo arc the newest scan did not see but an earlier one did: the hypothesis also
+        // on that scan's lines there (RadarMapMemory).
+        if (memory && rm && !out.radar_map_stale && r.range <= model.range_limit &&
+            !arcSeen(sensor, r.range, model.beam_width, rm->view))
+          if (const std::vector<RmSegment>* before = memory->seenBefore(sensor, r.range, model.beam_width)) {
+            c.seen_before = true;
+            c.seen_before_range = c.hypothetical_range;
+            if (!before->empty())
+              c.seen_before_range = std::min(c.seen_before_range, hypotheticalRange(sensor, edges, *before, model));
+          }
       }
     }
     if (!r.valid || !robot_pose)
@@ -218,6 +231,15 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
         !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))
       c.cls = SonarClass::OutsideView;
+    // Where the newest scan does not look, the lines an earlier one saw there: an echo they
+    // explain (or that passed them: false) is the laser's, seen before.
+    if (c.seen_before && (c.cls == SonarClass::Complementary || c.cls == SonarClass::OutsideView) && !c.by_pole) {
+      const SonarClass before = classify(r.range, r.no_echo, c.seen_before_range, p.tolerance, p.model.range_limit);
+      if (before == SonarClass::Redundant || before == SonarClass::False) {
+        c.cls = SonarClass::SeenBefore;
+        c.hypothetical_range = c.seen_before_range;
+      }
+    }
   }
   return out;
 }

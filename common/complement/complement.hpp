@@ -20,8 +20,11 @@
 
 namespace lasonic::complement {
 
+class RadarMapMemory;  // complement/radar_map_memory.hpp
+
 // Values equal to complement_reading_t::CLASS_* (the message layer relies on it).
-enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4, OutsideView = 5 };
+enum class SonarClass : int8_t { Complementary = 0, Redundant = 1, False = 2, Unverifiable = 3, Invalid = 4, OutsideView = 5,
+                              SeenBefore = 6 };
 const char* className(SonarClass c);  // "complementary", ... (counter names)
 
 // README "Method", step 3, with real range r, hypothesis h and tolerance tol:
@@ -123,6 +126,10 @@ struct ClassifiedReading {
   bool by_pole = false;  // Redundant because it matched a pole of the Radar Map (poleEcho)
   bool by_crosstalk = false;  // Redundant because it matched crosstalk by way of a corner
   bool by_late_echo = false;  // Redundant because it matched a late echo of an earlier ping (firstLateEcho)
+  // Its echo arc lies (partly) where the newest scan does not look, but an earlier one saw it:
+  // judged with that scan's lines too (RadarMapMemory), not outside_view.
+  bool seen_before = false;
+  double seen_before_range = 0;  // [m] the hypothesis on the newest and that scan's lines
 };
 
 struct GroupComplement {
@@ -155,7 +162,7 @@ bool radarMapStale(const RadarMap* rm, int64_t utime, int64_t max_rm_age_us);
 // earlier: the pings fired before g (PingHistory::before), for late echoes.
 GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom::Pose2>& robot_pose,
                                   const RadarMap* rm, const ComplementParams& p,
-                                  const std::vector<Ping>& earlier = {});
+                                  const std::vector<Ping>& earlier = {}, const RadarMapMemory* memory = nullptr);
 
 // The pings of the groups classified so far that late echoes may still come from.
 class PingHistory {

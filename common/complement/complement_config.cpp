@@ -6,7 +6,7 @@ namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
   c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles",
-               "crosstalk", "late_echoes", "late_echo_window_s"});
+               "crosstalk", "late_echoes", "late_echo_window_s", "radar_map_memory"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
   p.tolerance = c.get("tolerance", p.tolerance, Range::nonNegative());
@@ -23,6 +23,12 @@ ComplementConfig complementConfig(const Config& c) {
   p.late_echo_window_us = std::llround(
       1e6 * c.get("late_echo_window_s", static_cast<double>(p.late_echo_window_us) * 1e-6, Range::positive()));
 
+  const Config mc = c.section("radar_map_memory");
+  mc.allowOnly({"memory_s", "max_incidence_deg", "min_length_m"});
+  cfg.radar_map_memory_min_length = mc.get("min_length_m", cfg.radar_map_memory_min_length, Range::nonNegative());
+  cfg.radar_map_memory_s = mc.get("memory_s", cfg.radar_map_memory_s, Range::nonNegative());
+  cfg.radar_map_memory_max_incidence = geom::deg2rad(
+      mc.get("max_incidence_deg", geom::rad2deg(cfg.radar_map_memory_max_incidence), Range{0.0, 90.0, true}));
   cfg.radar_map = radarMapConfig(c.section("radar_map"));
   RadarMapConfig& r = cfg.radar_map;
 

@@ -8,12 +8,15 @@
 //     rm_max_age_s: 0.5      # [s] an older Radar Map is stale: readings unverifiable
 //     radar_map: {jump_abs: 0.10, jump_rel: 0.05, split_threshold: 0.05, min_points: 6, min_length: 0.15}
 //     poles: {min_points: 1, match: 0.03, baseline: 0.10, memory_s: 2.0}  # 0 points: none (the paper)
+//     radar_map_memory: {memory_s: 3.0, max_incidence_deg: 10, min_length_m: 0}  # earlier scans'
+//                            # lines where the newest does not look (memory_s 0: the paper)
 //
 // Every key is optional (the defaults above); unknown keys and out-of-range values are
 // ConfigErrors that name the key path.
 #include "complement/complement.hpp"
 #include "complement/pole_tracker.hpp"
 #include "complement/radar_map.hpp"
+#include "complement/radar_map_memory.hpp"
 #include "core/config.hpp"
 
 namespace lasonic::complement {
@@ -22,6 +25,12 @@ struct ComplementConfig {
   RadarMapConfig radar_map;
   PoleConfig poles;
   ComplementParams params;
+  // RadarMapMemory (complement/radar_map_memory.hpp): how long a scan's lines are kept for where
+  // later scans do not look (0: off, the paper: the newest scan's lines only), and the lines
+  // seen only within max_incidence [rad] of their normal (a glass pane's glint) that are not.
+  double radar_map_memory_s = 3.0;
+  double radar_map_memory_max_incidence = geom::deg2rad(10.0);
+  double radar_map_memory_min_length = 0.0;  // [m] shorter lines are not kept
 };
 
 ComplementConfig complementConfig(const Config& section);  // throws ConfigError

@@ -119,7 +119,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
   };
   for (size_t i = 0; i < m.readings.size(); ++i) {
     const complement_reading_t& r = m.readings[i];
-    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_OUTSIDE_VIEW) {
+    if (r.cls < complement_reading_t::CLASS_COMPLEMENTARY || r.cls > complement_reading_t::CLASS_SEEN_BEFORE) {
       problems.push_back({"rejected.complement_class",
                           field_name(i, "cls") + " = " + std::to_string(r.cls) + " (unknown class): skipped"});
       continue;
@@ -127,7 +127,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
     ComplementInput c;
     c.sensor_id = r.sensor_id;
     c.cls = static_cast<SonarClass>(r.cls);
-    if (c.cls == SonarClass::Complementary || c.cls == SonarClass::OutsideView) {
+    if (c.cls == SonarClass::Complementary || c.cls == SonarClass::OutsideView || c.cls == SonarClass::SeenBefore) {
       const std::pair<const char*, double> fields[] = {{"range", r.range}, {"end_x", r.end_x}, {"end_y", r.end_y}};
       bool ok = true;
       for (const auto& [name, value] : fields) {
@@ -472,7 +472,8 @@ static_assert(static_cast<int8_t>(SonarClass::Complementary) == complement_readi
                   static_cast<int8_t>(SonarClass::False) == complement_reading_t::CLASS_FALSE &&
                   static_cast<int8_t>(SonarClass::Unverifiable) == complement_reading_t::CLASS_UNVERIFIABLE &&
                   static_cast<int8_t>(SonarClass::Invalid) == complement_reading_t::CLASS_INVALID &&
-                  static_cast<int8_t>(SonarClass::OutsideView) == complement_reading_t::CLASS_OUTSIDE_VIEW,
+                  static_cast<int8_t>(SonarClass::OutsideView) == complement_reading_t::CLASS_OUTSIDE_VIEW &&
+                  static_cast<int8_t>(SonarClass::SeenBefore) == complement_reading_t::CLASS_SEEN_BEFORE,
               "SonarClass must match complement_reading_t::CLASS_*");
 
 }  // namespace lasonic::complement

@@ -402,7 +402,8 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
       if (t >= utime) break;
       const auto it = cls.find({t, sensor});
       if (it != cls.end() && (it->second == complement_reading_t::CLASS_COMPLEMENTARY ||
-                              it->second == complement_reading_t::CLASS_OUTSIDE_VIEW)) {
+                              it->second == complement_reading_t::CLASS_OUTSIDE_VIEW ||
+                              it->second == complement_reading_t::CLASS_SEEN_BEFORE)) {
         ++n;
         last = t;
       }

@@ -135,6 +135,8 @@ class SectorMap {
   // The newest laser scan: its returns in the global frame; utime: time of its newest reading.
   // Returns the previous scan's list emptied, its storage kept for the caller's next scan.
   std::vector<geom::Vec2> setLaserPoints(int64_t utime, std::vector<geom::Vec2> points);
+  // The newest scan's returns as set (with whatever the caller added: remembered returns).
+  const std::vector<geom::Vec2>& laserPoints() const { return laser_points_; }
   // Returns of the same scan found moving (operational/mover_prediction.hpp), left out of
   // setLaserPoints' list: each is reported at p + v * min(age, horizon_s), age = the map's time
   // minus the return's. They explain no AGM cell. Cleared by setLaserPoints.

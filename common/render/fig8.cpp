@@ -390,6 +390,7 @@ void panelComplement(cairo_t* cr, Panel& p, const Snapshot& s) {
         cairo_stroke(cr);
         ++comp;
         break;
+      case complement_reading_t::CLASS_SEEN_BEFORE:  // redundant on lines an earlier scan saw there
       case complement_reading_t::CLASS_REDUNDANT:
         if (!arcPath(cr, p.view, b.pose, b.beam_width, b.range)) break;
         set(cr, colour::kRedundant, 0.8);

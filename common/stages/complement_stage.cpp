@@ -13,7 +13,8 @@ namespace lasonic {
 
 namespace cp = complement;
 
-ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg), poles_(cfg.poles) {
+ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg), poles_(cfg.poles), rm_memory_(cfg.radar_map_memory_s, cfg.radar_map_memory_max_incidence,
+                 cfg.radar_map_memory_min_length) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
@@ -25,6 +26,7 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     poses_.clear();
     radar_map_.reset();
     poles_.reset();
+    rm_memory_.clear();
     last_scan_utime_.reset();
     overlapping_reported_.clear();  // a restarted driver may fire another ring
     pings_.clear();
@@ -44,7 +46,7 @@ void ComplementStage::onOdometry(const odometry_t& m) {
 namespace {
 // "class." + className(c), made once per class (a counter per reading).
 const std::string& classCounter(cp::SonarClass c) {
-  constexpr size_t kClasses = static_cast<size_t>(cp::SonarClass::OutsideView) + 1;  // (the last of SonarClass's values)
+  constexpr size_t kClasses = static_cast<size_t>(cp::SonarClass::SeenBefore) + 1;  // (the last of SonarClass's values)
   static const std::array<std::string, kClasses> names = [] {
     std::array<std::string, kClasses> n;
     for (size_t k = 0; k < kClasses; ++k) n[k] = std::string("class.") + cp::className(static_cast<cp::SonarClass>(k));
@@ -106,6 +108,7 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
   rm.poles = poles_.update(rm.utime, rm.robot_pose.position(), rm.pole_candidates);
   line_map_t out = cp::radarMapToMessage(rm);
   node_.publish(channels::RADAR_MAP, out);
+  rm_memory_.update(rm);
   radar_map_ = std::move(rm);
 }
 
@@ -137,7 +140,8 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
                                                         ": no odometry at the firing time; group " +
                                                         std::to_string(m.group) + " classified invalid");
   const cp::GroupComplement result = cp::extractComplement(group, robot, radar_map_ ? &*radar_map_ : nullptr, cfg_.params,
-                                                           pings_.before(m.utime, cfg_.params.late_echo_window_us));
+                                                           pings_.before(m.utime, cfg_.params.late_echo_window_us),
+                                                           rm_memory_.enabled() ? &rm_memory_ : nullptr);
   pings_.add(result);
   for (const auto& r : result.readings) {
     node_.count(classCounter(r.cls));

@@ -3,7 +3,8 @@
 //
 // In:  ODOMETRY (pose history), LASER_SCAN, SONAR_RING (one firing group).
 // Out: RADAR_MAP per laser scan; SONAR_HYPOTHESIS and SONAR_COMPLEMENT per firing group.
-// Counters (PROCESS_STATUS): class.<complementary|redundant|false|unverifiable|invalid>,
+// Counters (PROCESS_STATUS): class.<complementary|redundant|false|unverifiable|invalid|
+// outside_view|seen_before> (seen_before: complement/radar_map_memory.hpp),
 // unverifiable.stale_radar_map, redundant.pole (of the redundant ones, those a pole of the
 // Radar Map explained: complement/pole_tracker.hpp), redundant.crosstalk (those a right-angled
 // Radar Map corner explained as another sensor's ping: rightAngleCorners), redundant.late_echo
@@ -76,6 +77,7 @@ class ComplementStage {
   PoseHistory poses_;
   std::optional<complement::RadarMap> radar_map_;
   complement::PoleTracker poles_;
+  complement::RadarMapMemory rm_memory_;  // earlier scans' lines where the newest does not look
   std::optional<int64_t> last_scan_utime_;
   TimeReset clock_;
   StampAgreement laser_stamps_, sonar_stamps_;  // each driver's clock against the odometry's

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -52,7 +53,18 @@ ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* c
   return ClockCheck::Restarted;
 }
 
-std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime) {
+bool laserReportsEcho(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double range, double tolerance,
+                      double sector_width) {
+  if (!(range >= 0) || !(sector_width > 0)) return false;
+  const geom::Sector cone{sensor.position(), sensor.theta, sector_width, range + tolerance};
+  const double near = std::max(0.0, range - tolerance);
+  return std::any_of(laser.begin(), laser.end(), [&](const geom::Vec2& p) {
+    return (p - cone.apex).squaredNorm() >= near * near && cone.contains(p);
+  });
+}
+
+std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
+                                          bool seen_before) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::vector<GroupReading> group;
   group.reserve(readings.size());
@@ -60,7 +72,8 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
     GroupReading g;
     g.sensor_id = r.sensor_id;
     // An echo from beyond the laser's view is used as a complementary one (complement.hpp).
-    g.echo = (r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView) &&
+    g.echo = (r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView ||
+              (seen_before && r.cls == complement::SonarClass::SeenBefore)) &&
              r.usable;
     if (g.echo) {
       g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN}), r.beam_width};

@@ -249,7 +249,9 @@ void NavigatorStage::onComplement(const complement_t& m) {
   std::vector<complement::InputProblem> problems;
   const auto readings = complement::complementFromMessage(m, problems);
   reportProblems(node_, problems);
-  std::vector<GroupReading> group = toGroupReadings(readings, m.utime);
+  // (an echo the lines of an earlier scan explain where the newest does not look is what the
+  // laser does not see now: the tactical memory keeps it)
+  std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true);
   std::vector<Sounding> soundings;
   if (cfg_.pass_through.enabled())
     soundings = soundingsOf(readings, geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width);
@@ -263,7 +265,8 @@ void NavigatorStage::onComplement(const complement_t& m) {
     p.soundings = std::move(soundings);
     p.readings = std::move(group);
     // A later scan cannot vouch for what lies beyond its view either: such echoes are kept.
-    for (const auto& r : readings) p.outside_view.push_back(r.cls == complement::SonarClass::OutsideView);
+    for (const auto& r : readings) p.outside_view.push_back(r.cls == complement::SonarClass::OutsideView ||
+                                                          r.cls == complement::SonarClass::SeenBefore);
     // The hypothesis model the complement stage used (a malformed one: the paper's).
     if (geom::plausibleBeamWidth(m.beam_width)) p.model.beam_width = m.beam_width;
     else node_.reportError("rejected.complement_model", "SONAR_COMPLEMENT.beam_width = " + std::to_string(m.beam_width) +

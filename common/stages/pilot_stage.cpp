@@ -443,7 +443,24 @@ void PilotStage::onComplement(const complement_t& m) {
   std::vector<complement::InputProblem> problems;
   const std::vector<complement::ComplementInput> readings = complement::complementFromMessage(m, problems);
   reportProblems(node_, problems);
-  std::vector<geom::Vec2> hits = placer_.place(toGroupReadings(readings, m.utime), agm_);
+  // An echo that lines an earlier scan saw explain where the newest does not look (SeenBefore,
+  // complement/radar_map_memory.hpp) is left out where the laser's returns the sector map holds
+  // (the newest scan's, the laser memory's) report its surface in its own sector, at its range
+  // within the complement's tolerance (the message's): the echo adds nothing there. Elsewhere
+  // it is the only report of that surface (the memory keeps only returns known to stand still)
+  // and goes in.
+  std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true);
+  const double tol = std::isfinite(m.tolerance) && m.tolerance >= 0 ? m.tolerance : 0.0;
+  const double sector = 2 * geom::kPi / std::max(1, sector_map_.params().sectors);
+  for (size_t i = 0; i < group.size() && i < readings.size(); ++i) {
+    const complement::ComplementInput& r = readings[i];
+    if (r.cls == complement::SonarClass::SeenBefore && group[i].echo && r.sensor_pose &&
+        laserReportsEcho(sector_map_.laserPoints(), *r.sensor_pose, r.range, tol, sector)) {
+      group[i].echo = false;
+      node_.count("agm.seen_before_left_out");
+    }
+  }
+  std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);
 

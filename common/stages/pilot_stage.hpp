@@ -10,7 +10,8 @@
 // Counters (PROCESS_STATUS): agm.cycles, agm.hits, agm.hits_outside_window, agm.recentred,
 // laser.moving_returns (returns moved by MoverPrediction), laser.remembered_returns (earlier
 // scans' returns outside the newest scan's view, LaserMemory), laser.coasting_returns (movers
-// that walked on out of the view, LaserMemory),
+// that walked on out of the view, LaserMemory), agm.seen_before_left_out (seen_before echoes
+// whose surface the laser's returns report in their sector: onComplement),
 // sector_map.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:

@@ -426,7 +426,7 @@ int check(const std::string& file) {
         ++valid_count[ch];
         expect(!m->radar_map_stale || m->utime < kSonarStart + 200'000, "SONAR_COMPLEMENT has a fresh Radar Map");
         for (const auto& r : m->readings) {
-          expect(r.cls >= complement_reading_t::CLASS_COMPLEMENTARY && r.cls <= complement_reading_t::CLASS_OUTSIDE_VIEW,
+          expect(r.cls >= complement_reading_t::CLASS_COMPLEMENTARY && r.cls <= complement_reading_t::CLASS_SEEN_BEFORE,
                  "SONAR_COMPLEMENT class in range");
           if (r.cls == complement_reading_t::CLASS_INVALID) ++invalid_late;
           if (r.cls != complement_reading_t::CLASS_COMPLEMENTARY) continue;

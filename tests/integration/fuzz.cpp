@@ -707,9 +707,10 @@ int check(const std::vector<std::string>& files, const std::set<std::string>& on
           // The fuzz's own complements have tolerance 0.125 (no 8 bit flips make it 0.1).
           if (m->tolerance != 0.1f) continue;
           for (const auto& r : m->readings)
-            if (r.cls < 0 || r.cls > complement_reading_t::CLASS_OUTSIDE_VIEW ||
+            if (r.cls < 0 || r.cls > complement_reading_t::CLASS_SEEN_BEFORE ||
                 ((r.cls == complement_reading_t::CLASS_COMPLEMENTARY ||
-                  r.cls == complement_reading_t::CLASS_OUTSIDE_VIEW) &&
+                  r.cls == complement_reading_t::CLASS_OUTSIDE_VIEW ||
+                  r.cls == complement_reading_t::CLASS_SEEN_BEFORE) &&
                  (!std::isfinite(r.range) || !std::isfinite(r.end_x) || !std::isfinite(r.end_y) || !finite(r.sensor_pose)))) {
               fail(ch, "lasonic-complement published a reading with an unknown class or a non-finite value");
               break;

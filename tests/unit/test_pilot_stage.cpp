@@ -861,3 +861,31 @@ TEST(PilotLaserMemory, AFaceThatGoesDarkStaysUntilAReturnSaysOtherwise) {
   ASSERT_EQ(paper.nsectors, 48);
   EXPECT_EQ(paper.source[left], kNone);
 }
+
+// An echo that an earlier scan's lines explain where the newest scan does not look (class
+// seen_before) is left out where the laser's returns the sector map holds report that surface in
+// the echo's own sector, at its range; elsewhere it is the only report and goes in.
+TEST_F(PilotFixture, ASeenBeforeEchoIsLeftOutOnlyWhereTheLaserHasThatSurface) {
+  odometry();
+  laserScan(100'000);  // one return, 1 m to the left: global (1, 3)
+  const auto seenBefore = [](double theta, double range) {
+    complement_reading_t r = reading(complement_reading_t::CLASS_SEEN_BEFORE, 1.0 + range * std::cos(theta),
+                                     2.0 + range * std::sin(theta));
+    r.range = static_cast<float>(range);
+    r.hypothetical_range = static_cast<float>(range);
+    r.sensor_pose = {1.0, 2.0, theta};
+    return r;
+  };
+  // Towards the return at its range; towards it but 0.3 m short (the tolerance is 0.1 m); and
+  // to the right, where the laser has nothing.
+  complement_t c{};
+  c.utime = 300'000;
+  c.tolerance = 0.1f;
+  c.beam_width = 0.5236f;
+  c.readings = {seenBefore(kPi / 2, 1.0), seenBefore(kPi / 2, 0.7), seenBefore(-kPi / 2, 1.0)};
+  node.publish(channels::SONAR_COMPLEMENT, c);
+  drain();
+  EXPECT_EQ(node.counter("agm.seen_before_left_out"), 1);
+  EXPECT_EQ(node.counter("agm.hits"), 2);
+  EXPECT_EQ(node.errors(), 0);
+}
