@@ -66,22 +66,31 @@ void RadarMapMemory::update(const RadarMap& rm) {
     earlier_.clear();
     return;
   }
-  for (Earlier& e : earlier_) {
-    e.outside.clear();
-    for (const RmSegment& s : e.segments) clipOutsideView(s, rm.view, e.outside);
-  }
+  for (Earlier& e : earlier_) e.clipped = false;  // (clipped when asked: most never are)
 }
+
+namespace {
+const std::vector<RmSegment>& clippedTo(const std::vector<RmSegment>& segments, const LaserView& view,
+                                        std::vector<RmSegment>& outside, bool& clipped) {
+  if (!clipped) {
+    outside.clear();
+    for (const RmSegment& s : segments) clipOutsideView(s, view, outside);
+    clipped = true;
+  }
+  return outside;
+}
+}  // namespace
 
 const std::vector<RmSegment>* RadarMapMemory::seenBefore(const geom::Pose2& sensor, double range,
                                                          double beam_width) const {
   for (auto it = earlier_.rbegin(); it != earlier_.rend(); ++it)
-    if (arcSeen(sensor, range, beam_width, it->view)) return &it->outside;
+    if (arcSeen(sensor, range, beam_width, it->view)) return &clippedTo(it->segments, newest_.view, it->outside, it->clipped);
   return nullptr;
 }
 
 size_t RadarMapMemory::lines() const {
   size_t n = 0;
-  for (const Earlier& e : earlier_) n += e.outside.size();
+  for (const Earlier& e : earlier_) n += clippedTo(e.segments, newest_.view, e.outside, e.clipped).size();
   return n;
 }
 

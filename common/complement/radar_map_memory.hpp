@@ -45,8 +45,9 @@ class RadarMapMemory {
   bool enabled() const { return memory_us_ > 0; }
 
   // The newest Radar Map (its utime, view and segments): earlier maps older than memory_s before
-  // it are dropped, the others' lines clipped to where its view does not look (clipOutsideView);
-  // it is kept for the next. A map older than the newest so far is ignored.
+  // it are dropped, the others' lines are to be clipped to where its view does not look
+  // (clipOutsideView, when seenBefore first returns them); it is kept for the next. A map older
+  // than the newest so far is ignored.
   void update(const RadarMap& rm);
   // The lines outside the newest view of the newest earlier map whose view covered the echo arc
   // of a transducer at `sensor` (global pose, beam_width [rad]) at `range` (arcSeen); nullptr
@@ -54,15 +55,16 @@ class RadarMapMemory {
   const std::vector<RmSegment>* seenBefore(const geom::Pose2& sensor, double range, double beam_width) const;
   // Earlier maps kept, and their lines outside the newest view (for tests and status).
   size_t maps() const { return earlier_.size(); }
-  size_t lines() const;
+  size_t lines() const;  // (clips every map; like seenBefore, not for concurrent callers)
   void clear() { *this = RadarMapMemory(static_cast<double>(memory_us_) * 1e-6, max_incidence_, min_length_); }
 
  private:
   struct Earlier {
     int64_t utime = 0;
     LaserView view;
-    std::vector<RmSegment> segments;  // as that scan saw them
-    std::vector<RmSegment> outside;   // their parts outside the newest view
+    std::vector<RmSegment> segments;          // as that scan saw them
+    mutable std::vector<RmSegment> outside;   // their parts outside the newest view ...
+    mutable bool clipped = false;             // ... once clipped against it
   };
   int64_t memory_us_ = 0;
   double max_incidence_ = 0;

@@ -13,8 +13,11 @@ namespace lasonic {
 
 namespace cp = complement;
 
-ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg) : node_(node), cfg_(cfg), poles_(cfg.poles), rm_memory_(cfg.radar_map_memory_s, cfg.radar_map_memory_max_incidence,
-                 cfg.radar_map_memory_min_length) {
+ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg)
+    : node_(node),
+      cfg_(cfg),
+      poles_(cfg.poles),
+      rm_memory_(cfg.radar_map_memory_s, cfg.radar_map_memory_max_incidence, cfg.radar_map_memory_min_length) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
