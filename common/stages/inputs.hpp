@@ -8,11 +8,10 @@
 #include <optional>
 #include <vector>
 
-#include "core/geometry.hpp"
-
 #include <lasonic/odometry_t.hpp>
 
 #include "complement/messages.hpp"
+#include "core/geometry.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
@@ -39,13 +38,14 @@ ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* c
 
 // SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading
 // is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
+// seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's).
+std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
+                                          bool seen_before = false);
+
 // True if one of `laser` (global returns: the sector map's) lies within half of `sector_width`
 // [rad] of the axis of `sensor` (global pose) and within `tolerance` of `range` from it: the
 // surface a SeenBefore echo came from is reported in the echo's own sector already.
 bool laserReportsEcho(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double range, double tolerance,
                       double sector_width);
-// seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's).
-std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
-                                          bool seen_before = false);
 
 }  // namespace lasonic
