@@ -167,10 +167,10 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
         const double ca = edges.axis.x(), sa = edges.axis.y();  // cos, sin of sensor.theta
         const geom::Vec2 l(r.range, 0.0);
         c.end = geom::Vec2(sensor.x + ca * l.x() - sa * l.y(), sensor.y + sa * l.x() + ca * l.y());
+        if (rm) c.arc_seen = arcSeen(sensor, r.range, model.beam_width, rm->view);
         // An echo arc the newest scan did not see but an earlier one did: the hypothesis also
         // on that scan's lines there (RadarMapMemory).
-        if (memory && rm && !out.radar_map_stale && r.range <= model.range_limit &&
-            !arcSeen(sensor, r.range, model.beam_width, rm->view))
+        if (memory && rm && !out.radar_map_stale && r.range <= model.range_limit && !c.arc_seen)
           if (const std::vector<RmSegment>* before = memory->seenBefore(sensor, r.range, model.beam_width)) {
             c.seen_before = true;
             c.seen_before_range = c.hypothetical_range;
@@ -229,7 +229,7 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     // echo from there.)
     if (p.outside_view_complementary && rm && c.end && c.sensor_pose && !c.by_crosstalk && !c.by_late_echo &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
-        !arcSeen(*c.sensor_pose, r.range, c.beam_width, rm->view))
+        !c.arc_seen)
       c.cls = SonarClass::OutsideView;
     // Where the newest scan does not look, the lines an earlier one saw there: an echo they
     // explain (or that passed them: false) is the laser's, seen before.

@@ -128,6 +128,8 @@ struct ClassifiedReading {
   bool by_late_echo = false;  // Redundant because it matched a late echo of an earlier ping (firstLateEcho)
   // Its echo arc lies (partly) where the newest scan does not look, but an earlier one saw it:
   // judged with that scan's lines too (RadarMapMemory), not outside_view.
+  // Its echo arc lies wholly inside the Radar Map's view (arcSeen; true without an echo or a map).
+  bool arc_seen = true;
   bool seen_before = false;
   double seen_before_range = 0;  // [m] the hypothesis on the newest and that scan's lines
 };

@@ -69,28 +69,25 @@ void RadarMapMemory::update(const RadarMap& rm) {
   for (Earlier& e : earlier_) e.clipped = false;  // (clipped when asked: most never are)
 }
 
-namespace {
-const std::vector<RmSegment>& clippedTo(const std::vector<RmSegment>& segments, const LaserView& view,
-                                        std::vector<RmSegment>& outside, bool& clipped) {
+const std::vector<RmSegment>& RadarMapMemory::Earlier::outsideOf(const LaserView& newest) const {
   if (!clipped) {
     outside.clear();
-    for (const RmSegment& s : segments) clipOutsideView(s, view, outside);
+    for (const RmSegment& s : segments) clipOutsideView(s, newest, outside);
     clipped = true;
   }
   return outside;
 }
-}  // namespace
 
 const std::vector<RmSegment>* RadarMapMemory::seenBefore(const geom::Pose2& sensor, double range,
                                                          double beam_width) const {
   for (auto it = earlier_.rbegin(); it != earlier_.rend(); ++it)
-    if (arcSeen(sensor, range, beam_width, it->view)) return &clippedTo(it->segments, newest_.view, it->outside, it->clipped);
+    if (arcSeen(sensor, range, beam_width, it->view)) return &it->outsideOf(newest_.view);
   return nullptr;
 }
 
 size_t RadarMapMemory::lines() const {
   size_t n = 0;
-  for (const Earlier& e : earlier_) n += clippedTo(e.segments, newest_.view, e.outside, e.clipped).size();
+  for (const Earlier& e : earlier_) n += e.outsideOf(newest_.view).size();
   return n;
 }
 

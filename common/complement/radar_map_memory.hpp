@@ -65,6 +65,7 @@ class RadarMapMemory {
     std::vector<RmSegment> segments;          // as that scan saw them
     mutable std::vector<RmSegment> outside;   // their parts outside the newest view ...
     mutable bool clipped = false;             // ... once clipped against it
+    const std::vector<RmSegment>& outsideOf(const LaserView& newest) const;
   };
   int64_t memory_us_ = 0;
   double max_incidence_ = 0;
