@@ -28,7 +28,7 @@ struct ComplementConfig {
   // RadarMapMemory (complement/radar_map_memory.hpp): how long a scan's lines are kept for where
   // later scans do not look (0: off, the paper: the newest scan's lines only), and the lines
   // seen only within max_incidence [rad] of their normal (a glass pane's glint) that are not.
-  double radar_map_memory_s = 3.0;
+  double radar_map_memory_s = 30.0;
   double radar_map_memory_max_incidence = geom::deg2rad(10.0);
   double radar_map_memory_min_length = 0.0;  // [m] shorter lines are not kept
 };

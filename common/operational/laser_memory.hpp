@@ -17,8 +17,9 @@
 // unless the caller's view leaves out the bearings whose readings came back empty (the pilot's
 // laser_memory_dark, complement::DarkBearings): an empty reading is no free space.
 // The points are in the odometry frame: their error grows with the distance driven since they
-// were seen (the odometry's drift), which over memory_s at walking speed stays far below the
-// tolerance (see deploy/config/lasonic.yaml).
+// were seen (the odometry's drift). A driving robot leaves them beyond reach first (the sector
+// map's 3.35 m: ~2 cm of drift); memory_s bounds what a robot that creeps, waits or turns on the
+// spot keeps: a still return that goes away unseen stays a ghost that long (deploy/config/lasonic.yaml).
 #include <cstdint>
 #include <vector>
 

@@ -100,7 +100,7 @@ struct PilotConfig {
   // the sector map takes the returns earlier scans saw, for this long (operational/laser_memory.hpp).
   // 0: the newest scan only (the paper). A full-circle scanner is unaffected but for
   // laser_memory_dark (below).
-  double laser_memory_s = 3.0;
+  double laser_memory_s = 30.0;
   // A person the laser saw walking, who walked on where it does not look, is reported where they
   // would be by now for this long after the laser last saw them (LaserMemoryParams::coast_s).
   double laser_memory_coast_s = 1.0;
