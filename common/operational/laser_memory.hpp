@@ -10,7 +10,8 @@
 // robot drove or turned past it. So the memory keeps each scan's static returns (the moving ones,
 // operational/mover_prediction.hpp, are where a person was, not where they are) and, after each
 // new scan, drops those the new scan's view covers (there the newest scan decides, as in the
-// paper), those older than memory_s, and those beyond reach of the robot. What is left lies
+// paper), those older than memory_s (cluster_s for a still person-sized cluster's, when set: a
+// person who stood may walk off unseen), and those beyond reach of the robot. What is left lies
 // where the scanner does not look now: the sector map takes it as laser values.
 //
 // A full-circle scanner covers everything, so the memory stays empty and the map is the paper's,
@@ -34,6 +35,9 @@ struct LaserMemoryParams {
   // [s] a mover (a person the laser saw walking) that walked on where the scanner does not look
   // is reported where it would be by now, for this long after the laser last saw it (0: off).
   double coast_s = 0;
+  // [s] returns of a still person-sized cluster (MoverPrediction::kStillCluster: a person who
+  // stands, or a bin) are kept only this long: a person may walk off unseen (0: memory_s).
+  double cluster_s = 0;
 };
 
 class LaserMemory {
@@ -54,28 +58,33 @@ class LaserMemory {
   // and their velocity): the earlier scans' movers, moved on by their velocity to `utime`, are
   // kept while that is outside the new view, within reach and within coast_s of when the laser
   // last saw them (coastingMovers()).
+  // `cluster` (if given, one flag per point): nonzero for the returns of a still person-sized
+  // cluster, kept for cluster_s only.
   template <typename Covers>
   void update(int64_t utime, const geom::Vec2& robot, const std::vector<geom::Vec2>& points,
-              const std::vector<SectorMap::MovingPoint>& movers, Covers&& covers) {
+              const std::vector<SectorMap::MovingPoint>& movers, Covers&& covers,
+              const std::vector<uint8_t>* cluster = nullptr) {
     if (!enabled()) return;
     const auto max_age_us = static_cast<int64_t>(p_.memory_s * 1e6);
+    const auto cluster_age_us = p_.cluster_s > 0 ? static_cast<int64_t>(p_.cluster_s * 1e6) : max_age_us;
     const double reach2 = p_.reach * p_.reach;
     const auto keep = [&](const Remembered& r) {
-      return utime - r.utime <= max_age_us && (p_.reach <= 0 || (r.p - robot).squaredNorm() <= reach2) &&
-             !covers(r.p);
+      return utime - r.utime <= (r.cluster ? cluster_age_us : max_age_us) &&
+             (p_.reach <= 0 || (r.p - robot).squaredNorm() <= reach2) && !covers(r.p);
     };
     std::vector<Remembered>& kept = kept_;  // (scratch, swapped with remembered_ below)
     kept.clear();
     for (const Remembered& r : remembered_)
       if (keep(r)) kept.push_back(r);
-    for (const geom::Vec2& p : last_)
-      if (const Remembered r{p, last_utime_}; keep(r)) kept.push_back(r);
+    for (const Remembered& r : last_)
+      if (keep(r)) kept.push_back(r);
     std::swap(remembered_, kept);
     points_.clear();
     points_.reserve(remembered_.size());
     for (const Remembered& r : remembered_) points_.push_back(r.p);
-    last_.assign(points.begin(), points.end());  // (storage reused scan to scan)
-    last_utime_ = utime;
+    last_.clear();  // (storage reused scan to scan)
+    const bool flags = cluster && cluster->size() == points.size();
+    for (size_t i = 0; i < points.size(); ++i) last_.push_back({points[i], utime, flags && (*cluster)[i] != 0});
 
     std::vector<Coasting> coasting;
     const auto coast_us = static_cast<int64_t>(p_.coast_s * 1e6);
@@ -109,13 +118,13 @@ class LaserMemory {
  private:
   struct Remembered {
     geom::Vec2 p;
-    int64_t utime = 0;  // the scan's newest reading
+    int64_t utime = 0;     // the scan's newest reading
+    bool cluster = false;  // of a still person-sized cluster (cluster_s)
   };
   LaserMemoryParams p_;
   std::vector<Remembered> remembered_, kept_;
   std::vector<geom::Vec2> points_;
-  std::vector<geom::Vec2> last_;  // the newest scan's returns (in its own view: not remembered yet)
-  int64_t last_utime_ = 0;
+  std::vector<Remembered> last_;  // the newest scan's returns (in its own view: not remembered yet)
   struct Coasting {
     SectorMap::MovingPoint m;
     int64_t seen = 0;  // when the laser last saw it

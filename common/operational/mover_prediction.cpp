@@ -59,7 +59,7 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
   runs_.clear();
   std::vector<Blob> now = candidates(scan);
   movers_ = 0;
-  still_.assign(scan.size(), 1);
+  still_.assign(scan.size(), kStill);
   for (const Blob& b : now)
     for (size_t j = b.first; j <= b.last; ++j) still_[j] = 0;
   const auto nearest = [](const geom::Vec2& c, const std::vector<Blob>& in) {
@@ -89,7 +89,7 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
     now[a].paired = true;
     now[a].vel = vel;
     if (!(speed >= p_.min_speed + apparent)) {
-      for (size_t j = now[a].first; j <= now[a].last; ++j) still_[j] = 1;
+      for (size_t j = now[a].first; j <= now[a].last; ++j) still_[j] = kStillCluster;
       continue;
     }
     if (!prev_[b].paired) continue;

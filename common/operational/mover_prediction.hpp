@@ -69,11 +69,13 @@ class MoverPrediction {
   const std::vector<MovingRun>& track(const std::vector<TimedPoint>& scan, const geom::Vec2& robot);
   // Candidates paired and found moving in the last update.
   int movers() const { return movers_; }
-  // Per return of the last update's scan: known to stand still -- it belongs to no candidate (a
-  // wall, a large object, a cluster too small for a centroid), or to a candidate paired with the
-  // scan before that moved slower than min_speed (plus the visible-side allowance). A candidate
-  // seen for the first time, or one that moved faster without yet being a mover, is not: a
-  // person who has just come into view or is starting to walk (LaserMemory keeps only these).
+  // Per return of the last update's scan: known to stand still -- kStill: it belongs to no
+  // candidate (a wall, a large object, a cluster too small for a centroid); kStillCluster: to a
+  // candidate paired with the scan before that moved slower than min_speed (plus the visible-side
+  // allowance), person-sized, so it may walk off later. A candidate seen for the first time, or
+  // one that moved faster without yet being a mover, is 0: a person who has just come into view
+  // or is starting to walk (LaserMemory keeps only the still ones, a still cluster for less long).
+  static constexpr uint8_t kStill = 1, kStillCluster = 2;
   const std::vector<uint8_t>& still() const { return still_; }
 
  private:

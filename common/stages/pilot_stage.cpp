@@ -54,7 +54,8 @@ namespace {
 LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
   // Beyond the sector map's reach a point is never reported; it comes back only by driving
   // back, and then the scanner sees it again.
-  return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range, c.laser_memory_coast_s};
+  return {c.laser_memory_s, c.sector_map.robot_radius + c.sector_map.max_range, c.laser_memory_coast_s,
+          c.laser_memory_cluster_s};
 }
 }  // namespace
 
@@ -76,7 +77,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation"};
+                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -115,6 +116,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.predict_movers = c.get<bool>("predict_movers", p.predict_movers);
   p.laser_memory_s = c.get("laser_memory_s", p.laser_memory_s, Range::between(0, 60));
   p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
+  p.laser_memory_cluster_s = c.get("laser_memory_cluster_s", p.laser_memory_cluster_s, Range::between(0, 60));
   p.laser_memory_dark = c.get<bool>("laser_memory_dark", p.laser_memory_dark);
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
@@ -374,6 +376,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   // mover prediction).
   std::vector<geom::Vec2>& still = still_;  // (storage reused scan to scan)
   still.clear();
+  still_cluster_.clear();  // per still return: of a still person-sized cluster
   if (cfg_.predict_movers) {
     // The robot at the middle of the scan (its readings span one revolution).
     const int64_t mid = m.utime + (newest - m.utime) / 2;
@@ -382,7 +385,10 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     if (remember) {
       still.reserve(timed_.size());
       for (size_t i = 0; i < timed_.size(); ++i)
-        if (movers_.still()[i]) still.push_back(timed_[i].p);
+        if (const uint8_t s = movers_.still()[i]; s != 0) {
+          still.push_back(timed_[i].p);
+          still_cluster_.push_back(s == MoverPrediction::kStillCluster);
+        }
     }
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
@@ -415,8 +421,9 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     // return stays.
     std::optional<complement::DarkBearings> dark;
     if (cfg_.laser_memory_dark) dark.emplace(*scan, view, no_return_);
-    laser_memory_.update(newest, robot->position(), still, moving,
-                         [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !(dark && dark->at(p)); });
+    laser_memory_.update(
+        newest, robot->position(), still, moving,
+        [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !(dark && dark->at(p)); }, &still_cluster_);
     const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
     if (!coasting.empty()) {
       moving.insert(moving.end(), coasting.begin(), coasting.end());

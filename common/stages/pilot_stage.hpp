@@ -104,6 +104,9 @@ struct PilotConfig {
   // A person the laser saw walking, who walked on where it does not look, is reported where they
   // would be by now for this long after the laser last saw them (LaserMemoryParams::coast_s).
   double laser_memory_coast_s = 1.0;
+  // Returns of a still person-sized cluster (a person who stands; LaserMemoryParams::cluster_s)
+  // are kept only this long: a person may walk off unseen. 0: laser_memory_s.
+  double laser_memory_cluster_s = 0;
   // Beyond the paper: the laser memory also keeps an earlier return where the newest scan's
   // reading in its bearing came back empty, for any scanner (a 360 deg one too). An empty reading
   // is no free space: a dark face at its detection limit (black cardboard up to 2.7 m head-on)
@@ -204,6 +207,7 @@ class PilotStage {
   std::vector<TimedPoint> timed_;  // (the scan's valid returns with their times; storage reused)
   std::vector<geom::Vec2> laser_points_;  // (the sector map's previous list, handed back: storage reused)
   std::vector<geom::Vec2> still_;         // (the returns the laser memory may keep: storage reused)
+  std::vector<uint8_t> still_cluster_;    // (per still_ return: of a still person-sized cluster)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
   std::vector<uint8_t> no_return_;  // (per reading of the scan: FLAG_NO_RETURN; storage reused)
 };

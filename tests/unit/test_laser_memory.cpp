@@ -63,6 +63,32 @@ TEST(LaserMemory, ForgetsAfterMemorySAndBeyondReach) {
   EXPECT_TRUE(m.points().empty());
 }
 
+// A still person-sized cluster's returns (flagged by the caller) are kept cluster_s, the rest
+// memory_s; without cluster_s (0) or without flags, every return memory_s.
+TEST(LaserMemory, AStillClusterIsKeptForClusterSOnly) {
+  const View270 facing_minus_y{Vec2::Zero(), -geom::kPi / 2};
+  const std::vector<Vec2> seen = {{0.0, 1.0}, {0.2, 1.5}};  // a wall point, a standing person's
+  const std::vector<uint8_t> cluster = {0, 1};
+  const auto none = std::vector<SectorMap::MovingPoint>{};
+  for (const double cluster_s : {0.0, 1.0}) {
+    LaserMemory m({30.0, 0.0, 0.0, cluster_s});
+    m.update(0, Vec2::Zero(), seen, none, View270{}, &cluster);
+    m.update(kScanUs, Vec2::Zero(), {}, none, facing_minus_y);
+    EXPECT_EQ(m.points().size(), 2u) << "cluster_s " << cluster_s;
+    m.update(1'000'001, Vec2::Zero(), {}, none, facing_minus_y);  // 1 s and 1 us after the first scan
+    ASSERT_EQ(m.points().size(), cluster_s > 0 ? 1u : 2u) << "cluster_s " << cluster_s;
+    EXPECT_EQ(m.points()[0], Vec2(0.0, 1.0));
+    m.update(30'000'001, Vec2::Zero(), {}, none, facing_minus_y);
+    EXPECT_TRUE(m.points().empty()) << "cluster_s " << cluster_s;
+  }
+  // Flags of another length than the points (a caller's mistake) flag nothing.
+  LaserMemory m({30.0, 0.0, 0.0, 1.0});
+  const std::vector<uint8_t> wrong = {1};
+  m.update(0, Vec2::Zero(), seen, none, View270{}, &wrong);
+  m.update(2'000'000, Vec2::Zero(), {}, none, facing_minus_y);
+  EXPECT_EQ(m.points().size(), 2u);
+}
+
 TEST(LaserMemory, AFullCircleScannerOrMemoryOffRemembersNothing) {
   for (const double memory_s : {0.0, 3.0}) {
     LaserMemory m = memory(memory_s);
