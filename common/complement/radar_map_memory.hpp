@@ -17,9 +17,10 @@
 // is kept once some scan saw it obliquely. A reading whose echo arc the newest scan did not
 // see, but an earlier one (within memory_s) did, is judged with the hypothesis on the newest
 // lines and those of the newest earlier scan that saw its arc: what the laser saw there is what
-// the paper's rule compares with. The lines are in the odometry frame; an earlier scan counts only
-// where no newer one saw the arc, and over memory_s of driving the odometry's drift stays below
-// the classification tolerance (deploy/config/lasonic.yaml). A 360 deg scanner sees everywhere: nothing is remembered.
+// the paper's rule compares with. The lines are in the odometry frame; an earlier scan counts
+// only where no newer one saw the arc, and over memory_s of driving the odometry's drift stays
+// below the classification tolerance (deploy/config/lasonic.yaml). A 360 deg scanner sees
+// everywhere: nothing is remembered.
 #include <cstdint>
 #include <deque>
 #include <vector>

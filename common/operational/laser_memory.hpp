@@ -19,8 +19,9 @@
 // laser_memory_dark, complement::DarkBearings): an empty reading is no free space.
 // The points are in the odometry frame: their error grows with the distance driven since they
 // were seen (the odometry's drift). A driving robot leaves them beyond reach first (the sector
-// map's 3.35 m: ~2 cm of drift); memory_s bounds what a robot that creeps, waits or turns on the
-// spot keeps: a still return that goes away unseen stays a ghost that long (deploy/config/lasonic.yaml).
+// map's 3.35 m: ~2 cm of drift); memory_s bounds what a robot that creeps, waits or turns on
+// the spot keeps: a still return that goes away unseen stays a ghost that long
+// (deploy/config/lasonic.yaml).
 #include <cstdint>
 #include <vector>
 
