@@ -392,10 +392,11 @@ TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
 
 // A 270 deg scanner sees something 1 m to the robot's left (returns at +90 deg +- half_width
 // readings of 0.5 deg); the robot then turns to face -y, so it lies straight behind, in the
-// scanner's blind wedge, and the next scan has no return. Returns the last SECTOR_MAP and the
-// remembered returns counted.
+// scanner's blind wedge, and the next scan (at second_scan_us, the robot standing since 0.6 s)
+// has no return. Returns the last SECTOR_MAP and the remembered returns counted.
 namespace {
-std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width, bool predict_movers = true) {
+std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width, bool predict_movers = true,
+                                                     int64_t second_scan_us = 1'000'000) {
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotConfig cfg;
   cfg.laser_memory_s = memory_s;
@@ -407,14 +408,19 @@ std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_w
     while (node.spinOnce(0) > 0) {
     }
   };
-  // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s.
-  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
-    node.publish(channels::ODOMETRY, o);
-  }
-  drain();
+  // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s; published up to `until` (ahead of each
+  // scan: the pose history holds only the last few seconds; the last map's laser must be fresh).
+  int64_t next_odometry = 0;
+  const auto odometry = [&](int64_t until) {
+    for (; next_odometry <= until; next_odometry += 20'000) {
+      const int64_t t = next_odometry;
+      odometry_t o{};
+      o.utime = t;
+      o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+      node.publish(channels::ODOMETRY, o);
+      drain();
+    }
+  };
   const auto scan = [&](int64_t utime, bool something_left) {
     laser_scan_t s = noReturnScan(utime, -0.75 * kPi, geom::deg2rad(0.5), 541, 100'000);  // 270 deg
     if (something_left)
@@ -425,9 +431,11 @@ std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_w
     node.publish(channels::LASER_SCAN, s);
     drain();
   };
+  odometry(2'000'000);
   scan(100'000, true);
-  scan(1'000'000, false);
-  EXPECT_EQ(maps.size(), 2u);
+  if (second_scan_us > 2'000'000) odometry(second_scan_us + 200'000);
+  scan(second_scan_us, false);
+  EXPECT_GE(maps.size(), 2u);  // (and one at least every map_max_interval_s of odometry between)
   return {maps.empty() ? sector_map_t{} : maps.back(), node.counter("laser.remembered_returns")};
 }
 }  // namespace
@@ -449,6 +457,26 @@ TEST(PilotLaserMemory, AWallLeftBehindA270DegreeScannerStaysInTheSectorMap) {
     ASSERT_EQ(m.nsectors, 48);
     EXPECT_EQ(m.source[behind], kNone);
     EXPECT_FLOAT_EQ(m.laser_distance[behind], -1.0f);
+    EXPECT_EQ(remembered, 0);
+  }
+}
+
+// A robot that waits (or creeps) does not leave the wall behind beyond the sector map's reach:
+// the shipped memory keeps it while the robot stands, 20 s after the scanner last saw it; the
+// former 3 s (a robot driving past at 0.3-0.6 m/s) had forgotten it.
+TEST(PilotLaserMemory, AWaitingRobotKeepsTheWallBehindItForLaserMemoryS) {
+  const int behind = 0;
+  ASSERT_GE(PilotConfig{}.laser_memory_s, 20.0);
+  {
+    const auto [m, remembered] = mapAfterTurningAway(PilotConfig{}.laser_memory_s, 80, true, 20'100'000);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_NEAR(m.laser_distance[behind], 1.0 - 0.35, 0.01);
+    EXPECT_GT(remembered, 0);
+  }
+  {
+    const auto [m, remembered] = mapAfterTurningAway(3.0, 80, true, 20'100'000);
+    ASSERT_EQ(m.nsectors, 48);
+    EXPECT_EQ(m.source[behind], kNone);
     EXPECT_EQ(remembered, 0);
   }
 }
