@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +16,7 @@
 #include "core/config.hpp"
 #include "eval/baselines.hpp"
 #include "sim/drivers.hpp"
+#include "sim/setup.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
 
@@ -118,4 +122,56 @@ TEST(ShippedConfig, TheLaserCutIsTheComplementsInEveryProcess) {
       EXPECT_NE(std::string(e.what()).find("complement.radar_map.split_threshold"), std::string::npos) << e.what();
     }
   }
+}
+
+// "One ring cycle" (neighbour_bearing.max_age_s: a neighbour's latest reading for the bearing, a
+// sensor's previous echo for motion confirmation) must hold the slowest cycle of the ring the
+// scene simulates, every group late by the driver's whole jitter, or the neighbours of a reading
+// are dropped as too old on the cycles that run long; and it must stay below two of the fastest
+// cycles, or a reading from the cycle before counts as the latest. Returns what is wrong, or "".
+static std::string oneRingCycleProblem(const std::vector<std::string>& files, const std::string& scenario) {
+  const sim::SimSetup setup = sim::loadSimSetup(files, scenario);
+  const sim::SonarConfig sonar = sim::sonarConfigFor(setup);
+  std::set<int> groups;
+  for (const auto& s : sonar.sensors) groups.insert(s.group);
+  const double n = static_cast<double>(groups.size());
+  const double slowest = n * (sonar.group_period_s + sonar.group_jitter_s), fastest = n * sonar.group_period_s;
+  std::ostringstream out;
+  const auto check = [&](const char* who, double max_age) {
+    if (max_age < slowest || max_age >= 2 * fastest)
+      out << who << ".neighbour_bearing.max_age_s " << max_age << " s outside [" << slowest << ", " << 2 * fastest
+          << ") s (" << groups.size() << " groups of " << sonar.group_period_s << " s + up to " << sonar.group_jitter_s
+          << " s); ";
+  };
+  check("pilot", pilotConfigFromRoot(setup.config).placement.params.max_age_s);
+  check("navigator", navigatorConfigFromRoot(setup.config).placement.params.max_age_s);
+  return out.str();
+}
+
+TEST(ShippedConfig, OneRingCycleHoldsEverySuiteScenesRingWithItsJitter) {
+  const std::string root = std::string(LASONIC_SOURCE_DIR) + "/";
+  std::ifstream list(root + "deploy/scenarios/suite.list");
+  ASSERT_TRUE(list) << "deploy/scenarios/suite.list not found";
+  std::string line;
+  int scenes = 0;
+  while (std::getline(list, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    std::string scenario, overlay;
+    words >> scenario;
+    std::vector<std::string> files{root + "deploy/config/lasonic.yaml"};
+    while (words >> overlay) files.push_back(root + overlay);
+    SCOPED_TRACE(line);
+    EXPECT_EQ(oneRingCycleProblem(files, root + scenario), "");
+    ++scenes;
+  }
+  EXPECT_GE(scenes, 30);
+  // The check can fail: the Pioneer's 8 groups of 40 ms run 0.32-0.384 s, so 0.35 s (one cycle
+  // without the jitter) drops half of the neighbours' readings.
+  const std::string tmp = ::testing::TempDir() + "/max_age_035.yaml";
+  std::ofstream(tmp) << "pilot: {neighbour_bearing: {max_age_s: 0.35}}\n";
+  EXPECT_NE(oneRingCycleProblem({root + "deploy/config/lasonic.yaml", root + "deploy/config/pioneer.yaml", tmp},
+                                root + "deploy/scenarios/suite/pioneer_lab.yaml")
+                .find("pilot.neighbour_bearing.max_age_s 0.35"),
+            std::string::npos);
 }
