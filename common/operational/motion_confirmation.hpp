@@ -4,15 +4,24 @@
 // surface as far as the transducer moved: one ring cycle (0.18 s on MOBOT-IV) apart, 0.07 m at
 // 0.4 m/s, inside the 3 x 3 neighbourhood, but 0.22 m at 1.2 m/s, beyond it, so a mesh beside a
 // fast robot stays below G_T however often it is heard. Here an echo whose own sensor's previous
-// echo (at most one ring cycle before) lies outside its neighbourhood, yet no farther from it than
-// the transducer moved plus a tolerance (the placement's own error), counts twice: the two echoes
-// together confirm it, as they would have standing closer. A single echo (crosstalk, a foreign
-// source) never does, nor does a robot that stands (its transducers do not move) or drives
-// slowly (the two echoes are neighbours anyway).
+// echo (at its previous firing, one ring cycle before) lies outside its neighbourhood, yet no
+// farther from it than the transducer moved plus a tolerance (the placement's own error), counts
+// twice: the two echoes together confirm it, as they would have standing closer. A single echo
+// (crosstalk, a foreign source) never does, nor does a robot that stands (its transducers do not
+// move) or drives slowly (the two echoes are neighbours anyway).
+//
+// "One ring cycle" is taken from the firings themselves, not from a configured time: the previous
+// echo must come from the sensor's previous firing (a firing in between without a placed echo,
+// or a lost message, breaks the pair), and that cycle must be regular, at most kIrregularCycle
+// times the sensor's cycle before it (a ring fires at a steady cadence: a driver's jitter
+// stretches a cycle by a fraction of a group, the Pioneer's 0.32-0.384 s by 1.2 at most; a
+// firing skipped or a sonar that stopped for a while stretches it by 2 or more). So any ring,
+// whatever its groups and their timing, works without a key.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -24,28 +33,38 @@ namespace lasonic {
 
 struct MotionConfirmationParams {
   bool enabled = false;
-  double max_age_s = 0.25;   // [s] the sensor's previous echo: one ring cycle and a margin
-  double tolerance_m = 0.10; // [m] beyond the transducer's own displacement
+  double tolerance_m = 0.10;  // [m] beyond the transducer's own displacement
 };
 
 class MotionConfirmation {
  public:
   static constexpr size_t kMaxSensors = 1024;
+  static constexpr double kIrregularCycle = 1.5;
   explicit MotionConfirmation(const MotionConfirmationParams& p) : p_(p) {}
   const MotionConfirmationParams& params() const { return p_; }
   // For each echo of `placed` (in order): appends its point to `hits` once more where its
-  // sensor's previous echo confirms it as above, then records it as that sensor's latest.
-  // Returns the number of points appended. Echoes without a sensor id (< 0) are skipped.
+  // sensor's previous echo confirms it as above, then records it as that sensor's latest echo
+  // and firing. Returns the number of points appended. Echoes without a sensor id (< 0) are
+  // skipped.
   int apply(const std::vector<PlacedEcho>& placed, const AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);
-  // How many sensors' latest echoes are kept (at most kMaxSensors).
+  // Records a firing of sensor `id` at `utime` that placed no echo (no echo, not complementary,
+  // left out): its next echo then has no previous one to pair with. The caller reports every
+  // reading of a group after apply(); a firing already recorded (the placed echoes') is ignored.
+  void fired(int id, int64_t utime);
+  // How many sensors' latest firings are kept (at most kMaxSensors).
   size_t sensors() const { return last_.size(); }
 
  private:
+  static constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
   struct Last {
-    geom::Vec2 point;
-    geom::Vec2 sensor;
-    int64_t utime = 0;
+    geom::Vec2 point = geom::Vec2::Zero();  // the latest placed echo
+    geom::Vec2 sensor = geom::Vec2::Zero();
+    int64_t echo_utime = kNone;             // its firing time
+    int64_t fired = kNone;                  // the latest firing, with or without a placed echo
+    int64_t cycle = 0;                      // [us] the interval before it (0: not known yet)
   };
+  // The entry of sensor `id`, new if it has none (the table is emptied first once full).
+  Last& entry(int id);
   MotionConfirmationParams p_;
   std::unordered_map<int, Last> last_;
 };

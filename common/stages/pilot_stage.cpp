@@ -59,12 +59,6 @@ LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
 }
 }  // namespace
 
-MotionConfirmationParams motionConfirmationParams(const PilotConfig& c) {
-  MotionConfirmationParams m = c.motion_confirmation;
-  m.max_age_s = c.placement.params.max_age_s;
-  return m;
-}
-
 PilotConfig pilotConfigFromRoot(const Config& root) {
   PilotConfig cfg = pilotConfig(root.section("pilot"));
   cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
@@ -149,7 +143,7 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       agm_(cfg.agm),
       sector_map_(cfg.sector_map),
       placer_(cfg.placement),
-      motion_confirmation_(motionConfirmationParams(cfg)),
+      motion_confirmation_(cfg.motion_confirmation),
       movers_(cfg.mover_prediction),
       laser_memory_(laserMemoryParams(cfg)) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
@@ -252,7 +246,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
-  motion_confirmation_ = MotionConfirmation(motionConfirmationParams(cfg_));
+  motion_confirmation_ = MotionConfirmation(cfg_.motion_confirmation);
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
@@ -470,6 +464,7 @@ void PilotStage::onComplement(const complement_t& m) {
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);
+  for (const GroupReading& r : group) motion_confirmation_.fired(r.sensor_id, m.utime);
 
   if (const auto pose = poses_.at(m.utime); pose && agm_.follow(pose->position(), speed_))
     node_.count("agm.recentred");

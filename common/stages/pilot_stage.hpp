@@ -78,10 +78,9 @@ struct PilotConfig {
   // The one cell a complementary reading increments (operational/echo_placer.hpp).
   EchoPlacementConfig placement;
   // Beyond the paper: an echo that its sensor's previous echo, spread apart by the robot's own
-  // motion, confirms counts twice (operational/motion_confirmation.hpp). Its max_age_s is not
-  // read here: it is the placement's neighbour_bearing.max_age_s, one ring cycle
-  // (motionConfirmationParams). enabled false: the paper.
-  MotionConfirmationParams motion_confirmation = {true, 0.25, 0.10};
+  // motion, confirms counts twice (operational/motion_confirmation.hpp): one ring cycle is the
+  // sensor's own previous firing, no time to configure. enabled false: the paper.
+  MotionConfirmationParams motion_confirmation = {true, 0.10};
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
@@ -131,8 +130,6 @@ PilotConfig pilotConfig(const Config& pilot_section);
 // The same from the whole configuration: `pilot:`, and the laser's cut from `complement.radar_map`
 // (what lasonic-pilot and lasonic-replay read).
 PilotConfig pilotConfigFromRoot(const Config& root);
-// The motion confirmation's parameters, its max_age_s the placement's neighbour_bearing.max_age_s.
-MotionConfirmationParams motionConfirmationParams(const PilotConfig& c);
 
 // A scan's valid returns in scan order into `points` (and, with `timed`, with their reading's
 // time into `timed`: timed[k].p is points[k]); `newest` raised to the newest reading's time.

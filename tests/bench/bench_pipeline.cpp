@@ -130,7 +130,7 @@ class Replayer {
         agm_(pcfg_.agm),
         sector_map_(pcfg_.sector_map),
         placer_(pcfg_.placement),
-        motion_confirmation_(motionConfirmationParams(pcfg_)),
+        motion_confirmation_(pcfg_.motion_confirmation),
         movers_(pcfg_.mover_prediction),
         laser_memory_(LaserMemoryParams{pcfg_.laser_memory_s, pcfg_.sector_map.robot_radius + pcfg_.sector_map.max_range,
                                         pcfg_.laser_memory_coast_s}) {}
@@ -239,6 +239,7 @@ class Replayer {
       const std::vector<GroupReading>& readings = groupReadings(group_index_++, result);
       std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
       motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits);
+      for (const GroupReading& r : readings) motion_confirmation_.fired(r.sensor_id, ring->utime);
       if (const auto pose = poses_.at(ring->utime)) agm_.follow(pose->position(), speed_);
       agm_.update(hits);
       sector_map_.setSonarTime(ring->utime);

@@ -1,6 +1,6 @@
 // MotionConfirmation: echoes of one transducer that the robot's own motion spread beyond the
 // AGM's neighbourhood confirm each other; a standing robot's, a single echo, two transducers'
-// or a stale pair do not.
+// or a stale pair do not; one ring cycle is the sensor's own previous firing, whatever the ring.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -20,7 +20,6 @@ AgmParams operational() { return PilotConfig::operationalAgmDefaults(); }
 MotionConfirmationParams on() {
   MotionConfirmationParams p;
   p.enabled = true;
-  p.max_age_s = 0.25;
   p.tolerance_m = 0.10;
   return p;
 }
@@ -89,7 +88,8 @@ TEST(MotionConfirmation, NeedsTheSameSensorMovingAsFarAsItsEchoes) {
   EXPECT_EQ(mc.apply({echo(2, 0.38, Vec2(0.5, 0), Vec2(0.55, 1.0))}, agm, hits), 1);
   // ... moved 0.2 m, echo 0.5 m away: no (not the same surface's foot).
   EXPECT_EQ(mc.apply({echo(2, 0.56, Vec2(0.7, 0), Vec2(1.05, 1.0))}, agm, hits), 0);
-  // ... moved 0.2 m, echo 0.2 m on, but older than one ring cycle (max_age_s): no.
+  // ... moved 0.2 m, echo 0.2 m on, but after a cycle twice the one before (0.34 s after
+  // 0.18 s: a firing skipped or lost): no.
   EXPECT_EQ(mc.apply({echo(2, 0.90, Vec2(0.9, 0), Vec2(1.25, 1.0))}, agm, hits), 0);
   // A single echo of a new sensor, or one without a sensor id: nothing.
   EXPECT_EQ(mc.apply({echo(7, 1.00, Vec2(0, 0), Vec2(0.0, 1.0)), echo(-1, 1.0, Vec2(0, 0), Vec2(0, 1))}, agm, hits), 0);
@@ -123,4 +123,39 @@ TEST(MotionConfirmation, EverNewSensorIdsDoNotGrowWithoutBound) {
   EXPECT_LE(mc.sensors(), MotionConfirmation::kMaxSensors);
   EXPECT_EQ(mc.apply({echo(9, 5.00, Vec2(0.0, 0), Vec2(0.0, 1.0))}, agm, hits), 0);
   EXPECT_EQ(mc.apply({echo(9, 5.18, Vec2(0.2, 0), Vec2(0.22, 1.0))}, agm, hits), 1);
+}
+
+// One ring cycle comes from the firings: a ring slower than MOBOT-IV's (the Pioneer's 8 groups of
+// 40 ms, each up to 8 ms late: 0.32-0.384 s; here a ring of 0.5-0.6 s) pairs its echoes as well,
+// with no time to configure.
+TEST(MotionConfirmation, ASlowerRingPairsItsEchoesToo) {
+  AccumulativeGridMap agm(operational());
+  MotionConfirmation mc(on());
+  std::vector<Vec2> hits;
+  const double times[] = {0.0, 0.5, 1.1, 1.6, 2.2};  // cycles 0.5, 0.6, 0.5, 0.6 s
+  int added = 0;
+  for (const double t : times) {
+    const double x = 0.4 * t;  // a transducer at 0.4 m/s: its feet 0.2-0.24 m apart, two cells
+    added += mc.apply({echo(5, t, Vec2(x, 0), Vec2(x, 1.0))}, agm, hits);
+  }
+  EXPECT_EQ(added, 4);
+}
+
+// A firing that placed no echo (nothing heard, or the laser explained it) breaks the pair: the
+// echo before it is two cycles old.
+TEST(MotionConfirmation, AFiringWithoutAnEchoBreaksThePair) {
+  AccumulativeGridMap agm(operational());
+  MotionConfirmation mc(on());
+  std::vector<Vec2> hits;
+  EXPECT_EQ(mc.apply({echo(6, 0.00, Vec2(0.0, 0), Vec2(0.0, 1.0))}, agm, hits), 0);
+  mc.fired(6, 0);  // the same firing again (the caller reports every reading): no change
+  EXPECT_EQ(mc.apply({echo(6, 0.18, Vec2(0.22, 0), Vec2(0.22, 1.0))}, agm, hits), 1);
+  mc.fired(6, static_cast<int64_t>(0.18e6));
+  mc.fired(6, static_cast<int64_t>(0.36e6));  // no echo placed at this firing
+  EXPECT_EQ(mc.apply({echo(6, 0.54, Vec2(0.44, 0), Vec2(0.44, 1.0))}, agm, hits), 0);
+  // ... and the next regular firing pairs again.
+  EXPECT_EQ(mc.apply({echo(6, 0.72, Vec2(0.66, 0), Vec2(0.66, 1.0))}, agm, hits), 1);
+  // A sonar that stopped for 2 s: its next echo pairs with nothing, the one after does.
+  EXPECT_EQ(mc.apply({echo(6, 2.72, Vec2(0.88, 0), Vec2(0.88, 1.0))}, agm, hits), 0);
+  EXPECT_EQ(mc.apply({echo(6, 2.90, Vec2(1.10, 0), Vec2(1.10, 1.0))}, agm, hits), 1);
 }
