@@ -15,6 +15,7 @@ int NaiveFusion::insertGroup(int64_t utime, const std::vector<Reading>& readings
   for (const Reading& r : readings) {
     GroupReading g;
     g.sensor_id = r.sensor_id;
+    g.utime = utime;
     g.echo = r.echo && std::isfinite(r.range) && r.range >= 0 && std::isfinite(r.sensor.x) &&
              std::isfinite(r.sensor.y) && std::isfinite(r.sensor.theta);
     if (g.echo) {

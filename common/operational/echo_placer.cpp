@@ -149,10 +149,10 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     }
     waiting_.erase(waiting_.begin() + static_cast<std::ptrdiff_t>(still), waiting_.end());
   }
-  std::vector<std::pair<int, std::optional<SonarEcho>>>& latest = latest_;
+  std::vector<Latest>& latest = latest_;
   latest.clear();
   for (const GroupReading& r : group) {
-    latest.emplace_back(r.sensor_id, std::nullopt);
+    latest.push_back({r.sensor_id, r.echo ? r.e.utime : r.utime, std::nullopt});
     if (!r.echo) continue;
     const SonarEcho& echo = r.e;
     const bool pose_ok =
@@ -161,7 +161,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
       if (r.hit) hits.push_back(r.axis_end);
       continue;
     }
-    latest.back().second = echo;
+    latest.back().echo = echo;
     if (!r.hit) continue;
     // The paper's axis is the estimate, uncertain by half the beam width.
     BearingEstimate est{echo.sensor.theta, 0.5 * (echo.beam_width > 0 ? echo.beam_width : cfg_.params.beam_width)};
@@ -183,10 +183,10 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     last_placed_.push_back({p, echo.sensor, echo.range, echo.beam_width, r.sensor_id, echo.utime});
     spread(echo.sensor.position(), echo.range, echo.beam_width, p, agm, hits);
   }
-  for (const auto& [id, echo] : latest) tracker_.record(id, echo);
+  for (const Latest& l : latest) tracker_.record(l.id, l.utime, l.echo);
   if (cfg_.placement == AgmPlacement::ArcVotes)
-    for (const auto& [id, echo] : latest)
-      if (echo) agm.addArcVotes(echo->sensor.position(), echo->range, echo->sensor.theta - cfg_.arc_halfwidth,
+    for (const Latest& l : latest)
+      if (const std::optional<SonarEcho>& echo = l.echo) agm.addArcVotes(echo->sensor.position(), echo->range, echo->sensor.theta - cfg_.arc_halfwidth,
                                 echo->sensor.theta + cfg_.arc_halfwidth, vote_weight_);
   return hits;
 }

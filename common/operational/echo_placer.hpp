@@ -73,6 +73,7 @@ std::vector<std::string> echoPlacementKeys();
 // One reading of a firing group, as far as the AGM is concerned.
 struct GroupReading {
   int sensor_id = 0;
+  int64_t utime = 0;         // the group's firing time (also without an echo: e.utime then unset)
   bool echo = false;         // a usable complementary echo (finite, plausible range and end point)
   SonarEcho e;               // valid if echo: firing time, range, sensor pose (global frame)
   geom::Vec2 axis_end = geom::Vec2::Zero();  // the reading's end point on the acoustic axis
@@ -129,7 +130,12 @@ class EchoPlacer {
   std::vector<Placed> placed_;  // surface fill: recently placed echoes
   double vote_weight_ = 1.0;
   std::vector<PlacedEcho> last_placed_;
-  std::vector<std::pair<int, std::optional<SonarEcho>>> latest_;  // (place's scratch: each sensor's latest)
+  struct Latest {
+    int id = 0;
+    int64_t utime = 0;  // its firing
+    std::optional<SonarEcho> echo;
+  };
+  std::vector<Latest> latest_;  // (place's scratch: each sensor's latest reading)
   // Surface fill: the extra points for the echo placed at p, heard from `sensor`, appended to `hits`.
   void spread(const geom::Vec2& sensor, double range, double beam_width, const geom::Vec2& p,
               AccumulativeGridMap& agm, std::vector<geom::Vec2>& hits);

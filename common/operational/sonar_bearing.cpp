@@ -1,6 +1,7 @@
 #include "operational/sonar_bearing.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace lasonic {
 
@@ -24,7 +25,7 @@ BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<Son
   Side side[2];  // 0: right (clockwise), 1: left
   for (const SonarEcho& o : others) {
     const int64_t age = self.utime - o.utime;
-    if (age < 0 || age > max_age_us) continue;
+    if (age < 0 || (max_age_us > 0 && age > max_age_us)) continue;
     const double off = geom::angleDiff(o.sensor.theta, psi);
     if (std::abs(off) >= 0.5 * (b + beamOf(o)) || off == 0.0) continue;
     Side& s = side[off > 0 ? 1 : 0];
@@ -55,9 +56,21 @@ geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others
 }
 
 BearingEstimate SonarBearingTracker::estimate(int id, const SonarEcho& e) const {
+  // This ring cycle: since the sensor's previous firing, or, after a gap, within kIrregularCycle
+  // of its cycle before (nothing known yet: every latest reading).
+  int64_t since = std::numeric_limits<int64_t>::min();
+  if (p_.max_age_s <= 0) {
+    const auto f = fired_.find(id);
+    if (f != fired_.end() && f->second.utime < e.utime) {
+      since = f->second.utime;
+      const int64_t before = f->second.cycle;
+      if (before > 0 && static_cast<double>(e.utime - since) > kIrregularCycle * static_cast<double>(before))
+        since = e.utime - static_cast<int64_t>(kIrregularCycle * static_cast<double>(before));
+    }
+  }
   scratch_.clear();
   for (const auto& [other, echo] : latest_)
-    if (other != id && echo) scratch_.push_back(*echo);
+    if (other != id && echo && echo->utime >= since) scratch_.push_back(*echo);
   return echoBearingEstimate(e, scratch_, p_);
 }
 
@@ -67,11 +80,17 @@ geom::Vec2 SonarBearingTracker::place(int id, const SonarEcho& e) const {
   return e.sensor.position() + e.range * geom::unitVector(bearing(id, e));
 }
 
-void SonarBearingTracker::record(int id, const std::optional<SonarEcho>& e) {
+void SonarBearingTracker::record(int id, int64_t utime, const std::optional<SonarEcho>& e) {
   // No ring has this many transducers: a stream of ever new ids (malformed messages) must not
   // grow the table without bound.
-  if (latest_.size() >= kMaxSensors && latest_.find(id) == latest_.end()) latest_.clear();
+  if (latest_.size() >= kMaxSensors && latest_.find(id) == latest_.end()) {
+    latest_.clear();
+    fired_.clear();
+  }
   latest_[id] = e;
+  const auto f = fired_.find(id);
+  if (f == fired_.end()) fired_[id] = {utime, 0};
+  else if (utime > f->second.utime) f->second = {utime, utime - f->second.utime};
 }
 
 }  // namespace lasonic

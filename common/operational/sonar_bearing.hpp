@@ -39,7 +39,9 @@ enum class AgmBearing { Axis, Neighbours };
 struct SonarBearingParams {
   double beam_width = geom::deg2rad(30.0);  // [rad] full opening b
   double similar = 0.10;                    // [m] |r_j - r_i| <= this: the same nearest point
-  double max_age_s = 0.25;                  // [s] neighbour readings older than this are ignored
+  // [s] Neighbour readings older than this are ignored; 0: no limit here -- the tracker takes the
+  // readings of this ring cycle from the firings (those since the sensor's previous firing).
+  double max_age_s = 0;
 };
 
 // One sonar echo: firing time, range, sensor pose (global frame, at firing time).
@@ -60,7 +62,8 @@ struct BearingEstimate {
 };
 
 // The chosen bearing (global frame) of echo `self`, given the other sensors' latest echoes
-// (the caller leaves out the sensor of `self`; ages and beam overlap are checked here).
+// (the caller leaves out the sensor of `self`; beam overlap, readings newer than `self` and,
+// with p.max_age_s > 0, ages are checked here).
 // Its bearing is exactly self.sensor.theta when the axis is chosen.
 BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<SonarEcho>& others,
                                     const SonarBearingParams& p);
@@ -69,10 +72,17 @@ double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, 
 // The point at self.range from the sensor along echoBearing().
 geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
 
-// Keeps, per sensor id, its latest echo, and places new echoes with echoPoint().
+// Keeps, per sensor id, its latest echo and firing, and places new echoes with echoPoint(). The
+// neighbours of an echo are the other sensors' latest readings of this ring cycle: fired since
+// the echo's own sensor fired before (with params().max_age_s 0; > 0: no older than that). A
+// cycle more than kIrregularCycle times the one before it is a gap (a sonar that stopped, a lost
+// message): then only readings within kIrregularCycle of that earlier cycle count. So any ring,
+// whatever its groups and their timing (a driver fires each group a little late at random),
+// needs no time to configure.
 class SonarBearingTracker {
  public:
   static constexpr size_t kMaxSensors = 1024;
+  static constexpr double kIrregularCycle = 1.5;
   explicit SonarBearingTracker(const SonarBearingParams& p) : p_(p) {}
   const SonarBearingParams& params() const { return p_; }
   // Bearing / point of the echo of sensor `id` against the latest echoes of the other sensors.
@@ -80,14 +90,19 @@ class SonarBearingTracker {
   double bearing(int id, const SonarEcho& e) const;
   BearingEstimate estimate(int id, const SonarEcho& e) const;
   geom::Vec2 place(int id, const SonarEcho& e) const;
-  // Records the latest echo of sensor `id`; nullopt: its latest reading has no usable echo.
-  void record(int id, const std::optional<SonarEcho>& e);
+  // Records the latest reading of sensor `id`, fired at `utime`; nullopt: it has no usable echo.
+  void record(int id, int64_t utime, const std::optional<SonarEcho>& e);
   // How many sensors' latest readings are kept (at most kMaxSensors).
   size_t sensors() const { return latest_.size(); }
 
  private:
   SonarBearingParams p_;
+  struct Firing {
+    int64_t utime = 0;
+    int64_t cycle = 0;  // [us] since the firing before (0: not known)
+  };
   std::map<int, std::optional<SonarEcho>> latest_;
+  std::map<int, Firing> fired_;
   mutable std::vector<SonarEcho> scratch_;
 };
 

@@ -71,6 +71,7 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
   for (const complement::ComplementInput& r : readings) {
     GroupReading g;
     g.sensor_id = r.sensor_id;
+    g.utime = utime;
     // An echo from beyond the laser's view is used as a complementary one (complement.hpp).
     g.echo = (r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView ||
               (seen_before && r.cls == complement::SonarClass::SeenBefore)) &&

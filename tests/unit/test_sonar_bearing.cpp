@@ -13,7 +13,7 @@ using geom::Vec2;
 
 namespace {
 
-const SonarBearingParams kP{};  // 30 deg beam, 0.10 m similar, 0.25 s
+const SonarBearingParams kP{};  // 30 deg beam, 0.10 m similar, no age limit (the tracker's cycle)
 constexpr double kRingRadius = 0.35;
 constexpr double kHalfCell = 0.05;
 
@@ -54,12 +54,16 @@ std::vector<std::pair<double, Vec2>> ringPoints(const Shape& s, bool axis = fals
 TEST(EchoBearing, NoNeighbourIsExactlyTheAxis) {
   const SonarEcho e{1'000'000, 1.5, ringSensor(33.0)};
   EXPECT_EQ(echoBearing(e, {}, kP), e.sensor.theta);
-  // Too old, not overlapping (30 deg away), or from the future: ignored.
+  // Too old (with an age limit of 0.25 s), not overlapping (30 deg away), or from the future:
+  // ignored.
+  SonarBearingParams aged = kP;
+  aged.max_age_s = 0.25;
   const std::vector<SonarEcho> ignored = {{1'000'000 - 260'000, 1.5, ringSensor(48.0)},
                                           {1'000'000, 1.5, ringSensor(63.0)},
                                           {1'000'000, 1.5, ringSensor(3.0)},
                                           {1'000'001, 1.5, ringSensor(18.0)}};
-  EXPECT_EQ(echoBearing(e, ignored, kP), e.sensor.theta);
+  EXPECT_EQ(echoBearing(e, ignored, aged), e.sensor.theta);
+  EXPECT_NE(echoBearing(e, {ignored[0]}, kP), e.sensor.theta);  // no limit: the old one counts
   // Longer neighbours say nothing either.
   EXPECT_EQ(echoBearing(e, {{1'000'000, 1.7, ringSensor(18.0)}, {1'000'000, 1.9, ringSensor(48.0)}}, kP),
             e.sensor.theta);
@@ -170,24 +174,52 @@ TEST(SonarBearingTracker, LatestEchoPerSensor) {
   SonarBearingTracker t(kP);
   const SonarEcho e{100'000, 1.5, ringSensor(0.0)};
   EXPECT_EQ(t.bearing(0, e), 0.0);
-  t.record(1, SonarEcho{70'000, 1.2, ringSensor(15.0)});
+  t.record(1, 70'000, SonarEcho{70'000, 1.2, ringSensor(15.0)});
   EXPECT_NEAR(t.bearing(0, e), deg2rad(15.0), 1e-12);
   const Vec2 p = t.place(0, e);
   EXPECT_NEAR(p.x(), kRingRadius + 1.5 * std::cos(deg2rad(15.0)), 1e-12);
   EXPECT_NEAR(p.y(), 1.5 * std::sin(deg2rad(15.0)), 1e-12);
   // Its own earlier echo is never a neighbour.
-  t.record(0, SonarEcho{0, 1.2, ringSensor(0.0)});
+  t.record(0, 0, SonarEcho{0, 1.2, ringSensor(0.0)});
   EXPECT_NEAR(t.bearing(0, e), deg2rad(15.0), 1e-12);
   // Sensor 1's latest reading has no echo: it no longer counts.
-  t.record(1, std::nullopt);
+  t.record(1, 90'000, std::nullopt);
   EXPECT_EQ(t.bearing(0, e), 0.0);
 }
 
 TEST(SonarBearingTracker, EverNewSensorIdsDoNotGrowWithoutBound) {
   SonarBearingTracker t(kP);
   // Malformed messages with a new id each, then a real neighbour: it still counts.
-  for (int id = 100; id < 5100; ++id) t.record(id, SonarEcho{0, 2.9, ringSensor(180.0)});
+  for (int id = 100; id < 5100; ++id) t.record(id, 0, SonarEcho{0, 2.9, ringSensor(180.0)});
   EXPECT_LE(t.sensors(), SonarBearingTracker::kMaxSensors);
-  t.record(1, SonarEcho{70'000, 1.2, ringSensor(15.0)});
+  t.record(1, 70'000, SonarEcho{70'000, 1.2, ringSensor(15.0)});
   EXPECT_NEAR(t.bearing(0, SonarEcho{100'000, 1.5, ringSensor(0.0)}), deg2rad(15.0), 1e-12);
+}
+
+// The neighbours of an echo are the readings of this ring cycle, taken from the firings: any
+// ring's timing works without a key, a neighbour that has not fired since is not one.
+TEST(SonarBearingTracker, ThisRingCycleComesFromTheFirings) {
+  SonarBearingTracker t(kP);
+  // A slow ring: sensor 0 fires every 0.6 s; its neighbour 1 fired 0.5 s before its echo.
+  t.record(0, 0, std::nullopt);
+  t.record(1, 100'000, SonarEcho{100'000, 1.2, ringSensor(15.0)});
+  const SonarEcho e{600'000, 1.5, ringSensor(0.0)};
+  EXPECT_NEAR(t.bearing(0, e), deg2rad(15.0), 1e-12);
+  // A neighbour that last fired before the sensor's previous firing is of the cycle before
+  // (it fell silent): not one.
+  t.record(0, 600'000, SonarEcho{600'000, 1.5, ringSensor(0.0)});
+  EXPECT_EQ(t.bearing(0, SonarEcho{1'200'000, 1.5, ringSensor(0.0)}), 0.0);
+  // After a gap (the sonar stopped for 5 s: a cycle far beyond 1.5 times the one before), only
+  // what fired within 1.5 cycles (0.9 s) counts.
+  t.record(1, 1'300'000, SonarEcho{1'300'000, 1.2, ringSensor(15.0)});
+  EXPECT_EQ(t.bearing(0, SonarEcho{6'200'000, 1.5, ringSensor(0.0)}), 0.0);
+  t.record(1, 6'000'000, SonarEcho{6'000'000, 1.2, ringSensor(15.0)});
+  EXPECT_NEAR(t.bearing(0, SonarEcho{6'200'000, 1.5, ringSensor(0.0)}), deg2rad(15.0), 1e-12);
+  // A fixed age limit instead (params().max_age_s > 0) drops the slow ring's neighbour.
+  SonarBearingParams fixed = kP;
+  fixed.max_age_s = 0.25;
+  SonarBearingTracker f(fixed);
+  f.record(0, 0, std::nullopt);
+  f.record(1, 100'000, SonarEcho{100'000, 1.2, ringSensor(15.0)});
+  EXPECT_EQ(f.bearing(0, e), 0.0);
 }
