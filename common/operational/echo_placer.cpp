@@ -186,8 +186,9 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
   for (const Latest& l : latest) tracker_.record(l.id, l.utime, l.echo);
   if (cfg_.placement == AgmPlacement::ArcVotes)
     for (const Latest& l : latest)
-      if (const std::optional<SonarEcho>& echo = l.echo) agm.addArcVotes(echo->sensor.position(), echo->range, echo->sensor.theta - cfg_.arc_halfwidth,
-                                echo->sensor.theta + cfg_.arc_halfwidth, vote_weight_);
+      if (const std::optional<SonarEcho>& echo = l.echo)
+        agm.addArcVotes(echo->sensor.position(), echo->range, echo->sensor.theta - cfg_.arc_halfwidth,
+                        echo->sensor.theta + cfg_.arc_halfwidth, vote_weight_);
   return hits;
 }
 
