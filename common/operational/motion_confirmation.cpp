@@ -22,27 +22,26 @@ int MotionConfirmation::apply(const std::vector<PlacedEcho>& placed, const Accum
     const geom::Vec2 sensor = e.sensor.position();
     Last& prev = entry(e.sensor_id);
     // (an echo that waited for later arcs is older than its sensor's latest firing: ignored)
-    if (prev.fired != kNone && e.utime <= prev.fired) continue;
-    const int64_t cycle = prev.fired == kNone ? 0 : e.utime - prev.fired;
-    const bool regular = prev.cycle == 0 || static_cast<double>(cycle) <= kIrregularCycle * static_cast<double>(prev.cycle);
+    if (prev.firing.known() && e.utime <= prev.firing.last) continue;
     int ix = 0, iy = 0, px = 0, py = 0;
-    if (prev.echo_utime != kNone && prev.echo_utime == prev.fired && regular && agm.cellAt(e.point, ix, iy) &&
-        agm.cellAt(prev.point, px, py) && std::max(std::abs(ix - px), std::abs(iy - py)) > agm.params().t &&
+    if (prev.firing.known() && prev.echo_utime == prev.firing.last && prev.firing.regular(e.utime) &&
+        agm.cellAt(e.point, ix, iy) && agm.cellAt(prev.point, px, py) &&
+        std::max(std::abs(ix - px), std::abs(iy - py)) > agm.params().t &&
         (e.point - prev.point).norm() <= (sensor - prev.sensor).norm() + p_.tolerance_m) {
       hits.push_back(e.point);
       ++added;
     }
-    prev = {e.point, sensor, e.utime, e.utime, cycle};
+    prev.point = e.point;
+    prev.sensor = sensor;
+    prev.echo_utime = e.utime;
+    prev.firing.fire(e.utime);
   }
   return added;
 }
 
 void MotionConfirmation::fired(int id, int64_t utime) {
   if (!p_.enabled || id < 0) return;
-  Last& prev = entry(id);
-  if (prev.fired != kNone && utime <= prev.fired) return;
-  prev.cycle = prev.fired == kNone ? 0 : utime - prev.fired;
-  prev.fired = utime;
+  entry(id).firing.fire(utime);
 }
 
 }  // namespace lasonic

@@ -12,16 +12,13 @@
 //
 // "One ring cycle" is taken from the firings themselves, not from a configured time: the previous
 // echo must come from the sensor's previous firing (a firing in between without a placed echo,
-// or a lost message, breaks the pair), and that cycle must be regular, at most kIrregularCycle
-// times the sensor's cycle before it (a ring fires at a steady cadence: a driver's jitter
-// stretches a cycle by a fraction of a group, the Pioneer's 0.32-0.384 s by 1.2 at most; a
-// firing skipped or a sonar that stopped for a while stretches it by 2 or more). So any ring,
+// or a lost message, breaks the pair), and that cycle must be regular (SensorFiring,
+// operational/sonar_bearing.hpp: at most 1.5 times the sensor's cycle before it). So any ring,
 // whatever its groups and their timing, works without a key.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -39,7 +36,6 @@ struct MotionConfirmationParams {
 class MotionConfirmation {
  public:
   static constexpr size_t kMaxSensors = 1024;
-  static constexpr double kIrregularCycle = 1.5;
   explicit MotionConfirmation(const MotionConfirmationParams& p) : p_(p) {}
   const MotionConfirmationParams& params() const { return p_; }
   // For each echo of `placed` (in order): appends its point to `hits` once more where its
@@ -55,13 +51,11 @@ class MotionConfirmation {
   size_t sensors() const { return last_.size(); }
 
  private:
-  static constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
   struct Last {
     geom::Vec2 point = geom::Vec2::Zero();  // the latest placed echo
     geom::Vec2 sensor = geom::Vec2::Zero();
-    int64_t echo_utime = kNone;             // its firing time
-    int64_t fired = kNone;                  // the latest firing, with or without a placed echo
-    int64_t cycle = 0;                      // [us] the interval before it (0: not known yet)
+    int64_t echo_utime = SensorFiring::kNone;  // its firing time
+    SensorFiring firing;                       // the latest firing, with or without a placed echo
   };
   // The entry of sensor `id`, new if it has none (the table is emptied first once full).
   Last& entry(int id);

@@ -1,7 +1,6 @@
 #include "operational/sonar_bearing.hpp"
 
 #include <cmath>
-#include <limits>
 
 namespace lasonic {
 
@@ -57,15 +56,15 @@ geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others
 
 BearingEstimate SonarBearingTracker::estimate(int id, const SonarEcho& e) const {
   // This ring cycle: since the sensor's previous firing, or, after a gap, within kIrregularCycle
-  // of its cycle before (nothing known yet: every latest reading).
+  // times its cycle before (nothing known yet: every latest reading).
   int64_t since = std::numeric_limits<int64_t>::min();
   if (p_.max_age_s <= 0) {
     const auto f = fired_.find(id);
-    if (f != fired_.end() && f->second.utime < e.utime) {
-      since = f->second.utime;
-      const int64_t before = f->second.cycle;
-      if (before > 0 && static_cast<double>(e.utime - since) > kIrregularCycle * static_cast<double>(before))
-        since = e.utime - static_cast<int64_t>(kIrregularCycle * static_cast<double>(before));
+    if (f != fired_.end() && f->second.last < e.utime) {
+      const SensorFiring& own = f->second;
+      since = own.regular(e.utime)
+                  ? own.last
+                  : e.utime - static_cast<int64_t>(SensorFiring::kIrregularCycle * static_cast<double>(own.cycle));
     }
   }
   scratch_.clear();
@@ -88,9 +87,7 @@ void SonarBearingTracker::record(int id, int64_t utime, const std::optional<Sona
     fired_.clear();
   }
   latest_[id] = e;
-  const auto f = fired_.find(id);
-  if (f == fired_.end()) fired_[id] = {utime, 0};
-  else if (utime > f->second.utime) f->second = {utime, utime - f->second.utime};
+  fired_[id].fire(utime);
 }
 
 }  // namespace lasonic

@@ -26,6 +26,7 @@
 // firings is accounted for.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <map>
 #include <vector>
@@ -72,17 +73,38 @@ double echoBearing(const SonarEcho& self, const std::vector<SonarEcho>& others, 
 // The point at self.range from the sensor along echoBearing().
 geom::Vec2 echoPoint(const SonarEcho& self, const std::vector<SonarEcho>& others, const SonarBearingParams& p);
 
+// One transducer's firings, for "one ring cycle" taken from the firings themselves (here and in
+// operational/motion_confirmation.hpp): a ring fires at a steady cadence, a driver's jitter
+// stretches a cycle by a fraction of a group (the Pioneer's 0.32-0.384 s by 1.2 at most), a
+// firing skipped or lost, or a sonar that stopped for a while, by 2 or more.
+struct SensorFiring {
+  static constexpr double kIrregularCycle = 1.5;
+  static constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
+  int64_t last = kNone;  // the latest firing
+  int64_t cycle = 0;     // [us] the interval before it (0: not known yet)
+  bool known() const { return last != kNone; }
+  // A firing at `utime` (after `last`) ends a regular cycle: at most kIrregularCycle times the one
+  // before it (or that one is not known).
+  bool regular(int64_t utime) const {
+    return cycle == 0 || static_cast<double>(utime - last) <= kIrregularCycle * static_cast<double>(cycle);
+  }
+  // Records a firing at `utime`; an earlier or repeated one changes nothing.
+  void fire(int64_t utime) {
+    if (!known()) last = utime;
+    else if (utime > last) cycle = utime - last, last = utime;
+  }
+};
+
 // Keeps, per sensor id, its latest echo and firing, and places new echoes with echoPoint(). The
 // neighbours of an echo are the other sensors' latest readings of this ring cycle: fired since
 // the echo's own sensor fired before (with params().max_age_s 0; > 0: no older than that). A
-// cycle more than kIrregularCycle times the one before it is a gap (a sonar that stopped, a lost
-// message): then only readings within kIrregularCycle of that earlier cycle count. So any ring,
+// cycle that is not regular (SensorFiring) is a gap (a sonar that stopped, a lost message): then
+// only readings within kIrregularCycle of that earlier cycle count. So any ring,
 // whatever its groups and their timing (a driver fires each group a little late at random),
 // needs no time to configure.
 class SonarBearingTracker {
  public:
   static constexpr size_t kMaxSensors = 1024;
-  static constexpr double kIrregularCycle = 1.5;
   explicit SonarBearingTracker(const SonarBearingParams& p) : p_(p) {}
   const SonarBearingParams& params() const { return p_; }
   // Bearing / point of the echo of sensor `id` against the latest echoes of the other sensors.
@@ -97,12 +119,8 @@ class SonarBearingTracker {
 
  private:
   SonarBearingParams p_;
-  struct Firing {
-    int64_t utime = 0;
-    int64_t cycle = 0;  // [us] since the firing before (0: not known)
-  };
   std::map<int, std::optional<SonarEcho>> latest_;
-  std::map<int, Firing> fired_;
+  std::map<int, SensorFiring> fired_;
   mutable std::vector<SonarEcho> scratch_;
 };
 
