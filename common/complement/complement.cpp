@@ -227,13 +227,18 @@ GroupComplement extractComplement(const SonarGroup& g, const std::optional<geom:
     const SonarReading& r = g.readings[i];
     // (Crosstalk and late echoes are explained whatever the listener's arc covers: they are no
     // echo from there.)
+    // An outside-view echo the newest lines explain (redundant by them) keeps that hypothesis as
+    // its hypothetical_range, so the pilot can tell it (|range - hypothetical_range| <= tolerance)
+    // and the earlier lines are not asked: the newest scan saw what explains it.
+    const bool explained = c.cls == SonarClass::Redundant;
     if (p.outside_view_complementary && rm && c.end && c.sensor_pose && !c.by_crosstalk && !c.by_late_echo &&
         (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) &&
         !c.arc_seen)
       c.cls = SonarClass::OutsideView;
     // Where the newest scan does not look, the lines an earlier one saw there: an echo they
     // explain (or that passed them: false) is the laser's, seen before.
-    if (c.seen_before && (c.cls == SonarClass::Complementary || c.cls == SonarClass::OutsideView) && !c.by_pole) {
+    if (c.seen_before && (c.cls == SonarClass::Complementary || (c.cls == SonarClass::OutsideView && !explained)) &&
+        !c.by_pole) {
       const SonarClass before = classify(r.range, r.no_echo, c.seen_before_range, p.tolerance, p.model.range_limit);
       if (before == SonarClass::Redundant || before == SonarClass::False) {
         c.cls = SonarClass::SeenBefore;

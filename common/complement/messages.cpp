@@ -157,6 +157,9 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
                                                             " (not in (0, pi) rad): the configured beam used"});
       }
       c.end = geom::Vec2(r.end_x, r.end_y);
+      // An outside-view echo's hypothesis: the newest lines' (the pilot tells an explained one).
+      c.hypothetical_range = std::isfinite(r.hypothetical_range) ? r.hypothetical_range
+                                                                 : std::numeric_limits<double>::quiet_NaN();
       if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
       out.push_back(c);
       continue;

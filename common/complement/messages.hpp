@@ -74,7 +74,7 @@ struct ComplementInput {
   bool usable = false;
   bool echo = true;  // false: an unverifiable reading without an echo
   double range = 0;
-  double hypothetical_range = 0;  // [m] (redundant, false and unverifiable readings)
+  double hypothetical_range = 0;  // [m] (all classes; an outside-view echo's: the newest lines')
   geom::Vec2 end{0, 0};
   std::optional<geom::Pose2> sensor_pose;
   double beam_width = 0;  // [rad] the transducer's (the message's); 0: not given, the configured one

@@ -63,6 +63,12 @@ bool laserReportsEcho(const std::vector<geom::Vec2>& laser, const geom::Pose2& s
   });
 }
 
+bool laserInSector(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double sector_width) {
+  if (!(sector_width > 0)) return false;
+  const geom::Sector cone{sensor.position(), sensor.theta, sector_width, std::numeric_limits<double>::infinity()};
+  return std::any_of(laser.begin(), laser.end(), [&](const geom::Vec2& p) { return cone.contains(p); });
+}
+
 std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
                                           bool seen_before) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

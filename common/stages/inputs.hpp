@@ -47,5 +47,8 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
 // surface a SeenBefore echo came from is reported in the echo's own sector already.
 bool laserReportsEcho(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double range, double tolerance,
                       double sector_width);
+// True if one of `laser` lies within half of `sector_width` [rad] of the axis of `sensor`, at any
+// range: the laser reports something in the echo's own sector.
+bool laserInSector(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double sector_width);
 
 }  // namespace lasonic

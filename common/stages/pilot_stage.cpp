@@ -71,7 +71,8 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation"};
+                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation",
+                                   "outside_view_redundant"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -101,6 +102,8 @@ PilotConfig pilotConfig(const Config& c) {
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
   p.remembered = c.get<bool>("remembered", p.remembered);
+  p.outside_view_redundant_laser = c.getChoice("outside_view_redundant", p.outside_view_redundant_laser,
+                                               {{"laser_sector", true}, {"echo", false}});
   s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positive());
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
@@ -459,6 +462,17 @@ void PilotStage::onComplement(const complement_t& m) {
         laserReportsEcho(sector_map_.laserPoints(), *r.sensor_pose, r.range, tol, sector)) {
       group[i].echo = false;
       node_.count("agm.seen_before_left_out");
+    }
+    // An outside-view echo the newest scan's lines explain (redundant by them: the message keeps
+    // that hypothesis) came most likely from the surface the scan saw at the edge of its view:
+    // on its axis, beyond the view, it lies in front of whatever the laser reports there (an
+    // oblique wall passed). Left out where the sector map holds any laser return in its own
+    // sector; where it holds none, it is the only report there and goes in.
+    if (cfg_.outside_view_redundant_laser && r.cls == complement::SonarClass::OutsideView && group[i].echo &&
+        r.sensor_pose && std::abs(r.range - r.hypothetical_range) <= tol &&
+        laserInSector(sector_map_.laserPoints(), *r.sensor_pose, sector)) {
+      group[i].echo = false;
+      node_.count("agm.outside_view_redundant_left_out");
     }
   }
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);

@@ -12,6 +12,8 @@
 // scans' returns outside the newest scan's view, LaserMemory), laser.coasting_returns (movers
 // that walked on out of the view, LaserMemory), agm.seen_before_left_out (seen_before echoes
 // whose surface the laser's returns report in their sector: onComplement),
+// agm.outside_view_redundant_left_out (outside-view echoes the newest scan's lines explain, in a
+// sector where the laser reports something: onComplement),
 // sector_map.no_odometry, rejected.* for every kind of bad input.
 //
 // Definitions:
@@ -84,6 +86,11 @@ struct PilotConfig {
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
+  // Beyond the paper: an outside-view echo that the newest scan's lines explain (redundant by the
+  // hypothesis, its arc reaching beyond the scanner's view) is left out where the sector map holds
+  // a laser return in the echo's own sector (the pilot's onComplement); false: every outside-view
+  // echo goes in.
+  bool outside_view_redundant_laser = true;
   // [m] A remembered cell within this of one of the navigator's AGM_LINES is taken at its foot on
   // the line (operational/remembered_on_lines.hpp); 0: cells at their centres, AGM_LINES not
   // subscribed.

@@ -917,3 +917,59 @@ TEST_F(PilotFixture, ASeenBeforeEchoIsLeftOutOnlyWhereTheLaserHasThatSurface) {
   EXPECT_EQ(node.counter("agm.hits"), 2);
   EXPECT_EQ(node.errors(), 0);
 }
+
+// An outside-view echo the newest scan's lines explain (redundant by the hypothesis: the message
+// keeps that range) came from the surface the scan saw at the edge of its view: left out where
+// the sector map holds a laser return in the echo's own sector, at any range (here 1.0 m for an
+// echo of 0.7 m: on its axis it would lie in front of that return); kept where the laser reports
+// nothing there, and kept when the hypothesis did not explain it (false: it passed that surface).
+// With pilot.outside_view_redundant: echo every one goes in.
+namespace {
+void publishOutsideViewEchoes(Node& node) {
+  const auto outsideView = [](double theta, double range, double hypothesis) {
+    complement_reading_t r{};
+    r.cls = complement_reading_t::CLASS_OUTSIDE_VIEW;
+    r.range = static_cast<float>(range);
+    r.hypothetical_range = static_cast<float>(hypothesis);
+    r.end_x = 1.0 + range * std::cos(theta);
+    r.end_y = 2.0 + range * std::sin(theta);
+    r.sensor_pose = {1.0, 2.0, theta};
+    r.beam_width = 0.5236f;
+    return r;
+  };
+  complement_t c{};
+  c.utime = 300'000;
+  c.tolerance = 0.1f;
+  c.beam_width = 0.5236f;
+  c.readings = {outsideView(kPi / 2, 0.7, 0.75), outsideView(-kPi / 2, 0.7, 0.75), outsideView(kPi / 2, 0.7, 0.5)};
+  node.publish(channels::SONAR_COMPLEMENT, c);
+}
+PilotConfig everyOutsideViewEcho() {
+  PilotConfig c = nearestPointPilot();
+  c.outside_view_redundant_laser = false;
+  return c;
+}
+struct PilotEveryOutsideViewEcho : PilotFixture {
+  PilotEveryOutsideViewEcho() : PilotFixture(everyOutsideViewEcho()) {}
+};
+}  // namespace
+
+TEST_F(PilotFixture, AnExplainedOutsideViewEchoIsLeftOutWhereTheLaserReportsItsSector) {
+  ASSERT_TRUE(PilotConfig{}.outside_view_redundant_laser);
+  odometry();
+  laserScan(100'000);  // one return, 1 m to the left: global (1, 3)
+  publishOutsideViewEchoes(node);
+  drain();
+  EXPECT_EQ(node.counter("agm.outside_view_redundant_left_out"), 1);
+  EXPECT_EQ(node.counter("agm.hits"), 2);
+  EXPECT_EQ(node.errors(), 0);
+}
+
+TEST_F(PilotEveryOutsideViewEcho, WithEchoEveryOutsideViewEchoGoesIn) {
+  odometry();
+  laserScan(100'000);
+  publishOutsideViewEchoes(node);
+  drain();
+  EXPECT_EQ(node.counter("agm.outside_view_redundant_left_out"), 0);
+  EXPECT_EQ(node.counter("agm.hits"), 3);
+}

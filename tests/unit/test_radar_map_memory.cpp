@@ -180,3 +180,37 @@ TEST(RadarMapMemory, AnEchoOfAWallSeenBeforeIsSeenBeforeNotComplementary) {
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_EQ(problems[0].counter, "rejected.complement_class");
 }
+
+// A transducer at the edge of a 270 deg scanner's view hears the wall the scan sees there: the
+// newest lines explain its echo (redundant), but its arc reaches beyond the view, so it is
+// outside_view and keeps the newest lines' hypothesis (the pilot tells such an echo by it); the
+// lines an earlier scan saw behind are not asked. An echo that passed the wall (false by the
+// newest lines) is judged on them: seen_before.
+TEST(RadarMapMemory, AnOutsideViewEchoTheNewestLinesExplainKeepsTheirHypothesis) {
+  RadarMapMemory memory(3.0, geom::deg2rad(10.0));
+  const RmSegment whole{{{-3.0, -1.0}, {3.0, -1.0}}, 120, 0.005};
+  memory.update(mapOf(0, -geom::kPi / 2, {whole}));  // facing the wall: all of it in view
+  const RadarMap now = mapOf(100'000, 0.0, {{{{-1.0, -1.0}, {3.0, -1.0}}, 80, 0.005}});  // to -135 deg
+  memory.update(now);
+  SonarGroup g;
+  g.utime = 120'000;
+  const double beam = geom::deg2rad(25.0);
+  // Axis at -135 deg: the beam spans -147.5 .. -122.5 deg; the wall's nearest point in it is at
+  // -122.5 deg (in view), 1 / sin(57.5 deg) away.
+  const double wall = 1.0 / std::sin(geom::deg2rad(57.5));
+  for (const double range : {wall, wall + 0.5})
+    g.readings.push_back({static_cast<int>(g.readings.size()), range, false, {0, 0, geom::deg2rad(-135.0)}, true, beam});
+  const ComplementParams p;
+  const auto c = extractComplement(g, Pose2{}, &now, p, {}, &memory);
+  ASSERT_EQ(c.readings.size(), 2u);
+  EXPECT_EQ(c.readings[0].cls, SonarClass::OutsideView);
+  EXPECT_NEAR(c.readings[0].hypothetical_range, wall, 1e-6);
+  EXPECT_EQ(c.readings[1].cls, SonarClass::SeenBefore);
+  // Over the message the pilot gets that hypothesis back.
+  std::vector<InputProblem> problems;
+  const auto back = complementFromMessage(complementToMessage(c, p), problems);
+  EXPECT_TRUE(problems.empty());
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].cls, SonarClass::OutsideView);
+  EXPECT_NEAR(back[0].hypothetical_range, wall, 1e-5);
+}
