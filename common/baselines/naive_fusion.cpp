@@ -8,7 +8,7 @@ namespace lasonic::baselines {
 NaiveFusion::NaiveFusion(const NaiveFusionParams& p) : p_(p), agm_(p.agm), placer_(p.placement) {}
 
 int NaiveFusion::insertGroup(int64_t utime, const std::vector<Reading>& readings,
-                             const std::optional<geom::Vec2>& robot, double speed) {
+                             const std::optional<geom::Vec2>& robot, double speed, int group_id) {
   // As the pilot places a complementary reading, for every echo.
   std::vector<GroupReading> group;
   group.reserve(readings.size());
@@ -24,6 +24,9 @@ int NaiveFusion::insertGroup(int64_t utime, const std::vector<Reading>& readings
     }
     group.push_back(g);
   }
+  if (group_id >= 0) ring_groups_.fired(group_id);
+  if (p_.h_max_ring_cycles > 0 && ring_groups_.perCycle() > 0)
+    agm_.setHMax(static_cast<int>(std::lround(p_.h_max_ring_cycles * ring_groups_.perCycle())));
   const std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (robot) agm_.follow(*robot, speed);
   return agm_.update(hits);

@@ -12,11 +12,13 @@
 
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
+#include "operational/sonar_bearing.hpp"
 
 namespace lasonic::baselines {
 
 struct NaiveFusionParams {
   AgmParams agm;                  // the pilot's (pilot.agm)
+  double h_max_ring_cycles = 0;   // the pilot's: h_max in ring cycles once counted (0: agm.h_max)
   EchoPlacementConfig placement;  // the pilot's
 };
 
@@ -33,9 +35,10 @@ class NaiveFusion {
   };
   // One firing group = one AGM update cycle. robot: the robot's position at the firing time
   // (nullopt: unknown, the window stays), speed: for the re-centring rule. Returns the hits
-  // that fell inside the window.
+  // that fell inside the window. group_id: the firing group's id, counted as the pilot counts the
+  // ring's groups for its memory (h_max_ring_cycles; -1: not counted).
   int insertGroup(int64_t utime, const std::vector<Reading>& readings, const std::optional<geom::Vec2>& robot,
-                  double speed);
+                  double speed, int group_id = -1);
 
   const AccumulativeGridMap& agm() const { return agm_; }
 
@@ -43,6 +46,7 @@ class NaiveFusion {
   NaiveFusionParams p_;
   AccumulativeGridMap agm_;
   EchoPlacer placer_;
+  RingGroups ring_groups_;
 };
 
 }  // namespace lasonic::baselines

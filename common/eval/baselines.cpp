@@ -29,6 +29,7 @@ BaselinesConfig baselinesConfig(const Config& root) {
   const PilotConfig pilot = pilotConfig(root.section("pilot"));
   b.readout = pilot.sector_map;
   b.naive_fusion.agm = pilot.agm;
+  b.naive_fusion.h_max_ring_cycles = pilot.h_max_ring_cycles;
   b.naive_fusion.placement = pilot.placement;
   const Config c = root.section("baselines");
   c.allowOnly({"enabled", "sonar_himm", "log_odds"});
@@ -147,7 +148,7 @@ void evalBaselines(const RunLog& log, const SectorTruthTable& truth, const Basel
       }
     }
     naive.insertGroup(msg.utime, readings, robot ? std::optional<geom::Vec2>(robot->position()) : std::nullopt,
-                      replay.speed());
+                      replay.speed(), msg.group);
     himm_map.setSonarTime(msg.utime);
     naive_map.setSonarTime(msg.utime);
     log_odds_map.setSonarTime(msg.utime);

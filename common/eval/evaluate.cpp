@@ -12,6 +12,7 @@
 #include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "operational/sonar_bearing.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
 
@@ -184,7 +185,13 @@ double operationalMemory(const RunLog& log, const EvalOptions& o) {
     if (const int64_t d = log.sonar_rings[i].utime - log.sonar_rings[i - 1].utime; d > 0) gaps.push_back(d);
   if (gaps.empty()) return o.recent_echo_s;
   std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
-  return static_cast<double>(o.operational_h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
+  int h_max = o.operational_h_max;
+  if (o.operational_h_max_ring_cycles > 0) {
+    RingGroups ring;
+    for (const sonar_ring_t& r : log.sonar_rings) ring.fired(r.group);
+    if (ring.perCycle() > 0) h_max = static_cast<int>(std::lround(o.operational_h_max_ring_cycles * ring.perCycle()));
+  }
+  return static_cast<double>(h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
 }
 
 void evalLaserTruth(const LaserSeen& seen, Metrics& m) {
@@ -415,7 +422,9 @@ EvalOptions evalOptions(const Config& config) {
   o.forget_after_m = agm.h_max_m;
   o.forget_sigma_m = agm.forget_sigma_m;
   o.odometry = {agm.odometry_trans_noise, agm.odometry_rot_noise, agm.odometry_drift_noise};
-  o.operational_h_max = pilotConfig(config.section("pilot")).agm.h_max;
+  const PilotConfig pilot = pilotConfig(config.section("pilot"));
+  o.operational_h_max = pilot.agm.h_max;
+  o.operational_h_max_ring_cycles = pilot.h_max_ring_cycles;
   return o;
 }
 

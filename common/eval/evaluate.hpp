@@ -62,10 +62,14 @@ struct EvalOptions {
   // Used as given only where the memory below cannot be worked out.
   double recent_echo_s = 0.54;
   // The operational AGM's h_max in update cycles (pilot.agm.h_max; 0: recent_echo_s as given).
+  // (Three ring cycles of MOBOT-IV's 6 groups, of the Pioneer's 8: below.)
   // One SONAR_RING message is one update cycle, so the memory in seconds is h_max times the log's
   // median interval between rings: 0.61 s for MOBOT-IV's ring (18 cycles of 30 ms + up to 8 ms
   // jitter per group), 1.05 s for the Pioneer's (24 cycles of 40 ms + jitter).
   int operational_h_max = 0;
+  // pilot.h_max_ring_cycles (> 0: h_max is that many times the firing groups per ring cycle,
+  // counted in the log's SONAR_RING groups as the pilot counts them; operational_h_max until then).
+  double operational_h_max_ring_cycles = 0;
   double seen_radius = 0.10;       // [m] a laser return this near a point (same obstacle) saw it
   bool breakdown = false;          // also agm_tactical.breakdown.*, lines.breakdown.* (why points are missed)
   // Also every scored sector sample of the pilot's SECTOR_MAP as one CSV row (writeSectorSampleHeader

@@ -108,6 +108,9 @@ class AccumulativeGridMap {
   // One update cycle with the global hit points of its readings. Returns how many hits fell
   // inside the window (the others are ignored).
   int update(const std::vector<geom::Vec2>& hits);
+  // The revision's h_max [update cycles] from the next update on (the pilot sets it to three ring
+  // cycles once it has counted the ring's firing groups).
+  void setHMax(int h_max) { p_.h_max = std::max(0, h_max); }
   // Empties every cell whose centre lies within r of c (G := 0, its hits forgotten, its
   // neighbours' propagated weight lowered). Returns how many were emptied.
   int clearDisc(const geom::Vec2& c, double r);

@@ -1,5 +1,6 @@
 #include "operational/sonar_bearing.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lasonic {
@@ -88,6 +89,25 @@ void SonarBearingTracker::record(int id, int64_t utime, const std::optional<Sona
   }
   latest_[id] = e;
   fired_[id].fire(utime);
+}
+
+void RingGroups::fired(int group) {
+  const int64_t index = messages_++;
+  if (group < 0 || group >= kMaxGroups) return;
+  const auto g = static_cast<size_t>(group);
+  if (last_.size() <= g) last_.resize(g + 1, -1);
+  if (last_[g] >= 0) {
+    if (counts_.size() == kWindow) counts_.erase(counts_.begin());
+    counts_.push_back(static_cast<int>(std::min<int64_t>(index - last_[g], kMaxGroups)));
+    // The most frequent count; a tie goes to the larger (the ring's own count, not a short one).
+    int best = 0, best_n = 0;
+    for (const int c : counts_) {
+      const auto n = static_cast<int>(std::count(counts_.begin(), counts_.end(), c));
+      if (n > best_n || (n == best_n && c > best)) best = c, best_n = n;
+    }
+    per_cycle_ = best;
+  }
+  last_[g] = index;
 }
 
 }  // namespace lasonic

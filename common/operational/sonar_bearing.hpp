@@ -95,6 +95,25 @@ struct SensorFiring {
   }
 };
 
+// How many firing groups (update cycles: one SONAR_COMPLEMENT message each) make one ring cycle,
+// counted from the groups' own firings: the messages since a group last fired, the most frequent
+// count among the latest kWindow (a lost message makes one count short and the lost group's next
+// long; neither is the most frequent). 0 until a group has fired twice. Group ids outside
+// [0, kMaxGroups) are not counted.
+class RingGroups {
+ public:
+  static constexpr int kMaxGroups = 1024;
+  static constexpr size_t kWindow = 16;
+  void fired(int group);
+  int perCycle() const { return per_cycle_; }
+
+ private:
+  int64_t messages_ = 0;
+  std::vector<int64_t> last_;   // message index of each group's latest firing (-1: never)
+  std::vector<int> counts_;     // the latest counts, oldest first (at most kWindow)
+  int per_cycle_ = 0;
+};
+
 // Keeps, per sensor id, its latest echo and firing, and places new echoes with echoPoint(). The
 // neighbours of an echo are the other sensors' latest readings of this ring cycle: fired since
 // the echo's own sensor fired before (with params().max_age_s 0; > 0: no older than that). A

@@ -72,11 +72,12 @@ PilotConfig pilotConfig(const Config& c) {
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation",
-                                   "outside_view_redundant"};
+                                   "outside_view_redundant", "h_max_ring_cycles"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
+  p.h_max_ring_cycles = c.get("h_max_ring_cycles", p.h_max_ring_cycles, Range::between(0, 1000));
   SectorMapParams& s = p.sector_map;
   s.sectors = c.get("sectors", s.sectors, Range::between(3, 3600));
   s.robot_radius = c.get("robot_radius", s.robot_radius, Range::nonNegative());
@@ -250,6 +251,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   sector_map_ = SectorMap(cfg_.sector_map);
   placer_ = EchoPlacer(cfg_.placement);
   motion_confirmation_ = MotionConfirmation(cfg_.motion_confirmation);
+  ring_groups_ = RingGroups{};
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
@@ -475,6 +477,10 @@ void PilotStage::onComplement(const complement_t& m) {
       node_.count("agm.outside_view_redundant_left_out");
     }
   }
+  // The AGM's memory in ring cycles: this group's firing counted, h_max follows the ring.
+  ring_groups_.fired(m.group);
+  if (cfg_.h_max_ring_cycles > 0 && ring_groups_.perCycle() > 0)
+    agm_.setHMax(static_cast<int>(std::lround(cfg_.h_max_ring_cycles * ring_groups_.perCycle())));
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);

@@ -70,6 +70,10 @@ namespace lasonic {
 // libraries' own defaults (AgmParams, SectorMapParams) are the paper's.
 struct PilotConfig {
   AgmParams agm = operationalAgmDefaults();
+  // Beyond the paper (which gives h_max in update cycles, one firing group each): the AGM's
+  // memory in ring cycles, its h_max = this many times the firing groups per ring cycle, counted
+  // from the firings (RingGroups); agm.h_max until the ring has been counted. 0: agm.h_max always.
+  double h_max_ring_cycles = 3;
   SectorMapParams sector_map = sectorMapDefaults();
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
   // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
@@ -192,6 +196,7 @@ class PilotStage {
   SectorMap sector_map_;
   EchoPlacer placer_;
   MotionConfirmation motion_confirmation_;
+  RingGroups ring_groups_;
   MoverPrediction movers_;
   LaserMemory laser_memory_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,

@@ -973,3 +973,55 @@ TEST_F(PilotEveryOutsideViewEcho, WithEchoEveryOutsideViewEchoGoesIn) {
   EXPECT_EQ(node.counter("agm.outside_view_redundant_left_out"), 0);
   EXPECT_EQ(node.counter("agm.hits"), 3);
 }
+
+// The operational AGM's memory is three ring cycles counted from the firings: on a ring of 8
+// groups (the Pioneer's) a cell heard once is kept for 24 update cycles, not the 18 of agm.h_max
+// (MOBOT-IV's 6 groups); with h_max_ring_cycles 0, agm.h_max on any ring.
+namespace {
+// G of the AGM after one echo in the first of `groups` x 3 firing groups of 40 ms: the grid
+// published after cycle `after` (every cycle is published).
+int heardWeightAfter(double ring_cycles, int groups, int after) {
+  PilotConfig cfg = nearestPointPilot();
+  cfg.h_max_ring_cycles = ring_cycles;
+  cfg.agm_publish_hz = 1000;
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage(node, cfg);
+  std::vector<grid_map_t> grids;
+  node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
+  const auto drain = [&] {
+    while (node.spinOnce(0) > 0) {
+    }
+  };
+  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, 0.0};
+    node.publish(channels::ODOMETRY, o);
+  }
+  drain();
+  for (int k = 0; k <= after; ++k) {
+    complement_t c{};
+    c.utime = 100'000 + 40'000 * k;
+    c.group = static_cast<int16_t>(k % groups);
+    c.tolerance = 0.1f;
+    if (k == 0) c.readings.push_back(PilotFixture::reading(complement_reading_t::CLASS_COMPLEMENTARY, 2.05, 2.05));
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drain();
+  }
+  if (grids.empty() || grids.back().utime != 100'000 + 40'000 * after) return -1;
+  int g = 0;
+  for (const int16_t v : grids.back().g) g = std::max<int>(g, v);
+  return g;
+}
+}  // namespace
+
+TEST(PilotRingMemory, TheAgmForgetsAfterThreeRingCyclesOfTheRingItHears) {
+  ASSERT_EQ(PilotConfig{}.h_max_ring_cycles, 3);
+  ASSERT_EQ(PilotConfig{}.agm.h_max, 18);
+  EXPECT_EQ(heardWeightAfter(3, 8, 18), 1);  // heard 18 cycles ago: kept on either ring
+  EXPECT_EQ(heardWeightAfter(3, 8, 24), 1);  // 24: three of this ring's cycles
+  EXPECT_EQ(heardWeightAfter(3, 8, 25), 0);
+  EXPECT_EQ(heardWeightAfter(3, 6, 18), 1);  // MOBOT-IV's ring: 18
+  EXPECT_EQ(heardWeightAfter(3, 6, 19), 0);
+  EXPECT_EQ(heardWeightAfter(0, 8, 19), 0);  // agm.h_max, whatever the ring
+}

@@ -223,3 +223,23 @@ TEST(SonarBearingTracker, ThisRingCycleComesFromTheFirings) {
   f.record(1, 100'000, SonarEcho{100'000, 1.2, ringSensor(15.0)});
   EXPECT_EQ(f.bearing(0, e), 0.0);
 }
+
+// The firing groups of one ring cycle, counted from the groups' firings: a lost message or a
+// malformed group id does not change the count; nothing is known before a group fires again.
+TEST(RingGroups, CountsTheGroupsOfOneRingCycle) {
+  RingGroups mobot;
+  for (int k = 0; k < 6; ++k) mobot.fired(k);
+  EXPECT_EQ(mobot.perCycle(), 0);
+  for (int k = 6; k < 60; ++k) mobot.fired(k % 6);
+  EXPECT_EQ(mobot.perCycle(), 6);
+  RingGroups pioneer;
+  for (int k = 0; k < 80; ++k)
+    if (k != 43) pioneer.fired(k % 8);  // group 3's message of the sixth cycle lost
+  EXPECT_EQ(pioneer.perCycle(), 8);
+  for (const int bad : {-1, RingGroups::kMaxGroups, 30000}) pioneer.fired(bad);
+  EXPECT_EQ(pioneer.perCycle(), 8);
+  RingGroups changed;  // a driver restarted with another grouping: the newest counts win
+  for (int k = 0; k < 40; ++k) changed.fired(k % 6);
+  for (int k = 0; k < 40; ++k) changed.fired(k % 4);
+  EXPECT_EQ(changed.perCycle(), 4);
+}
