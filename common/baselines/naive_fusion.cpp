@@ -25,8 +25,7 @@ int NaiveFusion::insertGroup(int64_t utime, const std::vector<Reading>& readings
     group.push_back(g);
   }
   if (group_id >= 0) ring_groups_.fired(group_id);
-  if (p_.h_max_ring_cycles > 0 && ring_groups_.perCycle() > 0)
-    agm_.setHMax(static_cast<int>(std::lround(p_.h_max_ring_cycles * ring_groups_.perCycle())));
+  agm_.setHMax(ring_groups_.hMax(p_.h_max_ring_cycles, p_.agm.h_max));
   const std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (robot) agm_.follow(*robot, speed);
   return agm_.update(hits);

@@ -185,12 +185,9 @@ double operationalMemory(const RunLog& log, const EvalOptions& o) {
     if (const int64_t d = log.sonar_rings[i].utime - log.sonar_rings[i - 1].utime; d > 0) gaps.push_back(d);
   if (gaps.empty()) return o.recent_echo_s;
   std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
-  int h_max = o.operational_h_max;
-  if (o.operational_h_max_ring_cycles > 0) {
-    RingGroups ring;
-    for (const sonar_ring_t& r : log.sonar_rings) ring.fired(r.group);
-    if (ring.perCycle() > 0) h_max = static_cast<int>(std::lround(o.operational_h_max_ring_cycles * ring.perCycle()));
-  }
+  RingGroups ring;
+  for (const sonar_ring_t& r : log.sonar_rings) ring.fired(r.group);
+  const int h_max = ring.hMax(o.operational_h_max_ring_cycles, o.operational_h_max);
   return static_cast<double>(h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
 }
 

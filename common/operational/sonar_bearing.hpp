@@ -24,6 +24,7 @@
 // The echo point is at range r from the sensor along the chosen bearing. Everything is in the
 // global frame (the sensor poses at their firing times), so the robot's rotation between two
 // firings is accounted for.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -106,6 +107,11 @@ class RingGroups {
   static constexpr size_t kWindow = 16;
   void fired(int group);
   int perCycle() const { return per_cycle_; }
+  // An AGM's h_max [update cycles] for a memory of `ring_cycles` ring cycles: that many times
+  // perCycle(), or `fallback` while the ring is not counted yet (or ring_cycles is 0).
+  int hMax(double ring_cycles, int fallback) const {
+    return ring_cycles > 0 && per_cycle_ > 0 ? static_cast<int>(std::lround(ring_cycles * per_cycle_)) : fallback;
+  }
 
  private:
   int64_t messages_ = 0;

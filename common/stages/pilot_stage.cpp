@@ -479,8 +479,7 @@ void PilotStage::onComplement(const complement_t& m) {
   }
   // The AGM's memory in ring cycles: this group's firing counted, h_max follows the ring.
   ring_groups_.fired(m.group);
-  if (cfg_.h_max_ring_cycles > 0 && ring_groups_.perCycle() > 0)
-    agm_.setHMax(static_cast<int>(std::lround(cfg_.h_max_ring_cycles * ring_groups_.perCycle())));
+  agm_.setHMax(ring_groups_.hMax(cfg_.h_max_ring_cycles, cfg_.agm.h_max));
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);

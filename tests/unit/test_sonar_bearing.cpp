@@ -242,4 +242,7 @@ TEST(RingGroups, CountsTheGroupsOfOneRingCycle) {
   for (int k = 0; k < 40; ++k) changed.fired(k % 6);
   for (int k = 0; k < 40; ++k) changed.fired(k % 4);
   EXPECT_EQ(changed.perCycle(), 4);
+  EXPECT_EQ(changed.hMax(3, 18), 12);  // three ring cycles of 4 groups
+  EXPECT_EQ(changed.hMax(0, 18), 18);  // the paper's unit: the fallback
+  EXPECT_EQ(RingGroups{}.hMax(3, 18), 18);  // not counted yet
 }
