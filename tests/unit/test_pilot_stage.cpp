@@ -45,6 +45,22 @@ PilotConfig nearestPointPilot() {
   return c;
 }
 
+// Handles every message waiting on a memq:// node.
+void drainAll(Node& node) {
+  while (node.spinOnce(0) > 0) {
+  }
+}
+
+// The robot stands at (1, 2) facing `theta` from `from` to `to` [us]: one ODOMETRY every 20 ms.
+void standStill(Node& node, int64_t from, int64_t to, double theta = 0.0) {
+  for (int64_t t = from; t <= to; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, theta};
+    node.publish(channels::ODOMETRY, o);
+  }
+}
+
 struct PilotFixture : ::testing::Test {
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotStage stage;
@@ -55,18 +71,10 @@ struct PilotFixture : ::testing::Test {
     node.subscribe<sector_map_t>(channels::SECTOR_MAP, [this](const sector_map_t& m) { maps.push_back(m); });
     node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [this](const grid_map_t& m) { grids.push_back(m); });
   }
-  void drain() {
-    while (node.spinOnce(0) > 0) {
-    }
-  }
+  void drain() { drainAll(node); }
   // The robot stands at (1, 2) facing +x, from 0 to 2 s.
   void odometry(double theta = 0.0) {
-    for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
-      odometry_t o{};
-      o.utime = t;
-      o.pose = {1.0, 2.0, theta};
-      node.publish(channels::ODOMETRY, o);
-    }
+    standStill(node, 0, 2'000'000, theta);
     drain();
   }
   // 360 deg scan of 720 readings over 0.2 s with one return: 1.0 m to the robot's left.
@@ -317,8 +325,7 @@ std::vector<grid_map_t> runTwoSensors(AgmBearing b) {
   };
   group(300'000, 1, 20.0, 0.6);
   group(330'000, 0, 5.0, 1.0);
-  while (node.spinOnce(0) > 0) {
-  }
+  drainAll(node);
   return grids;
 }
 int occupiedCell(const grid_map_t& g, int skip = -1) {
@@ -356,12 +363,7 @@ TEST_F(PilotFixture, OdometryMakesMapsWhenNoSensorDoesSoADeadSonarIsFlagged) {
   ASSERT_EQ(maps.size(), 2u);
   EXPECT_FALSE(maps.back().sonar_stale);
   // The sonar falls silent; odometry goes on to 3 s: a map at least every 0.1 s of odometry.
-  for (int64_t t = 2'020'000; t <= 3'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, 0.0};
-    node.publish(channels::ODOMETRY, o);
-  }
+  standStill(node, 2'020'000, 3'000'000);
   drain();
   ASSERT_GE(maps.size(), 10u);
   EXPECT_EQ(node.counter("sector_map.on_odometry"), static_cast<int64_t>(maps.size()) - 2);
@@ -404,10 +406,7 @@ std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_w
   PilotStage stage{node, cfg};
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
-  const auto drain = [&node] {
-    while (node.spinOnce(0) > 0) {
-    }
-  };
+  const auto drain = [&node] { drainAll(node); };
   // At (1, 2) facing +x until 0.5 s, facing -y from 0.6 s; published up to `until` (ahead of each
   // scan: the pose history holds only the last few seconds; the last map's laser must be fresh).
   int64_t next_odometry = 0;
@@ -758,8 +757,7 @@ TEST(PilotConfig, RememberedOnLinesOffIgnoresTheLines) {
   line_map_t l{};
   l.utime = 1;
   node.publish(channels::AGM_LINES, l);
-  while (node.spinOnce(0) > 0) {
-  }
+  drainAll(node);
   EXPECT_EQ(node.counter("remembered.line_maps"), 0);
 }
 
@@ -775,12 +773,7 @@ std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m, bool bad_
   PilotStage stage{node, cfg};
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
-  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, 0.0};
-    node.publish(channels::ODOMETRY, o);
-  }
+  standStill(node, 0, 1'000'000);
   laser_scan_t s = noReturnScan(100'000, -kPi, 2 * kPi / 720, 720, 200'000);
   for (int i = 360 - 40; i <= 360 + 12; ++i) {  // reading 360 is straight ahead
     s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 360))));
@@ -789,8 +782,7 @@ std::pair<sector_map_t, int64_t> mapOfADarkFace(double continuation_m, bool bad_
   if (bad_offsets)
     for (int i = 360 + 13; i <= 360 + 40; ++i) s.offset_us[static_cast<size_t>(i)] = -1;
   node.publish(channels::LASER_SCAN, s);
-  while (node.spinOnce(0) > 0) {
-  }
+  drainAll(node);
   EXPECT_EQ(maps.size(), 1u);
   EXPECT_EQ(node.errors(), bad_offsets ? 28 : 0);
   return {maps.empty() ? sector_map_t{} : maps.back(), node.counter("laser.dark_continuation")};
@@ -844,16 +836,8 @@ sector_map_t mapAfterTheFaceGoesDark(bool memory_dark, bool farther_return) {
   PilotStage stage{node, cfg};
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
-  const auto drain = [&node] {
-    while (node.spinOnce(0) > 0) {
-    }
-  };
-  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, 0.0};
-    node.publish(channels::ODOMETRY, o);
-  }
+  const auto drain = [&node] { drainAll(node); };
+  standStill(node, 0, 1'000'000);
   drain();
   const auto scan = [&](int64_t utime, double range) {
     laser_scan_t s = noReturnScan(utime, -kPi, geom::deg2rad(0.5), 720, 200'000);
@@ -988,16 +972,8 @@ int heardWeightAfter(double ring_cycles, int groups, int after) {
   PilotStage stage(node, cfg);
   std::vector<grid_map_t> grids;
   node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
-  const auto drain = [&] {
-    while (node.spinOnce(0) > 0) {
-    }
-  };
-  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, 0.0};
-    node.publish(channels::ODOMETRY, o);
-  }
+  const auto drain = [&] { drainAll(node); };
+  standStill(node, 0, 2'000'000);
   drain();
   for (int k = 0; k <= after; ++k) {
     complement_t c{};
