@@ -467,9 +467,11 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
   std::map<std::string, int64_t> samples_by_material;
   Causes agm_causes, line_causes, off_lines;
   std::vector<char> found_before(boundary.size(), 0), left_window(boundary.size(), 0);
-  const LineGenerationParams& lp = o.lines;  // the run's line generation (evalOptions(config))
+  LineGenerationParams lp = o.lines;  // the run's line generation (evalOptions(config))
   const int64_t t0 = log.sim_states.empty() ? 0 : log.sim_states.front().utime;  // as the sector samples
   for (const auto& g : log.agm_tactical) {
+    // (the threshold the navigator generated its lines at: G_T as its ring gave it)
+    if (g.gp_threshold > 0) lp.gp_threshold = g.gp_threshold;
     const geom::Pose2 true_from_odom = truth.robotAt(g.utime).compose(toPose(g.robot_pose).inverse());
     const double tol = g.cell_size * (std::sqrt(0.5) + 1.0);
     const auto occupied = occupiedCells(g, true_from_odom);

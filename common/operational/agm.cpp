@@ -96,6 +96,18 @@ void AccumulativeGridMap::centreOn(const geom::Vec2& p) {
   moveTo(globalCell(p.x()) - n_ / 2, globalCell(p.y()) - n_ / 2);
 }
 
+void AccumulativeGridMap::setGThreshold(int g_threshold) {
+  p_.g_threshold = std::max(1, g_threshold);
+  for (size_t s = 0; s < gp_.size(); ++s) gp_[s] = (g_[s] > 0 && gu_[s] >= p_.g_threshold) ? gu_[s] : 0;
+}
+
+int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s) {
+  const auto ok = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!ok(neighbourhood_m) || !ok(walking_speed) || !ok(ring_cycle_s)) return -1;
+  const double echoes = 2.0 * neighbourhood_m / (walking_speed * ring_cycle_s);
+  return static_cast<int>(std::min(1e6, std::floor(echoes))) + 1;
+}
+
 void AccumulativeGridMap::addWeight(int64_t gx, int64_t gy, int delta) {
   g_[slotGlobal(gx, gy)] += delta;
   const int64_t x0 = std::max(gx - p_.t, ox_), x1 = std::min(gx + p_.t, ox_ + n_ - 1);

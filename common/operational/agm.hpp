@@ -70,6 +70,13 @@ struct AgmParams {
   // from several poses cross where the surface is: that is where their echoes' cells go.
   double arc_vote_tau = 0;
 };
+// A G_T that a person walking past does not reach: walking at `walking_speed` [m/s] they cross
+// a neighbourhood `neighbourhood_m` wide ((2t+1) cells) in neighbourhood_m / walking_speed; each
+// of the two transducers whose beams overlap there hears them at most once per ring cycle of
+// `ring_cycle_s`, so they give at most 2 neighbourhood_m / (walking_speed ring_cycle_s) echoes, and
+// G_T is one more (at most 1e6). -1 if an argument is not positive and finite.
+int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s);
+
 // Reads the keys of an AGM config section over `base` (defaults of the level using it).
 // Throws ConfigError naming the key path.
 AgmParams agmParams(const Config& c, AgmParams base = {});
@@ -111,6 +118,9 @@ class AccumulativeGridMap {
   // The revision's h_max [update cycles] from the next update on (the pilot sets it to three ring
   // cycles once it has counted the ring's firing groups).
   void setHMax(int h_max) { p_.h_max = std::max(0, h_max); }
+  // G_T from now on (at least 1): every cell's Gp follows at once (Gu is kept for every cell, so
+  // this is one pass over the window; the navigator sets it once it has timed the ring).
+  void setGThreshold(int g_threshold);
   // Empties every cell whose centre lies within r of c (G := 0, its hits forgotten, its
   // neighbours' propagated weight lowered). Returns how many were emptied.
   int clearDisc(const geom::Vec2& c, double r);

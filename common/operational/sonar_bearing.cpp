@@ -110,4 +110,21 @@ void RingGroups::fired(int group) {
   last_[g] = index;
 }
 
+void RingGroups::fired(int group, int64_t utime) {
+  fired(group);
+  if (have_utime_ && utime > last_utime_) {
+    const int64_t d = utime - last_utime_;
+    if (intervals_.size() < kIntervals) intervals_.push_back(d);
+    else intervals_[next_interval_] = d;
+    next_interval_ = (next_interval_ + 1) % kIntervals;
+  }
+  if (!have_utime_ || utime > last_utime_) last_utime_ = utime;
+  have_utime_ = true;
+}
+
+double RingGroups::shortestCycleS() const {
+  if (per_cycle_ <= 0 || intervals_.empty()) return 0;
+  return static_cast<double>(per_cycle_) * static_cast<double>(*std::min_element(intervals_.begin(), intervals_.end())) * 1e-6;
+}
+
 }  // namespace lasonic

@@ -105,8 +105,17 @@ class RingGroups {
  public:
   static constexpr int kMaxGroups = 1024;
   static constexpr size_t kWindow = 16;
+  static constexpr size_t kIntervals = 64;
   void fired(int group);
+  // The same with the firing's time: also keeps the latest kIntervals intervals between
+  // consecutive firings (of any group; not positive ones, a firing time going backwards, are not
+  // kept).
+  void fired(int group, int64_t utime);
   int perCycle() const { return per_cycle_; }
+  // The ring cycle at its quickest [s]: perCycle() times the shortest of those intervals. A
+  // driver fires each group at its period or a little late, so this is the period the driver is
+  // set to, not its mean; 0 until known.
+  double shortestCycleS() const;
   // An AGM's h_max [update cycles] for a memory of `ring_cycles` ring cycles: that many times
   // perCycle(), or `fallback` while the ring is not counted yet (or ring_cycles is 0).
   int hMax(double ring_cycles, int fallback) const {
@@ -118,6 +127,10 @@ class RingGroups {
   std::vector<int64_t> last_;   // message index of each group's latest firing (-1: never)
   std::vector<int> counts_;     // the latest counts, oldest first (at most kWindow)
   int per_cycle_ = 0;
+  int64_t last_utime_ = 0;
+  bool have_utime_ = false;
+  std::vector<int64_t> intervals_;  // [us] ring buffer of at most kIntervals
+  size_t next_interval_ = 0;
 };
 
 // Keeps, per sensor id, its latest echo and firing, and places new echoes with echoPoint(). The

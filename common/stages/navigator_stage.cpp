@@ -44,7 +44,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
                                    "laser_glints", "scan_matching", "clear_footprint", "look_weight_votes",
-                                   "pass_through"};
+                                   "pass_through", "g_threshold_walking_speed"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   NavigatorConfig p;
@@ -55,6 +55,9 @@ NavigatorConfig navigatorConfig(const Config& c) {
   lines.gp_threshold = p.agm.g_threshold;
   lines.neighbourhood = p.agm.t;  // the sums Gp is made of (one source: the AGM's t)
   p.lines = lineGenerationParams(c.section("lines"), lines);
+  p.lines_follow_g_threshold = !c.section("lines").has("gp_threshold");
+  p.g_threshold_fixed = c.section("agm").has("g_threshold");
+  p.g_threshold_walking_speed = c.get("g_threshold_walking_speed", p.g_threshold_walking_speed, Range::between(0, 10));
   p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
@@ -87,6 +90,7 @@ AgmParams NavigatorConfig::effectiveAgm() const {
 NavigatorStage::NavigatorStage(Node& node, const NavigatorConfig& cfg)
     : node_(node),
       cfg_(cfg),
+      lines_(cfg.lines),
       agm_(cfg.effectiveAgm()),
       placer_(cfg.placement),
       look_weight_(cfg.hit_weight_speed, cfg.hit_weight_low_speed),
@@ -169,7 +173,9 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
   poses_.clear();
   speed_ = 0;
-  agm_ = AccumulativeGridMap(cfg_.agm);
+  agm_ = AccumulativeGridMap(cfg_.effectiveAgm());
+  lines_ = cfg_.lines;
+  ring_groups_ = RingGroups{};
   placer_ = EchoPlacer(cfg_.placement);
   look_weight_ = LookWeight(cfg_.hit_weight_speed, cfg_.hit_weight_low_speed);
   pass_through_.clear();
@@ -245,6 +251,8 @@ void NavigatorStage::onComplement(const complement_t& m) {
   node_.noteMessageTime(m.utime);
   if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
+  ring_groups_.fired(m.group, m.utime);
+  followRing();
 
   std::vector<complement::InputProblem> problems;
   const auto readings = complement::complementFromMessage(m, problems);
@@ -463,6 +471,16 @@ std::optional<geom::Pose2> NavigatorStage::poseAt(int64_t utime) const {
   return correctionAt(utime).compose(*p);
 }
 
+void NavigatorStage::followRing() {
+  if (cfg_.g_threshold_fixed || !(cfg_.g_threshold_walking_speed > 0)) return;
+  const int gt = walkerGThreshold((2 * agm_.params().t + 1) * agm_.cellSize(), cfg_.g_threshold_walking_speed,
+                                  ring_groups_.shortestCycleS());
+  if (gt < 1 || gt == agm_.params().g_threshold) return;
+  agm_.setGThreshold(gt);
+  if (cfg_.lines_follow_g_threshold) lines_.gp_threshold = gt;
+  node_.count("agm.g_threshold_changes");
+}
+
 void NavigatorStage::publish() {
   const auto pose = poseAt(now_);
   if (!pose) {
@@ -470,13 +488,13 @@ void NavigatorStage::publish() {
     return;
   }
   last_publish_ = now_;
-  gridMapMessageInto(grid_msg_, agm_, now_, *pose, cfg_.lines.gp_threshold, cfg_.published_size);
+  gridMapMessageInto(grid_msg_, agm_, now_, *pose, lines_.gp_threshold, cfg_.published_size);
   node_.publish(channels::AGM_TACTICAL, grid_msg_);
 
   const int o = publishedOffset(agm_, cfg_.published_size);
-  const auto cells = candidateCells(agm_, cfg_.lines.gp_threshold, o, o, grid_msg_.width,
+  const auto cells = candidateCells(agm_, lines_.gp_threshold, o, o, grid_msg_.width,
                                     [this](int64_t c) { return cycleUtime(c); });
-  csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), cfg_.lines));
+  csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), lines_));
   const int64_t agm_utime = last_complement_utime_.value_or(0);
   line_map_t agm_lines = lineMapMessage(csm_.sonarLines(), now_, agm_utime, *pose);
   node_.publish(channels::AGM_LINES, agm_lines);

@@ -69,6 +69,7 @@
 #include "lcmio/time_reset.hpp"
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
+#include "operational/sonar_bearing.hpp"
 #include "tactical/current_sensor_map.hpp"
 #include "tactical/laser_glint.hpp"
 #include "tactical/laser_join.hpp"
@@ -83,6 +84,15 @@ struct NavigatorConfig {
   AgmParams agm = tacticalAgmDefaults();
   EchoPlacementConfig placement = tacticalPlacementDefaults();
   LineGenerationParams lines;
+  // [m/s] G_T from the ring (walkerGThreshold, operational/agm.hpp): the slowest walk whose echoes
+  // must not reach it, with the ring cycle timed from the groups' own firings (RingGroups);
+  // agm.g_threshold until the ring is timed. 0: agm.g_threshold always.
+  double g_threshold_walking_speed = 0.8;
+  // agm.g_threshold was configured: that G_T, whatever the ring.
+  bool g_threshold_fixed = false;
+  // lines.gp_threshold was not configured: the line candidates are the cells at G_T, whatever G_T
+  // the ring gives.
+  bool lines_follow_g_threshold = true;
   double publish_hz = 2.0;  // AGM_TACTICAL, AGM_LINES, CURRENT_SENSOR_MAP (message time)
   // Cells per side of AGM_TACTICAL and of the window lines are generated from: the middle of the
   // tactical AGM (which may be larger: it remembers what the robot may come back to, the
@@ -179,9 +189,13 @@ class NavigatorStage {
   void advance(int64_t utime);
   void publish();
   int64_t cycleUtime(int64_t cycle) const;
+  // G_T (and the lines' threshold, if it follows) from the ring's timing, once timed.
+  void followRing();
 
   Node& node_;
   NavigatorConfig cfg_;
+  LineGenerationParams lines_;  // cfg_.lines with the G_T the ring gives (lines_follow_g_threshold)
+  RingGroups ring_groups_;
   PoseHistory poses_;
   double speed_ = 0;  // [m/s] newest ODOMETRY.v
   AccumulativeGridMap agm_;

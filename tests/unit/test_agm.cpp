@@ -138,6 +138,42 @@ TEST(Agm, PropagationHandComputed) {
   EXPECT_EQ(m.gp(4, 4), 0);
 }
 
+TEST(Agm, ANewGThresholdAppliesToEveryCellAtOnce) {
+  AccumulativeGridMap m(small(/*t=*/1, /*G_T=*/5, /*h_max=*/50));
+  m.centreOn({0.5, 0.5});
+  m.update({at(2, 2), at(2, 2), at(3, 2), at(2, 3), at(5, 5)});
+  EXPECT_EQ(m.gp(2, 2), 0);  // Gu 4 < 5
+  m.setGThreshold(3);
+  EXPECT_EQ(m.params().g_threshold, 3);
+  EXPECT_EQ(m.gp(2, 2), 4);  // as if G_T had been 3 all along (PropagationHandComputed)
+  EXPECT_EQ(m.gp(3, 2), 4);
+  EXPECT_EQ(m.gp(3, 3), 0);  // no weight of its own
+  EXPECT_EQ(m.gp(5, 5), 0);
+  m.update({at(6, 6), at(6, 6)});  // and on from there
+  EXPECT_EQ(m.gp(5, 5), 3);
+  m.setGThreshold(0);  // at least 1
+  EXPECT_EQ(m.params().g_threshold, 1);
+  EXPECT_EQ(m.gp(5, 5), 3);
+  m.setGThreshold(4);
+  EXPECT_EQ(m.gp(5, 5), 0);
+  EXPECT_EQ(m.gp(2, 2), 4);
+}
+
+TEST(Agm, TheWalkerRuleGivesEachRingItsGThreshold) {
+  // 0.3 m (3 x 3 cells of 0.1 m), people walking 0.8 m/s or faster: 0.375 s in the neighbourhood.
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 6 * 0.0305), 5);   // MOBOT-IV: 6 groups of 30 ms, 4.1 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 8 * 0.0405), 3);   // a Pioneer: 8 groups of 40 ms, 2.3 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 12 * 0.0305), 3);  // 12 groups of 30 ms: 2.05 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 0.7), 2);          // 1.07 echoes: G_T 2
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 10.0), 1);
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 1e-12), 1000001);  // capped
+  for (const double bad : {0.0, -1.0, std::nan(""), static_cast<double>(INFINITY)}) {
+    EXPECT_EQ(walkerGThreshold(bad, 0.8, 0.18), -1);
+    EXPECT_EQ(walkerGThreshold(0.3, bad, 0.18), -1);
+    EXPECT_EQ(walkerGThreshold(0.3, 0.8, bad), -1);
+  }
+}
+
 TEST(Agm, PropagationWiderNeighbourhood) {
   AccumulativeGridMap m(small(/*t=*/2, /*G_T=*/2, 50));
   m.centreOn({0.5, 0.5});

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <set>
 #include <string>
 
@@ -198,6 +199,7 @@ TEST(NavigatorStage, ThePapersRulesAloneWouldKeepThePerson) {
   // trace is kept. (So the test above could fail: it is the tactical parameters that suppress it.)
   NavigatorConfig paper;
   paper.agm.g_threshold = 2;
+  paper.g_threshold_fixed = true;
   paper.lines.gp_threshold = 2;
   paper.verify_with_next_scan = false;
   paper.placement = EchoPlacementConfig{};  // the pilot's placement: every echo gets a cell at once
@@ -643,6 +645,72 @@ TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
   EXPECT_GE(emptied_shipped, kTrolleySeeds / 2);
 }
 
+namespace {
+// The tactical G_T a navigator ends with after 8 s of firing groups `groups` per ring cycle, each
+// `period_us` after the one before plus 0-8 ms at random; also the threshold of its last
+// AGM_TACTICAL (lines: the line candidates' threshold, as the map carries it).
+struct RingRun {
+  int g_threshold = 0, published = 0, lines = 0;
+  int64_t changes = 0;
+};
+RingRun ringRun(int groups, int64_t period_us, const NavigatorConfig& cfg) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  NavigatorStage stage{node, cfg};
+  RingRun r;
+  node.subscribe<grid_map_t>(channels::AGM_TACTICAL, [&](const grid_map_t& m) { r.published = m.gp_threshold; });
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int64_t> jitter(0, 8000);
+  for (int64_t t = 1'000'000, k = 0; t < 9'000'000; t += period_us + jitter(rng), ++k) {
+    odometry_t o{};
+    o.utime = t;
+    node.publish(channels::ODOMETRY, o);
+    complement_t c{};
+    c.utime = t;
+    c.group = static_cast<int16_t>(k % groups);
+    c.tolerance = 0.10f;
+    c.beam_width = static_cast<float>(geom::deg2rad(25));
+    c.range_limit = 2.2f;
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    while (node.spinOnce(0) > 0) {
+    }
+  }
+  r.g_threshold = stage.agm().params().g_threshold;
+  r.changes = node.counter("agm.g_threshold_changes");
+  return r;
+}
+}  // namespace
+
+TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTiming) {
+  const NavigatorConfig shipped = navigatorConfig(Config{});
+  EXPECT_EQ(shipped.agm.g_threshold, 5);  // until the ring is timed
+  // MOBOT-IV's 6 groups of 30 ms: 5, as the fallback (no change); a Pioneer's 8 of 40 ms: 3; a
+  // ring of 12 groups of 30 ms: 3. The map says which (its lines follow it).
+  const RingRun mobot = ringRun(6, 30'000, shipped), pioneer = ringRun(8, 40'000, shipped),
+                twelve = ringRun(12, 30'000, shipped);
+  EXPECT_EQ(mobot.g_threshold, 5);
+  EXPECT_EQ(mobot.changes, 0);
+  EXPECT_EQ(mobot.published, 5);
+  EXPECT_EQ(pioneer.g_threshold, 3);
+  EXPECT_EQ(pioneer.changes, 1);  // once timed, and it stays
+  EXPECT_EQ(pioneer.published, 3);
+  EXPECT_EQ(twelve.g_threshold, 3);
+  // 0: the configured G_T whatever the ring; a configured line threshold stays as configured.
+  const NavigatorConfig fixed =
+      navigatorConfig(Config::fromString("navigator: {g_threshold_walking_speed: 0}").section("navigator"));
+  EXPECT_EQ(ringRun(8, 40'000, fixed).g_threshold, 5);
+  const NavigatorConfig given = navigatorConfig(Config::fromString("navigator: {agm: {g_threshold: 4}}").section("navigator"));
+  EXPECT_TRUE(given.g_threshold_fixed);
+  const RingRun g4 = ringRun(8, 40'000, given);
+  EXPECT_EQ(g4.g_threshold, 4);
+  EXPECT_EQ(g4.published, 4);
+  const NavigatorConfig lines4 =
+      navigatorConfig(Config::fromString("navigator: {lines: {gp_threshold: 4}}").section("navigator"));
+  EXPECT_FALSE(lines4.lines_follow_g_threshold);
+  const RingRun p4 = ringRun(8, 40'000, lines4);
+  EXPECT_EQ(p4.g_threshold, 3);
+  EXPECT_EQ(p4.published, 4);
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);
@@ -688,7 +756,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
     EXPECT_NE(std::string(e.what()).find("navigator.published_size"), std::string::npos) << e.what();
   }
   for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {hit_weight_low_speed: -1}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
-                          "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {agm_bearing: cone}",
+                          "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {g_threshold_walking_speed: -0.5}", "navigator: {agm_bearing: cone}",
                           "navigator: {published_size: 201}", "navigator: {published_size: -1}",
                           "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",
                           "navigator: {agm: {odometry_rot_noise: .nan}}",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "operational/sonar_bearing.hpp"
@@ -245,4 +246,32 @@ TEST(RingGroups, CountsTheGroupsOfOneRingCycle) {
   EXPECT_EQ(changed.hMax(3, 18), 12);  // three ring cycles of 4 groups
   EXPECT_EQ(changed.hMax(0, 18), 18);  // the paper's unit: the fallback
   EXPECT_EQ(RingGroups{}.hMax(3, 18), 18);  // not counted yet
+}
+
+TEST(RingGroups, TimesTheRingCycleAtItsQuickest) {
+  // MOBOT-IV's driver: 6 groups, each 30 ms after the one before plus 0-8 ms at random. The mean
+  // cycle is ~0.204 s; the ring's own period, 0.18 s, is what a person walking past can meet.
+  RingGroups ring;
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int64_t> jitter(0, 8000);
+  int64_t t = 1'000'000;
+  EXPECT_EQ(ring.shortestCycleS(), 0.0);
+  for (int k = 0; k < 200; ++k) {
+    ring.fired(k % 6, t);
+    if (k == 3) EXPECT_EQ(ring.shortestCycleS(), 0.0);  // not counted yet
+    t += 30'000 + jitter(rng);
+  }
+  EXPECT_GE(ring.shortestCycleS(), 0.18);
+  EXPECT_LT(ring.shortestCycleS(), 0.18 + 6 * 0.001);
+  // A firing time going backwards or repeated is no interval; a lost message is a long one.
+  const double before = ring.shortestCycleS();
+  ring.fired(0, t - 500'000);
+  ring.fired(1, t - 500'000);
+  ring.fired(2, t + 90'000);
+  EXPECT_DOUBLE_EQ(ring.shortestCycleS(), before);
+  // Without times (fired(group)) nothing is timed.
+  RingGroups untimed;
+  for (int k = 0; k < 40; ++k) untimed.fired(k % 6);
+  EXPECT_EQ(untimed.perCycle(), 6);
+  EXPECT_EQ(untimed.shortestCycleS(), 0.0);
 }
