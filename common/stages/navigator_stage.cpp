@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <spdlog/spdlog.h>
+
 #include "complement/complement_config.hpp"
 #include "stages/inputs.hpp"
 #include "stages/pilot_stage.hpp"
@@ -479,6 +481,8 @@ void NavigatorStage::followRing() {
   agm_.setGThreshold(gt);
   if (cfg_.lines_follow_g_threshold) lines_.gp_threshold = gt;
   node_.count("agm.g_threshold_changes");
+  spdlog::info("{}: tactical G_T {} (a ring cycle of {} firing groups, {:.3f} s at its quickest; people walking {} m/s)",
+               node_.name(), gt, ring_groups_.perCycle(), ring_groups_.shortestCycleS(), cfg_.g_threshold_walking_speed);
 }
 
 void NavigatorStage::publish() {
