@@ -123,8 +123,15 @@ void RingGroups::fired(int group, int64_t utime) {
 }
 
 double RingGroups::shortestCycleS() const {
-  if (per_cycle_ <= 0 || intervals_.empty()) return 0;
-  return static_cast<double>(per_cycle_) * static_cast<double>(*std::min_element(intervals_.begin(), intervals_.end())) * 1e-6;
+  if (per_cycle_ <= 0 || intervals_.size() < kMinIntervals) return 0;
+  scratch_.assign(intervals_.begin(), intervals_.end());
+  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+  std::nth_element(scratch_.begin(), mid, scratch_.end());
+  const int64_t floor = *mid / 2;
+  int64_t shortest = *mid;
+  for (const int64_t d : intervals_)
+    if (d >= floor) shortest = std::min(shortest, d);
+  return static_cast<double>(per_cycle_) * static_cast<double>(shortest) * 1e-6;
 }
 
 }  // namespace lasonic
