@@ -101,10 +101,10 @@ void AccumulativeGridMap::setGThreshold(int g_threshold) {
   for (size_t s = 0; s < gp_.size(); ++s) gp_[s] = (g_[s] > 0 && gu_[s] >= p_.g_threshold) ? gu_[s] : 0;
 }
 
-int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s) {
+int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s, int transducers) {
   const auto ok = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!ok(neighbourhood_m) || !ok(walking_speed) || !ok(ring_cycle_s)) return -1;
-  const double echoes = 2.0 * neighbourhood_m / (walking_speed * ring_cycle_s);
+  if (!ok(neighbourhood_m) || !ok(walking_speed) || !ok(ring_cycle_s) || transducers < 1) return -1;
+  const double echoes = static_cast<double>(transducers) * neighbourhood_m / (walking_speed * ring_cycle_s);
   return static_cast<int>(std::min(1e6, std::floor(echoes))) + 1;
 }
 

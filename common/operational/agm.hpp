@@ -72,10 +72,12 @@ struct AgmParams {
 };
 // A G_T that a person walking past does not reach: walking at `walking_speed` [m/s] they cross
 // a neighbourhood `neighbourhood_m` wide ((2t+1) cells) in neighbourhood_m / walking_speed; each
-// of the two transducers whose beams overlap there hears them at most once per ring cycle of
-// `ring_cycle_s`, so they give at most 2 neighbourhood_m / (walking_speed ring_cycle_s) echoes, and
-// G_T is one more (at most 1e6). -1 if an argument is not positive and finite.
-int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s);
+// of the `transducers` whose beams overlap there (at most: maxBeamOverlap in
+// operational/sonar_bearing.hpp; MOBOT-IV's and a Pioneer's rings 2, a ring of 8 whose beams do
+// not overlap 1) hears them at most once per ring cycle of `ring_cycle_s`, so they give at most
+// transducers neighbourhood_m / (walking_speed ring_cycle_s) echoes, and G_T is one more (at most
+// 1e6). -1 if an argument is not positive and finite.
+int walkerGThreshold(double neighbourhood_m, double walking_speed, double ring_cycle_s, int transducers);
 
 // Reads the keys of an AGM config section over `base` (defaults of the level using it).
 // Throws ConfigError naming the key path.

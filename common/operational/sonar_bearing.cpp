@@ -134,4 +134,26 @@ double RingGroups::shortestCycleS() const {
   return static_cast<double>(per_cycle_) * static_cast<double>(shortest) * 1e-6;
 }
 
+int maxBeamOverlap(const std::vector<BeamAxis>& beams, double margin) {
+  struct Arc {
+    double axis, half;
+  };
+  std::vector<Arc> arcs;
+  arcs.reserve(beams.size());
+  const double m = std::isfinite(margin) && margin > 0 ? margin : 0.0;
+  for (const BeamAxis& b : beams)
+    if (std::isfinite(b.axis) && std::isfinite(b.beam) && b.beam > 0 && b.beam < 2 * geom::kPi)
+      arcs.push_back({geom::normalizeAngle(b.axis), 0.5 * b.beam - std::min(m, 0.25 * b.beam)});
+  // The count is highest just inside some beam's (narrowed) edge: try each.
+  int best = 0;
+  for (const Arc& a : arcs) {
+    const double at = geom::normalizeAngle(a.axis - a.half + 1e-9);
+    int n = 0;
+    for (const Arc& o : arcs)
+      if (std::abs(geom::normalizeAngle(at - o.axis)) < o.half) ++n;
+    best = std::max(best, n);
+  }
+  return best;
+}
+
 }  // namespace lasonic

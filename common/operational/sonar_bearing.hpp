@@ -138,6 +138,21 @@ class RingGroups {
   mutable std::vector<int64_t> scratch_;  // (shortestCycleS: the median)
 };
 
+// One transducer of a ring as the walker rule (operational/agm.hpp, walkerGThreshold) sees it:
+// its axis in the robot frame and its full opening [rad].
+struct BeamAxis {
+  double axis = 0;
+  double beam = 0;
+};
+// The most beams that cover one bearing of the robot frame: how many transducers at most hear a
+// person there each ring cycle (MOBOT-IV's 24 beams of 30 deg, 15 deg apart: 2; a Pioneer's 2,
+// where its front and side pairs overlap; 8 beams of 30 deg, 45 deg apart: 1). Two beams count as
+// overlapping only where they share more than 2 `margin` [rad]: beams that merely touch (MOBOT-IV's
+// every other one) do not, however a mount's bearing was measured (each beam's edges are taken
+// `margin` inwards, at most a quarter of its opening). Beams with a non-finite axis or an opening
+// not in (0, 2 pi) are left out; 0 for none.
+int maxBeamOverlap(const std::vector<BeamAxis>& beams, double margin);
+
 // Keeps, per sensor id, its latest echo and firing, and places new echoes with echoPoint(). The
 // neighbours of an echo are the other sensors' latest readings of this ring cycle: fired since
 // the echo's own sensor fired before (with params().max_age_s 0; > 0: no older than that). A

@@ -178,6 +178,8 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.effectiveAgm());
   lines_ = cfg_.lines;
   ring_groups_ = RingGroups{};
+  beams_.clear();
+  beam_overlap_ = 0;
   placer_ = EchoPlacer(cfg_.placement);
   look_weight_ = LookWeight(cfg_.hit_weight_speed, cfg_.hit_weight_low_speed);
   pass_through_.clear();
@@ -254,11 +256,12 @@ void NavigatorStage::onComplement(const complement_t& m) {
   if (!isNewer(node_, last_complement_utime_, m.utime, channels::SONAR_COMPLEMENT, "complement")) return;
   last_complement_utime_ = m.utime;
   ring_groups_.fired(m.group, m.utime);
-  followRing();
 
   std::vector<complement::InputProblem> problems;
   const auto readings = complement::complementFromMessage(m, problems);
   reportProblems(node_, problems);
+  learnBeams(readings, m.utime);
+  followRing();
   // (an echo the lines of an earlier scan explain where the newest does not look is what the
   // laser does not see now: the tactical memory keeps it)
   std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true);
@@ -473,16 +476,39 @@ std::optional<geom::Pose2> NavigatorStage::poseAt(int64_t utime) const {
   return correctionAt(utime).compose(*p);
 }
 
-void NavigatorStage::followRing() {
+void NavigatorStage::learnBeams(const std::vector<complement::ComplementInput>& readings, int64_t utime) {
   if (cfg_.g_threshold_fixed || !(cfg_.g_threshold_walking_speed > 0)) return;
+  // Interpolated, as the complement stage placed the sensor (not extrapolated past the newest
+  // odometry, which a turning robot would put off by up to a degree).
+  if (poses_.empty() || poses_.newestTime() < utime) return;
+  std::optional<geom::Pose2> robot;
+  bool added = false;
+  for (const auto& r : readings) {
+    if (r.cls == complement::SonarClass::Invalid || !r.sensor_pose || beams_.count(r.sensor_id)) continue;
+    if (!robot && !(robot = poses_.at(utime))) return;
+    const double beam = geom::plausibleBeamWidth(r.beam_width) ? r.beam_width : cfg_.placement.params.beam_width;
+    beams_[r.sensor_id] = BeamAxis{geom::normalizeAngle(r.sensor_pose->theta - robot->theta), beam};
+    added = true;
+  }
+  if (!added) return;
+  std::vector<BeamAxis> all;
+  all.reserve(beams_.size());
+  for (const auto& [id, b] : beams_) all.push_back(b);
+  beam_overlap_ = maxBeamOverlap(all, geom::deg2rad(kBeamOverlapMarginDeg));
+}
+
+void NavigatorStage::followRing() {
+  if (cfg_.g_threshold_fixed || !(cfg_.g_threshold_walking_speed > 0) || beam_overlap_ < 1) return;
   const int gt = walkerGThreshold((2 * agm_.params().t + 1) * agm_.cellSize(), cfg_.g_threshold_walking_speed,
-                                  ring_groups_.shortestCycleS());
+                                  ring_groups_.shortestCycleS(), beam_overlap_);
   if (gt < 1 || gt == agm_.params().g_threshold) return;
   agm_.setGThreshold(gt);
   if (cfg_.lines_follow_g_threshold) lines_.gp_threshold = gt;
   node_.count("agm.g_threshold_changes");
-  spdlog::info("{}: tactical G_T {} (a ring cycle of {} firing groups, {:.3f} s at its quickest; people walking {} m/s)",
-               node_.name(), gt, ring_groups_.perCycle(), ring_groups_.shortestCycleS(), cfg_.g_threshold_walking_speed);
+  spdlog::info("{}: tactical G_T {} (a ring cycle of {} firing groups, {:.3f} s at its quickest; at most {} of {} "
+               "beams over one bearing; people walking {} m/s)",
+               node_.name(), gt, ring_groups_.perCycle(), ring_groups_.shortestCycleS(), beam_overlap_, beams_.size(),
+               cfg_.g_threshold_walking_speed);
 }
 
 void NavigatorStage::publish() {

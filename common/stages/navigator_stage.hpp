@@ -52,6 +52,7 @@
 // the stage to its start state (counted: time_resets).
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -85,7 +86,8 @@ struct NavigatorConfig {
   EchoPlacementConfig placement = tacticalPlacementDefaults();
   LineGenerationParams lines;
   // [m/s] G_T from the ring (walkerGThreshold, operational/agm.hpp): the slowest walk whose echoes
-  // must not reach it, with the ring cycle timed from the groups' own firings (RingGroups);
+  // must not reach it, with the ring cycle timed from the groups' own firings (RingGroups) and
+  // the beams that overlap at most (maxBeamOverlap) from the readings' sensor poses;
   // agm.g_threshold until the ring is timed. 0: agm.g_threshold always.
   double g_threshold_walking_speed = 0.8;
   // agm.g_threshold was configured: that G_T, whatever the ring.
@@ -182,6 +184,9 @@ class NavigatorStage {
   // Every usable echo of a group as sound that passed what lay nearer (pass_through).
   std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width) const;
   static constexpr int64_t kCorrectionDelayUs = 300'000;
+  // Beams that share at most twice this of bearing do not overlap (maxBeamOverlap): MOBOT-IV's
+  // every other beam touches, and a mount's measured bearing may be off by a fraction of this.
+  static constexpr double kBeamOverlapMarginDeg = 1.0;
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);
@@ -189,13 +194,19 @@ class NavigatorStage {
   void advance(int64_t utime);
   void publish();
   int64_t cycleUtime(int64_t cycle) const;
-  // G_T (and the lines' threshold, if it follows) from the ring's timing, once timed.
+  // G_T (and the lines' threshold, if it follows) from the ring's timing and beams, once timed.
   void followRing();
+  // Each transducer's axis in the robot frame and its beam, from the first of its readings whose
+  // firing the odometry has passed (sensor pose less the robot's heading then); beam_overlap_
+  // follows.
+  void learnBeams(const std::vector<complement::ComplementInput>& readings, int64_t utime);
 
   Node& node_;
   NavigatorConfig cfg_;
   LineGenerationParams lines_;  // cfg_.lines with the G_T the ring gives (lines_follow_g_threshold)
   RingGroups ring_groups_;
+  std::map<int, BeamAxis> beams_;  // per sensor id (learnBeams)
+  int beam_overlap_ = 0;           // maxBeamOverlap of beams_
   PoseHistory poses_;
   double speed_ = 0;  // [m/s] newest ODOMETRY.v
   AccumulativeGridMap agm_;

@@ -160,18 +160,27 @@ TEST(Agm, ANewGThresholdAppliesToEveryCellAtOnce) {
 }
 
 TEST(Agm, TheWalkerRuleGivesEachRingItsGThreshold) {
-  // 0.3 m (3 x 3 cells of 0.1 m), people walking 0.8 m/s or faster: 0.375 s in the neighbourhood.
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 6 * 0.0305), 5);   // MOBOT-IV: 6 groups of 30 ms, 4.1 echoes
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 8 * 0.0405), 3);   // a Pioneer: 8 groups of 40 ms, 2.3 echoes
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 12 * 0.0305), 3);  // 12 groups of 30 ms: 2.05 echoes
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 0.7), 2);          // 1.07 echoes: G_T 2
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 10.0), 1);
-  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 1e-12), 1000001);  // capped
+  // 0.3 m (3 x 3 cells of 0.1 m), people walking 0.8 m/s or faster: 0.375 s in the neighbourhood,
+  // heard by the two transducers whose beams overlap there (MOBOT-IV, a Pioneer).
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 6 * 0.0305, 2), 5);   // MOBOT-IV: 6 groups of 30 ms, 4.1 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 8 * 0.0405, 2), 3);   // a Pioneer: 8 groups of 40 ms, 2.3 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 12 * 0.0305, 2), 3);  // 12 groups of 30 ms: 2.05 echoes
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 0.7, 2), 2);          // 1.07 echoes: G_T 2
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 10.0, 2), 1);
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 1e-12, 2), 1000001);  // capped
+  // Beams that do not overlap (8 of 30 deg, 45 deg apart, 4 groups of 30 ms): one transducer,
+  // 3.1 echoes, G_T 4 (the two-transducer count would give 7, above what a static surface
+  // beside the path gives that one transducer); three overlapping beams: 6.1, G_T 7.
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 4 * 0.0305, 1), 4);
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 4 * 0.0305, 2), 7);
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 6 * 0.0305, 3), 7);
   for (const double bad : {0.0, -1.0, std::nan(""), static_cast<double>(INFINITY)}) {
-    EXPECT_EQ(walkerGThreshold(bad, 0.8, 0.18), -1);
-    EXPECT_EQ(walkerGThreshold(0.3, bad, 0.18), -1);
-    EXPECT_EQ(walkerGThreshold(0.3, 0.8, bad), -1);
+    EXPECT_EQ(walkerGThreshold(bad, 0.8, 0.18, 2), -1);
+    EXPECT_EQ(walkerGThreshold(0.3, bad, 0.18, 2), -1);
+    EXPECT_EQ(walkerGThreshold(0.3, 0.8, bad, 2), -1);
   }
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 0.18, 0), -1);
+  EXPECT_EQ(walkerGThreshold(0.3, 0.8, 0.18, -2), -1);
 }
 
 TEST(Agm, PropagationWiderNeighbourhood) {

@@ -653,16 +653,42 @@ struct RingRun {
   int g_threshold = 0, published = 0, lines = 0;
   int64_t changes = 0;
 };
-RingRun ringRun(int groups, int64_t period_us, const NavigatorConfig& cfg) {
+// A ring's transducers: axis [deg] in the robot frame, beam [deg], firing group.
+struct RingSensor {
+  double theta_deg, beam_deg;
+  int group;
+};
+// n evenly spaced sensors, sensor i in group i % groups.
+std::vector<RingSensor> evenRing(int n, double beam_deg, int groups) {
+  std::vector<RingSensor> r;
+  for (int i = 0; i < n; ++i) r.push_back({360.0 * i / n, beam_deg, i % groups});
+  return r;
+}
+std::vector<RingSensor> pioneerRing() {
+  std::vector<RingSensor> r;
+  int k = 0;
+  for (const double t : {90, 50, 30, 10, -10, -30, -50, -90, -90, -130, -150, -170, 170, 150, 130, 90})
+    r.push_back({t, 25, k++ % 8});
+  return r;
+}
+// The ring fires its groups in turn every period_us plus 0-8 ms, while the robot turns on the
+// spot (0.5 rad/s: each sensor's pose in the messages is its mount turned by the robot's heading).
+RingRun ringRun(const std::vector<RingSensor>& ring, int64_t period_us, const NavigatorConfig& cfg) {
   Node node{"t", "memq://", Node::Options{false, false}};
   NavigatorStage stage{node, cfg};
   RingRun r;
   node.subscribe<grid_map_t>(channels::AGM_TACTICAL, [&](const grid_map_t& m) { r.published = m.gp_threshold; });
+  int groups = 0;
+  for (const RingSensor& s : ring) groups = std::max(groups, s.group + 1);
+  if (groups == 0) groups = 8;  // (no sensors: 8 groups of messages without readings)
   std::mt19937 rng(5);
   std::uniform_int_distribution<int64_t> jitter(0, 8000);
   for (int64_t t = 1'000'000, k = 0; t < 9'000'000; t += period_us + jitter(rng), ++k) {
+    const double heading = geom::normalizeAngle(0.5 * static_cast<double>(t) * 1e-6);
     odometry_t o{};
     o.utime = t;
+    o.pose.theta = heading;
+    o.omega = 0.5;
     node.publish(channels::ODOMETRY, o);
     complement_t c{};
     c.utime = t;
@@ -670,6 +696,18 @@ RingRun ringRun(int groups, int64_t period_us, const NavigatorConfig& cfg) {
     c.tolerance = 0.10f;
     c.beam_width = static_cast<float>(geom::deg2rad(25));
     c.range_limit = 2.2f;
+    for (size_t i = 0; i < ring.size(); ++i) {
+      if (ring[i].group != c.group) continue;
+      complement_reading_t rd{};
+      rd.sensor_id = static_cast<int16_t>(i);
+      rd.cls = complement_reading_t::CLASS_FALSE;
+      rd.range = 1.5f;
+      rd.hypothetical_range = 1.0f;
+      rd.sensor_pose.theta = geom::normalizeAngle(heading + geom::deg2rad(ring[i].theta_deg));
+      rd.beam_width = static_cast<float>(geom::deg2rad(ring[i].beam_deg));
+      c.readings.push_back(rd);
+    }
+    c.nreadings = static_cast<int32_t>(c.readings.size());
     node.publish(channels::SONAR_COMPLEMENT, c);
     while (node.spinOnce(0) > 0) {
     }
@@ -680,13 +718,16 @@ RingRun ringRun(int groups, int64_t period_us, const NavigatorConfig& cfg) {
 }
 }  // namespace
 
-TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTiming) {
+TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTimingAndBeams) {
   const NavigatorConfig shipped = navigatorConfig(Config{});
   EXPECT_EQ(shipped.agm.g_threshold, 5);  // until the ring is timed
-  // MOBOT-IV's 6 groups of 30 ms: 5, as the fallback (no change); a Pioneer's 8 of 40 ms: 3; a
-  // ring of 12 groups of 30 ms: 3. The map says which (its lines follow it).
-  const RingRun mobot = ringRun(6, 30'000, shipped), pioneer = ringRun(8, 40'000, shipped),
-                twelve = ringRun(12, 30'000, shipped);
+  // MOBOT-IV's 24 beams of 30 deg in 6 groups of 30 ms: 5, as the fallback (no change); a
+  // Pioneer's 16 in 8 groups of 40 ms: 3; MOBOT-IV's beams in 12 groups of 30 ms: 3; 8 beams that
+  // do not overlap, in 4 groups of 30 ms: 4 (one transducer hears a spot). The map says which
+  // (its lines follow it).
+  const RingRun mobot = ringRun(evenRing(24, 30, 6), 30'000, shipped), pioneer = ringRun(pioneerRing(), 40'000, shipped),
+                twelve = ringRun(evenRing(24, 30, 12), 30'000, shipped),
+                eight = ringRun(evenRing(8, 30, 4), 30'000, shipped);
   EXPECT_EQ(mobot.g_threshold, 5);
   EXPECT_EQ(mobot.changes, 0);
   EXPECT_EQ(mobot.published, 5);
@@ -694,19 +735,23 @@ TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTiming) {
   EXPECT_EQ(pioneer.changes, 1);  // once timed, and it stays
   EXPECT_EQ(pioneer.published, 3);
   EXPECT_EQ(twelve.g_threshold, 3);
+  EXPECT_EQ(eight.g_threshold, 4);
+  EXPECT_EQ(eight.published, 4);
+  // Messages without readings say nothing of the beams: the fallback stays.
+  EXPECT_EQ(ringRun({}, 40'000, shipped).g_threshold, 5);
   // 0: the configured G_T whatever the ring; a configured line threshold stays as configured.
   const NavigatorConfig fixed =
       navigatorConfig(Config::fromString("navigator: {g_threshold_walking_speed: 0}").section("navigator"));
-  EXPECT_EQ(ringRun(8, 40'000, fixed).g_threshold, 5);
+  EXPECT_EQ(ringRun(pioneerRing(), 40'000, fixed).g_threshold, 5);
   const NavigatorConfig given = navigatorConfig(Config::fromString("navigator: {agm: {g_threshold: 4}}").section("navigator"));
   EXPECT_TRUE(given.g_threshold_fixed);
-  const RingRun g4 = ringRun(8, 40'000, given);
+  const RingRun g4 = ringRun(pioneerRing(), 40'000, given);
   EXPECT_EQ(g4.g_threshold, 4);
   EXPECT_EQ(g4.published, 4);
   const NavigatorConfig lines4 =
       navigatorConfig(Config::fromString("navigator: {lines: {gp_threshold: 4}}").section("navigator"));
   EXPECT_FALSE(lines4.lines_follow_g_threshold);
-  const RingRun p4 = ringRun(8, 40'000, lines4);
+  const RingRun p4 = ringRun(pioneerRing(), 40'000, lines4);
   EXPECT_EQ(p4.g_threshold, 3);
   EXPECT_EQ(p4.published, 4);
 }

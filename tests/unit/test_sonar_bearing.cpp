@@ -280,3 +280,43 @@ TEST(RingGroups, TimesTheRingCycleAtItsQuickest) {
   EXPECT_EQ(untimed.perCycle(), 6);
   EXPECT_EQ(untimed.shortestCycleS(), 0.0);
 }
+
+namespace {
+std::vector<BeamAxis> evenRing(int n, double beam_deg, double jitter_deg = 0, unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> off(-jitter_deg, jitter_deg);
+  std::vector<BeamAxis> r;
+  for (int i = 0; i < n; ++i)
+    r.push_back({geom::deg2rad(360.0 * i / n + (jitter_deg > 0 ? off(rng) : 0.0)), geom::deg2rad(beam_deg)});
+  return r;
+}
+}  // namespace
+
+TEST(RingBeams, MostBeamsOverOneBearing) {
+  const double margin = geom::deg2rad(1.0);
+  // MOBOT-IV: 24 beams of 30 deg, 15 deg apart: every bearing in two beams; every other beam
+  // touches, and does not count however its mount was measured (+-0.5 deg).
+  EXPECT_EQ(maxBeamOverlap(evenRing(24, 30), margin), 2);
+  for (unsigned seed = 1; seed <= 20; ++seed) EXPECT_EQ(maxBeamOverlap(evenRing(24, 30, 0.5, seed), margin), 2);
+  // Without the margin a mount measured a little off makes touching beams a third.
+  int three = 0;
+  for (unsigned seed = 1; seed <= 20; ++seed) three += maxBeamOverlap(evenRing(24, 30, 0.5, seed), 0.0) == 3;
+  EXPECT_GT(three, 0);
+  // A Pioneer's 16 sonars of 25 deg: its front and rear pairs (+-10 deg, 180 +- 10 deg) overlap by
+  // 5 deg, and two sensors look straight to each side.
+  std::vector<BeamAxis> pioneer;
+  for (const double t : {90, 50, 30, 10, -10, -30, -50, -90, -90, -130, -150, -170, 170, 150, 130, 90})
+    pioneer.push_back({geom::deg2rad(t), geom::deg2rad(25)});
+  EXPECT_EQ(maxBeamOverlap(pioneer, margin), 2);
+  pioneer.erase(pioneer.begin() + 15);  // one side sensor left: the front pair still overlaps
+  EXPECT_EQ(maxBeamOverlap(pioneer, margin), 2);
+  // 8 beams of 30 deg, 45 deg apart: none overlap; 48 of 30 deg, 7.5 deg apart: four.
+  EXPECT_EQ(maxBeamOverlap(evenRing(8, 30), margin), 1);
+  EXPECT_EQ(maxBeamOverlap(evenRing(48, 30), margin), 4);
+  // Across +-pi: two beams either side of straight behind.
+  EXPECT_EQ(maxBeamOverlap({{geom::deg2rad(175), geom::deg2rad(30)}, {geom::deg2rad(-175), geom::deg2rad(30)}}, margin), 2);
+  // Nothing usable: 0; unusable beams are left out.
+  EXPECT_EQ(maxBeamOverlap({}, margin), 0);
+  EXPECT_EQ(maxBeamOverlap({{std::nan(""), 0.5}, {0.0, -1.0}, {0.0, 7.0}, {0.0, std::nan("")}}, margin), 0);
+  EXPECT_EQ(maxBeamOverlap({{0.0, 0.5}, {std::nan(""), 0.5}}, margin), 1);
+}
