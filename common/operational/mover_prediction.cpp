@@ -1,5 +1,6 @@
 #include "operational/mover_prediction.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -8,7 +9,7 @@ namespace lasonic {
 
 MoverPrediction::MoverPrediction(const MoverPredictionParams& p) : p_(p) {
   if (!(p.cluster_gap > 0) || !(p.max_extent > 0) || p.min_points < 2 || !(p.min_speed >= 0) ||
-      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0) || !(p.agree_speed > 0))
+      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0) || !(p.horizon_scans >= 0) || !(p.agree_speed > 0))
     throw std::invalid_argument("MoverPrediction: inconsistent parameters");
 }
 
@@ -100,6 +101,21 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
   prev_ = std::move(now);
   prev_robot_ = robot;
   return runs_;
+}
+
+void ScanPeriod::scanned(int64_t utime) {
+  const bool have = have_last_;
+  const int64_t d = utime - last_;
+  if (!have || utime > last_) last_ = utime, have_last_ = true;
+  if (!have || d <= 0) return;
+  if (intervals_.size() < kIntervals) intervals_.push_back(d);
+  else intervals_[next_] = d;
+  next_ = (next_ + 1) % kIntervals;
+  if (intervals_.size() < kMinIntervals) return;
+  scratch_.assign(intervals_.begin(), intervals_.end());
+  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+  std::nth_element(scratch_.begin(), mid, scratch_.end());
+  period_us_ = *mid;
 }
 
 }  // namespace lasonic

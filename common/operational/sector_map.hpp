@@ -37,6 +37,7 @@
 // the held one, and the held values only ever get shorter, so stale data never makes a sector
 // look freer than the last fresh data did. A sensor never heard from is stale with age -1.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -128,6 +129,11 @@ class SectorMap {
  public:
   explicit SectorMap(const SectorMapParams& p);
   const SectorMapParams& params() const { return p_; }
+  // The laser's staleness limit [s] from now on (the pilot's, in the laser's own scan periods);
+  // a value that is not positive and finite changes nothing.
+  void setLaserStaleS(double s) {
+    if (std::isfinite(s) && s > 0) p_.laser_stale_s = s;
+  }
 
   // Sector of a robot-frame bearing.
   int sectorOf(double bearing) const;

@@ -43,7 +43,7 @@ NavigatorConfig navigatorConfigFromRoot(const Config& root) {
 }
 
 NavigatorConfig navigatorConfig(const Config& c) {
-  std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s",
+  std::vector<std::string> keys = {"agm", "lines", "publish_hz", "verify_with_next_scan", "verify_max_wait_s", "verify_max_wait_scans",
                                    "hit_weight_speed", "hit_weight_low_speed", "published_size", "laser_join", "laser_join_min_line_m",
                                    "laser_glints", "scan_matching", "clear_footprint", "look_weight_votes",
                                    "pass_through", "g_threshold_walking_speed"};
@@ -63,6 +63,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
+  p.verify_max_wait_scans = c.get("verify_max_wait_scans", p.verify_max_wait_scans, Range::between(0, 100));
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));
   p.clear_footprint = c.get<bool>("clear_footprint", p.clear_footprint);
@@ -122,6 +123,7 @@ void NavigatorStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
+  scan_period_.scanned(m.utime);
   // Placed once the odometry has passed its last reading (or the next scan comes): so its
   // readings' poses are interpolated, never held, whatever reached the navigator first.
   scan_waiting_ = true;
@@ -178,6 +180,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   agm_ = AccumulativeGridMap(cfg_.effectiveAgm());
   lines_ = cfg_.lines;
   ring_groups_ = RingGroups{};
+  scan_period_ = ScanPeriod{};
   beams_.clear();
   beam_overlap_ = 0;
   placer_ = EchoPlacer(cfg_.placement);
@@ -298,7 +301,9 @@ void NavigatorStage::onComplement(const complement_t& m) {
 }
 
 void NavigatorStage::flushPending() {
-  const auto wait_us = static_cast<int64_t>(cfg_.verify_max_wait_s * 1e6);
+  const double wait_s = std::max(cfg_.verify_max_wait_s,
+                                 std::min(kMaxScanWaitS, scan_period_.scans(cfg_.verify_max_wait_scans, 0.0)));
+  const auto wait_us = static_cast<int64_t>(wait_s * 1e6);
   const int64_t newest = std::max({now_, last_complement_utime_.value_or(0), last_rm_utime_.value_or(0)});
   while (!pending_.empty()) {
     PendingGroup& g = pending_.front();

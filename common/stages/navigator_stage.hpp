@@ -70,6 +70,7 @@
 #include "lcmio/time_reset.hpp"
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
+#include "operational/mover_prediction.hpp"
 #include "operational/sonar_bearing.hpp"
 #include "tactical/current_sensor_map.hpp"
 #include "tactical/laser_glint.hpp"
@@ -106,6 +107,10 @@ struct NavigatorConfig {
   // time for that scan; then they go in as classified (the laser is gone).
   bool verify_with_next_scan = true;
   double verify_max_wait_s = 0.5;
+  // ... or this many of the laser's own scan periods, timed from its scans (ScanPeriod,
+  // operational/mover_prediction.hpp), if that is longer (a slower laser; at most 4 s, within the
+  // 5 s of scan-matching corrections kept). 0: verify_max_wait_s always.
+  double verify_max_wait_scans = 2.5;
   // [m/s] Look weight (tactical/look_weight.hpp): above this robot speed an echo counts for
   // speed / hit_weight_speed hits in the tactical AGM. 0: one hit per echo (the paper).
   double hit_weight_speed = 0.4;
@@ -184,6 +189,7 @@ class NavigatorStage {
   // Every usable echo of a group as sound that passed what lay nearer (pass_through).
   std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width) const;
   static constexpr int64_t kCorrectionDelayUs = 300'000;
+  static constexpr double kMaxScanWaitS = 4.0;  // (verify_max_wait_scans' cap)
   // Beams that share at most twice this of bearing do not overlap (maxBeamOverlap): MOBOT-IV's
   // every other beam touches, and a mount's measured bearing may be off by a fraction of this.
   static constexpr double kBeamOverlapMarginDeg = 1.0;
@@ -205,6 +211,7 @@ class NavigatorStage {
   NavigatorConfig cfg_;
   LineGenerationParams lines_;  // cfg_.lines with the G_T the ring gives (lines_follow_g_threshold)
   RingGroups ring_groups_;
+  ScanPeriod scan_period_;  // the laser's (the wait for the next scan in scan periods)
   std::map<int, BeamAxis> beams_;  // per sensor id (learnBeams)
   int beam_overlap_ = 0;           // maxBeamOverlap of beams_
   PoseHistory poses_;

@@ -72,7 +72,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation",
-                                   "outside_view_redundant", "h_max_ring_cycles"};
+                                   "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -84,6 +84,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.max_range = c.get("max_range", s.max_range, Range::positive());
   s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, 1e9));
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
+  p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
   p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::positive());
@@ -119,7 +120,8 @@ PilotConfig pilotConfig(const Config& c) {
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
     const Config m = c.section("mover_prediction");
-    m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "agree_speed"});
+    m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "horizon_scans",
+                 "agree_speed"});
     MoverPredictionParams& mp = p.mover_prediction;
     mp.cluster_gap = m.get("cluster_gap", mp.cluster_gap, Range::between(0.01, 2));
     mp.max_extent = m.get("max_extent", mp.max_extent, Range::between(0.05, 10));
@@ -127,6 +129,7 @@ PilotConfig pilotConfig(const Config& c) {
     mp.min_speed = m.get("min_speed", mp.min_speed, Range::between(0, 10));
     mp.max_speed = m.get("max_speed", mp.max_speed, Range::between(0.01, 20));
     mp.horizon_s = m.get("horizon_s", mp.horizon_s, Range::between(0, 2));
+    mp.horizon_scans = m.get("horizon_scans", mp.horizon_scans, Range::between(0, 100));
     mp.agree_speed = m.get("agree_speed", mp.agree_speed, Range::between(0.01, 10));
     if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
   }
@@ -252,6 +255,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   placer_ = EchoPlacer(cfg_.placement);
   motion_confirmation_ = MotionConfirmation(cfg_.motion_confirmation);
   ring_groups_ = RingGroups{};
+  scan_period_ = ScanPeriod{};
   movers_ = MoverPrediction(cfg_.mover_prediction);
   laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
   last_tactical_utime_.reset();
@@ -351,6 +355,10 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
+  // What is said in scan periods follows the laser's own (a 2.5 Hz scanner's people move twice as
+  // far between scans as a 5 Hz one's).
+  scan_period_.scanned(m.utime);
+  sector_map_.setLaserStaleS(scan_period_.scans(cfg_.laser_stale_scans, cfg_.sector_map.laser_stale_s));
   // A full-circle scanner sees everywhere: nothing to remember (LaserMemory would keep nothing)
   // but, with laser_memory_dark, where its readings came back empty.
   const bool remember =
@@ -435,7 +443,8 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     }
   }
   laser_points_ = sector_map_.setLaserPoints(newest, std::move(points));
-  sector_map_.setLaserMovers(std::move(moving), cfg_.mover_prediction.horizon_s);
+  sector_map_.setLaserMovers(std::move(moving),
+                             scan_period_.scans(cfg_.mover_prediction.horizon_scans, cfg_.mover_prediction.horizon_s));
   now_ = std::max(now_, newest);
   publishSectorMap();
 }

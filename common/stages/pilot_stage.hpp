@@ -75,6 +75,10 @@ struct PilotConfig {
   // from the firings (RingGroups); agm.h_max until the ring has been counted. 0: agm.h_max always.
   double h_max_ring_cycles = 3;
   SectorMapParams sector_map = sectorMapDefaults();
+  // Beyond the paper: the laser is stale after this many of its own scan periods, timed from its
+  // scans (ScanPeriod, operational/mover_prediction.hpp), and never before
+  // sector_map.laser_stale_s. 0: sector_map.laser_stale_s always.
+  double laser_stale_scans = 2;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
   // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
   // silent, or the sonar dead and the next scan not yet due), ODOMETRY does, so a dead sensor is
@@ -197,6 +201,7 @@ class PilotStage {
   EchoPlacer placer_;
   MotionConfirmation motion_confirmation_;
   RingGroups ring_groups_;
+  ScanPeriod scan_period_;  // the laser's (staleness and the movers' horizon in scan periods)
   MoverPrediction movers_;
   LaserMemory laser_memory_;
   std::optional<int64_t> last_scan_utime_, last_complement_utime_, last_agm_publish_, last_map_utime_,

@@ -175,6 +175,9 @@ class Replayer {
       const std::vector<cp::ScanPoint>& placed = one_process_ ? shared_.place(*scan, pilot_poses_) : own_placed_;
       std::vector<geom::Vec2>& points = points_;  // (as PilotStage: the previous scan's storage)
       int64_t newest = ls->utime;
+      // (as PilotStage: staleness and the movers' horizon in the laser's own scan periods)
+      scan_period_.scanned(ls->utime);
+      sector_map_.setLaserStaleS(scan_period_.scans(pcfg_.laser_stale_scans, pcfg_.sector_map.laser_stale_s));
       validReturns(placed, scan->readings, points, pcfg_.predict_movers ? &timed_ : nullptr, newest);  // (as PilotStage)
       // pilot.laser_memory_s / laser_memory_dark: what earlier scans saw where this one does not
       // look or read nothing (PilotStage::onLaserScan).
@@ -221,7 +224,8 @@ class Replayer {
         points.insert(points.end(), remembered.begin(), remembered.end());
       }
       points_ = sector_map_.setLaserPoints(newest, std::move(points));
-      sector_map_.setLaserMovers(std::move(moving), pcfg_.mover_prediction.horizon_s);
+      sector_map_.setLaserMovers(std::move(moving),
+                                 scan_period_.scans(pcfg_.mover_prediction.horizon_scans, pcfg_.mover_prediction.horizon_s));
       now_ = std::max(now_, newest);
       benchmark::DoNotOptimize(sector_map_.update(now_, *poses_.at(now_), agm_).distance.data());
       return true;
@@ -311,6 +315,7 @@ class Replayer {
   EchoPlacer placer_;
   MotionConfirmation motion_confirmation_;
   MoverPrediction movers_;
+  ScanPeriod scan_period_;
   LaserMemory laser_memory_;
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;

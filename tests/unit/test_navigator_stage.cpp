@@ -53,12 +53,14 @@ struct PipelineRun {
   std::vector<sim_state_t> truth;
   int64_t navigator_errors = 0;
   int64_t passed_through = 0, passed_through_silence = 0;  // the navigator's counters
+  int64_t verify_timed_out = 0, verify_done = 0;            // groups that did not / did wait for their scan
 };
 
 // The simulated run through complement, pilot and (optionally) navigator on one memq:// bus.
 PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = true, bool remembered = true,
                         double robot_speed = 0.2, bool predict_movers = PilotConfig{}.predict_movers,
-                        const char* scenario = kScenario, bool motion_confirmation = PilotConfig{}.motion_confirmation.enabled) {
+                        const char* scenario = kScenario, bool motion_confirmation = PilotConfig{}.motion_confirmation.enabled,
+                        double laser_rate_hz = sim::LaserConfig{}.scan_rate_hz) {
   std::string text = scenario;
   if (const auto at = text.find("speed: 0.2"); at != std::string::npos)
     text.replace(at, 10, "speed: " + std::to_string(robot_speed));
@@ -83,7 +85,9 @@ PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = tr
   sink.subscribe<sector_map_t>(channels::SECTOR_MAP, [&](const sector_map_t& m) { run.sector_maps.push_back(m); });
 
   sim::WorldCore world(sc, sim::OdometryConfig{});
-  sim::LaserDriverCore laser(sc, sim::LaserConfig{}, sc.seed);
+  sim::LaserConfig laser_cfg;
+  laser_cfg.scan_rate_hz = laser_rate_hz;
+  sim::LaserDriverCore laser(sc, laser_cfg, sc.seed);
   sim::SonarDriverCore sonar(sc, sim::sonarConfig(Config{}), sc.seed);
   auto publish = [&](const char* ch, auto& msg) {
     std::vector<uint8_t> data = encodeMsg(msg);
@@ -102,6 +106,8 @@ PipelineRun runPipeline(const NavigatorConfig& nav_cfg, bool with_navigator = tr
   run.navigator_errors = nav_node.errors();
   run.passed_through = nav_node.counter("agm.passed_through");
   run.passed_through_silence = nav_node.counter("agm.passed_through_silence");
+  run.verify_timed_out = nav_node.counter("verify.timed_out");
+  run.verify_done = nav_node.counter("verify.kept") + nav_node.counter("verify.explained");
   return run;
 }
 
@@ -146,6 +152,30 @@ TEST(NavigatorStage, KeepsTheGlassPaneAndNotThePersonWhomThePilotSees) {
   for (const auto& m : run.sector_maps)
     for (const int8_t src : m.source) remembered += src == sector_map_t::SOURCE_REMEMBERED;
   EXPECT_GT(remembered, 0);
+}
+
+// A slower scanner (2 Hz, a scan every 0.5 s): a group waits for the scan that started after
+// its firing for 2.5 of the laser's own scan periods, timed from its scans, so its echoes are
+// checked against that scan (a person who walked into the beam is explained by the laser).
+// Waiting only the 0.5 s that are 2.5 periods of a 5 Hz laser, most groups go in as classified
+// before that scan arrives.
+TEST(NavigatorStage, ASlowScannersGroupsWaitForItsNextScan) {
+  const auto run2hz = [](const NavigatorConfig& cfg) {
+    return runPipeline(cfg, true, true, 0.2, PilotConfig{}.predict_movers, kScenario,
+                       PilotConfig{}.motion_confirmation.enabled, 2.0);
+  };
+  const PipelineRun timed = run2hz(NavigatorConfig{});
+  ASSERT_GT(timed.tactical.size(), 10u);
+  EXPECT_GT(timed.verify_done, 100);
+  // (those that did not wait: the first 1.5 s, before three intervals timed the laser, and the
+  // last groups of the run, whose scan never came)
+  EXPECT_GT(timed.verify_done, 5 * timed.verify_timed_out);
+  EXPECT_EQ(countCells(timed.tactical, onPersonTrack), 0);
+  EXPECT_GT(countCells(timed.tactical, nearPane), 20);
+  NavigatorConfig seconds;
+  seconds.verify_max_wait_scans = 0;
+  const PipelineRun fixed = run2hz(seconds);
+  EXPECT_GT(fixed.verify_timed_out, 5 * fixed.verify_done);
 }
 
 // A glass door in a wall, driven past once: the door (x 0.8-1.7) in line with the wall on both
@@ -801,7 +831,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
     EXPECT_NE(std::string(e.what()).find("navigator.published_size"), std::string::npos) << e.what();
   }
   for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {hit_weight_low_speed: -1}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
-                          "navigator: {verify_max_wait_s: -1}", "navigator: {speed: 1}", "navigator: {g_threshold_walking_speed: -0.5}", "navigator: {agm_bearing: cone}",
+                          "navigator: {verify_max_wait_s: -1}", "navigator: {verify_max_wait_scans: -1}", "navigator: {speed: 1}", "navigator: {g_threshold_walking_speed: -0.5}", "navigator: {agm_bearing: cone}",
                           "navigator: {published_size: 201}", "navigator: {published_size: -1}",
                           "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",
                           "navigator: {agm: {odometry_rot_noise: .nan}}",

@@ -109,6 +109,40 @@ struct PilotFixture : ::testing::Test {
 
 }  // namespace
 
+// A 2 Hz scanner (a scan every 0.5 s, its readings over the 0.5 s): the laser is stale after two
+// of its own scan periods, timed from its scans, not after the 0.4 s that are two of a 5 Hz one.
+TEST(PilotStage, TheLaserIsStaleAfterTwoOfItsOwnScanPeriods) {
+  const auto staleAfter = [](const PilotConfig& cfg, int64_t age_us) {
+    Node node{"t", "memq://", Node::Options{false, false}};
+    PilotStage stage(node, cfg);
+    std::vector<sector_map_t> maps;
+    node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&](const sector_map_t& m) { maps.push_back(m); });
+    standStill(node, 0, 6'000'000);
+    drainAll(node);
+    for (int64_t t = 0; t <= 3'000'000; t += 500'000) {
+      laser_scan_t s = noReturnScan(t, -kPi, 2 * kPi / 720, 720, 500'000);
+      s.ranges[540] = 1.0f;
+      s.flags[540] = laser_scan_t::FLAG_OK;
+      node.publish(channels::LASER_SCAN, s);
+      drainAll(node);
+    }
+    const int64_t newest = 3'000'000 + 719 * 500'000 / 720;  // the last scan's last reading
+    complement_t c{};
+    c.utime = newest + age_us;
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drainAll(node);
+    EXPECT_FALSE(maps.empty());
+    return maps.empty() || maps.back().laser_stale != 0;
+  };
+  const PilotConfig shipped = pilotConfig(Config{});
+  EXPECT_DOUBLE_EQ(shipped.laser_stale_scans, 2);
+  EXPECT_FALSE(staleAfter(shipped, 450'000));   // 0.45 s: within 1.0 s
+  EXPECT_TRUE(staleAfter(shipped, 1'050'000));  // beyond it
+  PilotConfig seconds = shipped;
+  seconds.laser_stale_scans = 0;
+  EXPECT_TRUE(staleAfter(seconds, 450'000));    // the 0.4 s of laser_stale_s
+}
+
 TEST_F(PilotFixture, LaserThenSonarMapsAndAgmRate) {
   odometry();
   laserScan(100'000);
@@ -246,6 +280,8 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   expectError("pilot: {agm_publish_hz: 0}", "pilot.agm_publish_hz");
   expectError("pilot: {predict_movers: maybe}", "pilot.predict_movers");
   expectError("pilot: {mover_prediction: {horizon_s: -1}}", "pilot.mover_prediction.horizon_s");
+  expectError("pilot: {mover_prediction: {horizon_scans: -1}}", "pilot.mover_prediction.horizon_scans");
+  expectError("pilot: {laser_stale_scans: .nan}", "pilot.laser_stale_scans");
   expectError("pilot: {mover_prediction: {min_speed: 3, max_speed: 2}}", "pilot.mover_prediction.max_speed");
   expectError("pilot: {mover_prediction: {speed: 2}}", "pilot.mover_prediction.speed");
   const PilotConfig m = pilotConfig(
