@@ -102,10 +102,11 @@ class MoverPrediction {
 };
 
 // The laser's scan period, timed from its scans' start times (LASER_SCAN.utime), so that what is
-// said in scan periods (the horizon above, the pilot's staleness, the navigator's wait for the next
-// scan) holds for a 2 Hz scanner as for the 5 Hz one the seconds were set for: the median of the latest kIntervals intervals between successive scans (a lost
-// scan makes one interval twice as long, a late one one long and the next short: neither is the
-// median), once kMinIntervals are kept; an interval that is not positive is not kept.
+// said in scan periods (the horizon above, the pilot's staleness, the navigator's wait for the
+// next scan) holds for a 2 Hz scanner as for the 5 Hz one the seconds were set for: the median of
+// the latest kIntervals intervals between successive scans (a lost scan makes one interval twice
+// as long, a late one one long and the next short: neither is the median), once kMinIntervals
+// are kept; an interval that is not positive is not kept.
 class ScanPeriod {
  public:
   static constexpr size_t kIntervals = 15;

@@ -490,6 +490,11 @@ void NavigatorStage::learnBeams(const std::vector<complement::ComplementInput>& 
   bool added = false;
   for (const auto& r : readings) {
     if (r.cls == complement::SonarClass::Invalid || !r.sensor_pose || beams_.count(r.sensor_id)) continue;
+    // (a message naming thousands of sensors must not make the count below quadratic in them)
+    if (beams_.size() >= kMaxRingSensors) {
+      node_.count("ring.sensors_ignored");
+      continue;
+    }
     if (!robot && !(robot = poses_.at(utime))) return;
     const double beam = geom::plausibleBeamWidth(r.beam_width) ? r.beam_width : cfg_.placement.params.beam_width;
     beams_[r.sensor_id] = BeamAxis{geom::normalizeAngle(r.sensor_pose->theta - robot->theta), beam};

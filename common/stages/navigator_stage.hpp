@@ -193,6 +193,9 @@ class NavigatorStage {
   // Beams that share at most twice this of bearing do not overlap (maxBeamOverlap): MOBOT-IV's
   // every other beam touches, and a mount's measured bearing may be off by a fraction of this.
   static constexpr double kBeamOverlapMarginDeg = 1.0;
+  // Transducers whose beams are learnt (no ring has more; a further sensor id is counted,
+  // ring.sensors_ignored, and left out).
+  static constexpr size_t kMaxRingSensors = 256;
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);

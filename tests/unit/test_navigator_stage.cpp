@@ -786,6 +786,36 @@ TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTimingAndBeams) {
   EXPECT_EQ(p4.published, 4);
 }
 
+// Made-up sensor ids: the beams of at most 256 are learnt, the rest counted; nothing else changes.
+TEST(NavigatorStage, ManySensorIdsAreCountedNotLearnt) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  NavigatorStage stage{node, navigatorConfig(Config{})};
+  odometry_t o{};
+  o.utime = 1'000'000;
+  node.publish(channels::ODOMETRY, o);
+  complement_t c{};
+  c.utime = 1'000'000;
+  c.tolerance = 0.10f;
+  c.beam_width = 0.5f;
+  c.range_limit = 2.2f;
+  for (int i = 0; i < 300; ++i) {
+    complement_reading_t rd{};
+    rd.sensor_id = static_cast<int16_t>(1000 + i);
+    rd.cls = complement_reading_t::CLASS_FALSE;
+    rd.range = 1.5f;
+    rd.hypothetical_range = 1.0f;
+    rd.sensor_pose.theta = 0.01 * i;
+    rd.beam_width = 0.5f;
+    c.readings.push_back(rd);
+  }
+  c.nreadings = static_cast<int32_t>(c.readings.size());
+  node.publish(channels::SONAR_COMPLEMENT, c);
+  while (node.spinOnce(0) > 0) {
+  }
+  EXPECT_EQ(node.counter("ring.sensors_ignored"), 44);
+  EXPECT_EQ(stage.agm().params().g_threshold, 5);  // not timed yet
+}
+
 TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   const NavigatorConfig d = navigatorConfig(Config{});
   EXPECT_EQ(d.agm.g_threshold, d.lines.gp_threshold);
