@@ -20,14 +20,17 @@
 namespace lasonic::launch {
 namespace {
 
+// As the processes' own log lines (core/logging.cpp): local date and time with microseconds, so
+// the launcher's lines and theirs interleave in one order and line up with an LCM log's times.
 std::string stamp() {
   const auto now = std::chrono::system_clock::now();
   const std::time_t t = std::chrono::system_clock::to_time_t(now);
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count() % 1000000;
   std::tm tm{};
-  gmtime_r(&t, &tm);
+  localtime_r(&t, &tm);
   char buf[64];
-  std::snprintf(buf, sizeof(buf), "%02d:%02d:%02d.%03d", tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(ms));
+  std::snprintf(buf, sizeof(buf), "%04d-%02d-%02d %02d:%02d:%02d.%06d", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(us));
   return buf;
 }
 

@@ -41,8 +41,10 @@
 //                                    distance, in a map flagging it stale), fresh_during_cut (fresh
 //                                    again before the restore, after it had gone stale)
 //   slice LOG OUT T0 [T1]            OUT = the events of LOG from log time T0 on (before T1)
+//   starts LOG T0 T1                 the log times of LOG's events in [T0, T1), one per line
 //   record URL OUT REGEX             records the channels matching REGEX to OUT (receive times,
-//                                    as lcm-logger) until SIGINT/SIGTERM; says "... running" on
+//                                    as lcm-logger: evidently when LCM read the message, late by
+//                                    however long the recorder was descheduled) until SIGINT/SIGTERM; says "... running" on
 //                                    stderr once subscribed. Unlike lcm-logger (30 queued messages,
 //                                    the rest of a burst dropped) it queues 100 000, so that a
 //                                    recorder descheduled on a loaded machine loses nothing
@@ -290,6 +292,14 @@ int slice(const std::string& in, const std::string& out, int64_t t0, int64_t t1)
   return 0;
 }
 
+// The timestamps of the events in [t0, t1), one per line (the starts a slice can have there).
+int starts(const std::string& in, int64_t t0, int64_t t1) {
+  LogReader log(in);
+  while (auto ev = log.next())
+    if (ev->timestamp >= t0 && ev->timestamp < t1) std::printf("%lld\n", static_cast<long long>(ev->timestamp));
+  return 0;
+}
+
 struct Recorder {
   LogWriter& out;
   void handle(const lcm::ReceiveBuffer* rb, const std::string& channel) {
@@ -331,6 +341,7 @@ int main(int argc, char** argv) {
       return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "nearest");
     if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
     if (mode == "record" && argc == 5) return record(argv[2], argv[3], argv[4]);
+    if (mode == "starts" && argc == 5) return starts(argv[2], arg64(argv[3]), arg64(argv[4]));
     if (mode == "slice" && (argc == 5 || argc == 6))
       return slice(argv[2], argv[3], arg64(argv[4]), argc == 6 ? arg64(argv[5]) : std::numeric_limits<int64_t>::max());
   } catch (const LogError& e) {
@@ -340,7 +351,8 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
                "       stale LOG T_STOP T_RESUME laser|sonar | maps|nearest|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
-               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1] | record URL OUT REGEX\n"
+               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1] | starts LOG T0 T1 |\n"
+               "       record URL OUT REGEX\n"
                "       (times: log timestamps, us)\n");
   return 2;
 }

@@ -11,9 +11,10 @@
 #    CURRENT_SENSOR_MAP (< 3 s); its outputs are correct again from then on: its tactical AGM is
 #    what `lasonic-replay --stages navigator` computes from the log from its restart on (at most 1 %
 #    differing occupied cells, each map against the replay's at or before it, 90 % of its maps
-#    matched; the restart known to within its subscription: started at its "running" line or up
-#    to 200 ms before), up to the first driver freeze; and, measured, how much of the memory of an
-#    uninterrupted navigator (the replay of the whole log) it has rebuilt since;
+#    matched; the restart known to within its subscription and the recorder's lateness: from
+#    200 ms before its "running" line to 50 ms after), up to the first driver freeze; and,
+#    measured, how much of the memory of an uninterrupted navigator (the replay of the whole
+#    log) it has rebuilt since;
 #  - a sensor driver frozen (SIGSTOP) for 2 s, laser then sonar: SECTOR_MAP flags it stale (at an
 #    age within two sensor periods plus the map's own period) and never reports more free space
 #    than its last fresh map (lasonic-fault-check stale);
@@ -151,27 +152,36 @@ done
 # an lcm-logger recording would not hold whole (measured with one logger for every channel: the
 # live navigator then ran 18 update cycles the log lacked).
 running=$(grep 'lasonic-navigator running' "$tmp/out-nav/lasonic-navigator.txt" | tail -1 | sed 's/^\[\([^]]*\)\].*/\1/')
+# (microseconds: cut to the millisecond, a message logged within it could lie on either side)
+[[ $running =~ ^[0-9]{4}-[0-9]{2}-[0-9]{2}\ [0-9:]{8}\.[0-9]{6}$ ]] ||
+  die "the navigator's 'running' line has no time in microseconds: '$running'"
 t_run=$(date -d "$running" +%s%6N) || die "cannot read the navigator's restart time from '$running'"
 echo "lasonic-navigator running again $(awk -v a="$t_run" -v b="$kill_nav" 'BEGIN { printf "%.3f", (a - b) / 1e6 }') s after its kill"
 # The navigator subscribes just before it logs "running", but how long before is not logged: on
 # a loaded machine a scan or an odometry message can arrive in between, and a different first
-# scan (its first keyframe) changes every map. So the fresh navigator starts at that line and,
-# if its maps differ, at every 10 ms up to 200 ms before it: one of these starts must give the
-# restarted navigator's maps.
+# scan (its first keyframe) changes every map. Nor is the log's time of a message its arrival:
+# the recorder evidently stamps a message when it reads it, late by however long it was
+# descheduled, so a message that came before the subscription can be stamped after the line
+# (measured under two CPU hogs: a SONAR_COMPLEMENT 168 us after it, which the live navigator
+# never had; its counters and all 18 maps matched the replay that started after that message).
+# So the fresh navigator starts at each message from 200 ms before that line to 50 ms after it,
+# nearest first: one of these starts must give the restarted navigator's maps.
 k() { awk -v k="$2" '$1 == k {print $2}' "$tmp/$1.txt"; }
 same_as_fresh() {
   awk -v a="$(k fresh maps_a)" -v m="$(k fresh matched)" -v d="$(k fresh differing_share)" \
     'BEGIN { exit !(a >= 10 && m >= 0.9 * a && d <= 0.01) }'
 }
-for back_ms in $(seq 0 10 200); do
-  "$check" slice "$tmp/nav.lcmlog" "$tmp/nav-live.lcmlog" $((t_run - back_ms * 1000)) "$stop_laser" >/dev/null
+starts=$({ echo "$t_run"; "$check" starts "$tmp/nav.lcmlog" $((t_run - 200000)) $((t_run + 50000)); } |
+  awk -v t="$t_run" '{ d = $1 - t; print (d < 0 ? -d : d), $1 }' | sort -n -k1,1 | awk '!seen[$2]++ { print $2 }')
+for start in $starts; do
+  "$check" slice "$tmp/nav.lcmlog" "$tmp/nav-live.lcmlog" "$start" "$stop_laser" >/dev/null
   "$bin/lasonic-replay" --stages navigator --in "$tmp/nav-live.lcmlog" --out "$tmp/nav-fresh.lcmlog" --config "$config" \
     2>"$tmp/replay-fresh.err" || die "lasonic-replay failed on the log from the navigator's restart"
   "$check" nearest "$tmp/nav-live.lcmlog" "$tmp/nav-fresh.lcmlog" AGM_TACTICAL >"$tmp/fresh.txt"
   first=$(awk '$1 == "series" {print ($6 == 1) ? "identical" : "different"; exit}' "$tmp/fresh.txt")
-  echo "lasonic-navigator after its restart / lasonic-replay from ${back_ms} ms before its 'running': maps" \
-    "$(k fresh maps_a), matched $(k fresh matched), identical $(k fresh identical), occupied cells $(k fresh union)," \
-    "differing $(k fresh differing) (share $(k fresh differing_share)); its first map $first"
+  echo "lasonic-navigator after its restart / lasonic-replay from $(awk -v u="$((start - t_run))" 'BEGIN { printf "%+.3f", u / 1000 }')" \
+    "ms of its 'running': maps $(k fresh maps_a), matched $(k fresh matched), identical $(k fresh identical)," \
+    "occupied cells $(k fresh union), differing $(k fresh differing) (share $(k fresh differing_share)); its first map $first"
   same_as_fresh && break
 done
 same_as_fresh ||

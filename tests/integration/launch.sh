@@ -60,6 +60,12 @@ wait "$lpid" || rc=$?
 cat "$tmp/launch2.txt"
 ((rc == 0)) || die "the run ended by its finish process: exit $rc, expected 0"
 grep -q "victim killed by signal 9" "$tmp/launch2.txt" || die "the kill -9 is not reported"
+# Its lines carry the processes' time stamp (local date and time in microseconds), so that they
+# interleave with the processes' own lines and line up with an LCM log's times.
+stamp_re='^\[lasonic-launch [0-9]{4}-[0-9]{2}-[0-9]{2} [0-9]{2}:[0-9]{2}:[0-9]{2}\.[0-9]{6}\] '
+grep -Ev "$stamp_re" "$tmp/launch2.txt" | grep '^\[lasonic-launch ' &&
+  die "lasonic-launch lines without a date and time in microseconds (above)"
+grep -Eq "$stamp_re" "$tmp/launch2.txt" || die "no lasonic-launch line with a date and time in microseconds"
 grep -q "victim.*restarting in 0.2 s" "$tmp/launch2.txt" || die "no 0.2 s restart delay after the first crash"
 # The crasher: 0.2, 0.4, 0.8, 0.8 ... s
 delays=$(sed -n 's/.*crasher exited with status 3 after .* restarting in \([0-9.]*\) s/\1/p' "$tmp/launch2.txt" | head -4 | tr '\n' ' ')
