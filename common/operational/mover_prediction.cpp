@@ -103,19 +103,4 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
   return runs_;
 }
 
-void ScanPeriod::scanned(int64_t utime) {
-  const bool have = have_last_;
-  const int64_t d = utime - last_;
-  if (!have || utime > last_) last_ = utime, have_last_ = true;
-  if (!have || d <= 0) return;
-  if (intervals_.size() < kIntervals) intervals_.push_back(d);
-  else intervals_[next_] = d;
-  next_ = (next_ + 1) % kIntervals;
-  if (intervals_.size() < kMinIntervals) return;
-  scratch_.assign(intervals_.begin(), intervals_.end());
-  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
-  std::nth_element(scratch_.begin(), mid, scratch_.end());
-  period_us_ = *mid;
-}
-
 }  // namespace lasonic

@@ -26,7 +26,6 @@
 // drum passed at 1.2 m/s is not taken for a person. (A box's corner can jump when a face comes
 // into view; the scenes with boxes are in the README's results.) A cluster that cannot be paired
 // (it appeared, split, merged with a wall) keeps its place, as without this.
-#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -99,33 +98,6 @@ class MoverPrediction {
   int movers_ = 0;
   std::vector<uint8_t> still_;
   std::vector<MovingRun> runs_;
-};
-
-// The laser's scan period, timed from its scans' start times (LASER_SCAN.utime), so that what is
-// said in scan periods (the horizon above, the pilot's staleness, the navigator's wait for the
-// next scan) holds for a 2 Hz scanner as for the 5 Hz one the seconds were set for: the median of
-// the latest kIntervals intervals between successive scans (a lost scan makes one interval twice
-// as long, a late one one long and the next short: neither is the median), once kMinIntervals
-// are kept; an interval that is not positive is not kept.
-class ScanPeriod {
- public:
-  static constexpr size_t kIntervals = 15;
-  static constexpr size_t kMinIntervals = 3;  // the median of three: one lost or late scan is passed over
-  void scanned(int64_t utime);
-  int64_t periodUs() const { return period_us_; }  // 0: not timed yet
-  // n scan periods [s], but at least at_least_s (what a fast scanner's data need anyway: the
-  // driver's and the network's latency); at_least_s while not timed, or with n 0.
-  double scans(double n, double at_least_s) const {
-    return n > 0 && period_us_ > 0 ? std::max(at_least_s, n * static_cast<double>(period_us_) / 1e6) : at_least_s;
-  }
-
- private:
-  std::vector<int64_t> intervals_;  // ring buffer of at most kIntervals
-  std::vector<int64_t> scratch_;    // (the median)
-  size_t next_ = 0;
-  int64_t last_ = 0;
-  bool have_last_ = false;
-  int64_t period_us_ = 0;
 };
 
 }  // namespace lasonic

@@ -112,24 +112,15 @@ void RingGroups::fired(int group) {
 
 void RingGroups::fired(int group, int64_t utime) {
   fired(group);
-  if (have_utime_ && utime > last_utime_) {
-    const int64_t d = utime - last_utime_;
-    if (intervals_.size() < kIntervals) intervals_.push_back(d);
-    else intervals_[next_interval_] = d;
-    next_interval_ = (next_interval_ + 1) % kIntervals;
-  }
-  if (!have_utime_ || utime > last_utime_) last_utime_ = utime;
-  have_utime_ = true;
+  intervals_.stamp(utime);
 }
 
 double RingGroups::shortestCycleS() const {
   if (per_cycle_ <= 0 || intervals_.size() < kMinIntervals) return 0;
-  scratch_.assign(intervals_.begin(), intervals_.end());
-  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
-  std::nth_element(scratch_.begin(), mid, scratch_.end());
-  const int64_t floor = *mid / 2;
-  int64_t shortest = *mid;
-  for (const int64_t d : intervals_)
+  const int64_t median = intervals_.median();
+  const int64_t floor = median / 2;
+  int64_t shortest = median;
+  for (const int64_t d : intervals_.intervals())
     if (d >= floor) shortest = std::min(shortest, d);
   return static_cast<double>(per_cycle_) * static_cast<double>(shortest) * 1e-6;
 }

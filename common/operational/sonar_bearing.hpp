@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "core/interval_window.hpp"
 
 namespace lasonic {
 
@@ -131,11 +132,7 @@ class RingGroups {
   std::vector<int64_t> last_;   // message index of each group's latest firing (-1: never)
   std::vector<int> counts_;     // the latest counts, oldest first (at most kWindow)
   int per_cycle_ = 0;
-  int64_t last_utime_ = 0;
-  bool have_utime_ = false;
-  std::vector<int64_t> intervals_;  // [us] ring buffer of at most kIntervals
-  size_t next_interval_ = 0;
-  mutable std::vector<int64_t> scratch_;  // (shortestCycleS: the median)
+  IntervalWindow intervals_{kIntervals};
 };
 
 // One transducer of a ring as the walker rule (operational/agm.hpp, walkerGThreshold) sees it:

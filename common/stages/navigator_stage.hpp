@@ -65,12 +65,12 @@
 #include "complement/hypothetical_scan.hpp"
 #include "complement/messages.hpp"
 #include "core/config.hpp"
+#include "core/interval_window.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
-#include "operational/mover_prediction.hpp"
 #include "operational/sonar_bearing.hpp"
 #include "tactical/current_sensor_map.hpp"
 #include "tactical/laser_glint.hpp"
@@ -108,7 +108,7 @@ struct NavigatorConfig {
   bool verify_with_next_scan = true;
   double verify_max_wait_s = 0.5;
   // ... or this many of the laser's own scan periods, timed from its scans (ScanPeriod,
-  // operational/mover_prediction.hpp), if that is longer (a slower laser; at most 4 s, within the
+  // core/interval_window.hpp), if that is longer (a slower laser; at most 4 s, within the
   // 5 s of scan-matching corrections kept). 0: verify_max_wait_s always.
   double verify_max_wait_scans = 2.5;
   // [m/s] Look weight (tactical/look_weight.hpp): above this robot speed an echo counts for

@@ -52,6 +52,7 @@
 #include "complement/dark_continuation.hpp"
 #include "complement/shared_placement.hpp"
 #include "core/config.hpp"
+#include "core/interval_window.hpp"
 #include "core/pose_history.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
@@ -76,7 +77,7 @@ struct PilotConfig {
   double h_max_ring_cycles = 3;
   SectorMapParams sector_map = sectorMapDefaults();
   // Beyond the paper: the laser is stale after this many of its own scan periods, timed from its
-  // scans (ScanPeriod, operational/mover_prediction.hpp), and never before
+  // scans (ScanPeriod, core/interval_window.hpp), and never before
   // sector_map.laser_stale_s. 0: sector_map.laser_stale_s always.
   double laser_stale_scans = 2;
   double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message

@@ -81,9 +81,10 @@ TEST(MoverPrediction, StillReturnsAreTheWallAndPairedSlowClustersOnly) {
       EXPECT_EQ(mp.still()[j] != 0, expected) << "scan " << i << ", return " << j;
       // The standing person is a still cluster (kept less long by a laser memory that asks so);
       // the wall belongs to no cluster.
-      if (expected)
+      if (expected) {
         EXPECT_EQ(mp.still()[j], standing ? MoverPrediction::kStillCluster : MoverPrediction::kStill)
             << "scan " << i << ", return " << j;
+      }
     }
   }
 }
@@ -253,34 +254,4 @@ TEST(SectorMap, MovingReturnsAreReportedWhereTheyAreNowUpToTheHorizon) {
   // A new scan clears the movers.
   s.setLaserPoints(900'000, {});
   for (const float d : s.update(900'000, pose, agm).laser) EXPECT_FLOAT_EQ(d, -1.f);
-}
-
-TEST(ScanPeriod, TimesTheLaserFromItsScans) {
-  ScanPeriod p;
-  EXPECT_EQ(p.periodUs(), 0);
-  EXPECT_DOUBLE_EQ(p.scans(1.5, 0.3), 0.3);  // not timed: the seconds
-  // A 2 Hz scanner: timed once three intervals are kept.
-  p.scanned(1'000'000);
-  p.scanned(1'500'000);
-  p.scanned(2'000'000);
-  EXPECT_EQ(p.periodUs(), 0);
-  p.scanned(2'500'000);
-  EXPECT_EQ(p.periodUs(), 500'000);
-  EXPECT_DOUBLE_EQ(p.scans(1.5, 0.3), 0.75);
-  EXPECT_DOUBLE_EQ(p.scans(2.5, 0.5), 1.25);
-  EXPECT_DOUBLE_EQ(p.scans(0, 0.3), 0.3);    // 0: the seconds always
-  EXPECT_DOUBLE_EQ(p.scans(0.1, 0.3), 0.3);  // never below the seconds
-  // A lost scan (one interval of 1 s), a late one (0.6 s, then 0.4 s), a repeated and an older
-  // time: still 0.5 s.
-  p.scanned(3'500'000);
-  p.scanned(4'100'000);
-  p.scanned(4'500'000);
-  p.scanned(4'500'000);
-  p.scanned(4'000'000);
-  p.scanned(5'000'000);
-  EXPECT_EQ(p.periodUs(), 500'000);
-  // The scanner switched to 10 Hz: the median follows once most of the latest intervals are.
-  for (int64_t t = 5'100'000; t <= 6'500'000; t += 100'000) p.scanned(t);
-  EXPECT_EQ(p.periodUs(), 100'000);
-  EXPECT_DOUBLE_EQ(p.scans(1.5, 0.3), 0.3);  // a fast laser keeps the seconds
 }

@@ -258,9 +258,9 @@ TEST(RingGroups, TimesTheRingCycleAtItsQuickest) {
   EXPECT_EQ(ring.shortestCycleS(), 0.0);
   for (int k = 0; k < 400; ++k) {
     ring.fired(k % 6, t);
-    if (k == 3) EXPECT_EQ(ring.shortestCycleS(), 0.0);   // not counted yet
-    if (k == 60) EXPECT_EQ(ring.shortestCycleS(), 0.0);  // counted, but not yet timed
-    if (k == 64) EXPECT_GT(ring.shortestCycleS(), 0.0);  // 64 intervals
+    if (k == 3) { EXPECT_EQ(ring.shortestCycleS(), 0.0); }   // not counted yet
+    if (k == 60) { EXPECT_EQ(ring.shortestCycleS(), 0.0); }  // counted, but not yet timed
+    if (k == 64) { EXPECT_GT(ring.shortestCycleS(), 0.0); }  // 64 intervals
     t += 30'000 + jitter(rng);
   }
   EXPECT_GE(ring.shortestCycleS(), 0.18);
