@@ -9,7 +9,8 @@ namespace lasonic {
 
 MoverPrediction::MoverPrediction(const MoverPredictionParams& p) : p_(p) {
   if (!(p.cluster_gap > 0) || !(p.max_extent > 0) || p.min_points < 2 || !(p.min_speed >= 0) ||
-      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0) || !(p.horizon_scans >= 0) || !(p.agree_speed > 0))
+      !(p.max_speed > p.min_speed) || !(p.horizon_s >= 0) || !(p.horizon_scans >= 0) || !(p.agree_speed > 0) ||
+      !(p.flat_face_rms >= 0) || !(p.flat_face_min >= 0))
     throw std::invalid_argument("MoverPrediction: inconsistent parameters");
 }
 
@@ -38,10 +39,24 @@ std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector
         // of points are not all summed to be dropped.
         too_wide = (hi - lo).squaredNorm() > extent2;
       }
-      if (!too_wide && (hi - lo).squaredNorm() <= extent2 && std::isfinite(sum.x()) && std::isfinite(sum.y()))
-        out.push_back({sum / static_cast<double>(n),
-                       static_cast<double>(scan[first].utime) * 1e-6 + t * 1e-6 / static_cast<double>(n),
-                       (hi - lo).norm(), first, i - 1});
+      if (!too_wide && (hi - lo).squaredNorm() <= extent2 && std::isfinite(sum.x()) && std::isfinite(sum.y())) {
+        Blob blob{sum / static_cast<double>(n),
+                  static_cast<double>(scan[first].utime) * 1e-6 + t * 1e-6 / static_cast<double>(n),
+                  (hi - lo).norm(), 0.0, geom::Vec2::UnitY(), first, i - 1};
+        // Its line: the principal axis of the returns' scatter; rms = the root of the smaller
+        // eigenvalue (the mean squared distance from that axis).
+        double sxx = 0, sxy = 0, syy = 0;
+        for (size_t j = first; j < i; ++j) {
+          const geom::Vec2 d = scan[j].p - blob.centroid;
+          sxx += d.x() * d.x(), sxy += d.x() * d.y(), syy += d.y() * d.y();
+        }
+        sxx /= static_cast<double>(n), sxy /= static_cast<double>(n), syy /= static_cast<double>(n);
+        const double half = 0.5 * (sxx - syy);
+        blob.rms = std::sqrt(std::max(0.0, 0.5 * (sxx + syy) - std::sqrt(half * half + sxy * sxy)));
+        const double axis = 0.5 * std::atan2(2 * sxy, sxx - syy);
+        blob.normal = geom::Vec2(-std::sin(axis), std::cos(axis));
+        out.push_back(blob);
+      }
     }
     first = i;
   }
@@ -78,7 +93,12 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
     if (b == prev_.size() || nearest(prev_[b].centroid, now) != a) continue;  // not mutually nearest
     const double dt = now[a].t_s - prev_[b].t_s;
     if (!(dt > 0) || dt > 1.0) continue;  // not the scan before (or time went back)
-    const geom::Vec2 vel = (now[a].centroid - prev_[b].centroid) / dt;
+    geom::Vec2 vel = (now[a].centroid - prev_[b].centroid) / dt;
+    if (!(vel.norm() <= p_.max_speed)) continue;  // two different things
+    // A flat face in both scans shows only the motion across it (file comment).
+    if (p_.flat_face_rms > 0 && now[a].rms <= p_.flat_face_rms && prev_[b].rms <= p_.flat_face_rms &&
+        now[a].extent >= p_.flat_face_min && prev_[b].extent >= p_.flat_face_min)
+      vel = now[a].normal * vel.dot(now[a].normal);
     const double speed = vel.norm();
     // What a static object's visible centroid can do as the line of sight turns (file comment).
     const geom::Vec2 los = now[a].centroid - robot;
@@ -86,7 +106,6 @@ const std::vector<MoverPrediction::MovingRun>& MoverPrediction::track(const std:
     const geom::Vec2 v_robot = (robot - prev_robot_) / dt;
     const double v_perp = dist > 0 ? std::abs(v_robot.x() * los.y() - v_robot.y() * los.x()) / dist : 0.0;
     const double apparent = dist > 0 ? std::max(now[a].extent, prev_[b].extent) / geom::kPi * v_perp / dist : 0.0;
-    if (!(speed <= p_.max_speed)) continue;
     now[a].paired = true;
     now[a].vel = vel;
     if (!(speed >= p_.min_speed + apparent)) {

@@ -23,9 +23,14 @@
 // of width w has its centroid w / pi from the centre, so that centroid turns with the line of
 // sight at (w / pi) * v_perp / D (v_perp: the robot's speed across the line of sight, D: the
 // distance). The speed a pair needs is min_speed plus that, with w the cluster's extent, so a
-// drum passed at 1.2 m/s is not taken for a person. (A box's corner can jump when a face comes
-// into view; the scenes with boxes are in the README's results.) A cluster that cannot be paired
-// (it appeared, split, merged with a wall) keeps its place, as without this.
+// drum passed at 1.2 m/s is not taken for a person. A flat face (a box's side, a piece of wall at
+// grazing incidence: returns within flat_face_rms of their line over flat_face_min or more, in
+// both scans) shows only the motion across it: what of it is in view changes as the robot
+// passes (a nearer part hidden, a farther one appearing), so its centroid slides along it while
+// the face stands (the aperture problem). Such a pair's velocity is its component along the
+// face's normal. (A box's corner can still jump when a face comes into view; the scenes with
+// boxes are in the README's results.) A cluster that cannot be paired (it appeared, split,
+// merged with a wall) keeps its place, as without this.
 #include <cstdint>
 #include <vector>
 
@@ -45,6 +50,13 @@ struct MoverPredictionParams {
                               // for a slower laser; never below horizon_s. 0: horizon_s
   double agree_speed = 0.4;   // [m/s] two successive velocities of one person differ by less
                               // (a turn of 30 deg at 0.8 m/s); jitter of 2-3 cm per scan does not
+  double flat_face_rms = 0.02;  // [m] a cluster whose returns lie within this (rms) of their line is
+                                // a flat face: twice the laser's 1 cm range noise, while a person's
+                                // visible half scatters ~8 cm about its axis. 0: never (the
+                                // centroid's whole velocity)
+  double flat_face_min = 0.4;   // [m] ... if it is at least this long (bounding box diagonal): a
+                                // shorter piece of a person (0.25 m radius) -- partly hidden, at
+                                // the edge of the view -- lies within 2 cm of its chord
 };
 
 // A laser return (global frame) and the time it was taken.
@@ -86,6 +98,8 @@ class MoverPrediction {
     geom::Vec2 centroid = geom::Vec2::Zero();
     double t_s = 0;  // mean time of its returns [s]
     double extent = 0;  // [m] its bounding box's diagonal
+    double rms = 0;     // [m] its returns' rms distance from their line (principal axis)
+    geom::Vec2 normal = geom::Vec2::UnitY();  // that line's normal
     size_t first = 0, last = 0;  // its returns: scan[first..last]
     bool paired = false;  // paired with the scan before; then vel is its centroid's velocity
     geom::Vec2 vel = geom::Vec2::Zero();

@@ -121,7 +121,7 @@ PilotConfig pilotConfig(const Config& c) {
   {
     const Config m = c.section("mover_prediction");
     m.allowOnly({"cluster_gap", "max_extent", "min_points", "min_speed", "max_speed", "horizon_s", "horizon_scans",
-                 "agree_speed"});
+                 "agree_speed", "flat_face_rms", "flat_face_min"});
     MoverPredictionParams& mp = p.mover_prediction;
     mp.cluster_gap = m.get("cluster_gap", mp.cluster_gap, Range::between(0.01, 2));
     mp.max_extent = m.get("max_extent", mp.max_extent, Range::between(0.05, 10));
@@ -131,6 +131,8 @@ PilotConfig pilotConfig(const Config& c) {
     mp.horizon_s = m.get("horizon_s", mp.horizon_s, Range::between(0, 2));
     mp.horizon_scans = m.get("horizon_scans", mp.horizon_scans, Range::between(0, 100));
     mp.agree_speed = m.get("agree_speed", mp.agree_speed, Range::between(0.01, 10));
+    mp.flat_face_rms = m.get("flat_face_rms", mp.flat_face_rms, Range::between(0, 1));
+    mp.flat_face_min = m.get("flat_face_min", mp.flat_face_min, Range::between(0, 10));
     if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
   }
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.

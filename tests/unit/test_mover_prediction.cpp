@@ -217,6 +217,43 @@ TEST(MoverPrediction, TrackGivesEachMoversReturnsAsOneRun) {
   }
 }
 
+// A flat face (a box's side, a piece of wall at grazing incidence) passed close by: the part in
+// view moves along it as the robot drives, so its centroid slides at the robot's speed though
+// the face stands. Only the motion across a flat face is seen.
+TEST(MoverPrediction, AFlatFaceSlidingAlongItselfIsNoMoverButOneMovingAcrossItIs) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);  // the laser's range noise
+  // The robot drives along +x at 0.8 m/s; the 0.5 m of a face at distance y_face beside it that
+  // is in view is the part abreast of it.
+  const auto face = [&](int i, double y_face) {
+    std::vector<TimedPoint> s;
+    const double x0 = 0.16 * i - 0.25;
+    for (int k = 0; k <= 25; ++k) s.push_back({Vec2(x0 + 0.02 * k, y_face + noise(rng)), i * kScanUs});
+    return s;
+  };
+  const auto robot = [](int i) { return Vec2(0.16 * i, 0); };
+  MoverPrediction standing, centroid_only{[] {
+    MoverPredictionParams p;
+    p.flat_face_rms = 0;
+    return p;
+  }()};
+  for (int i = 0; i < 4; ++i) {
+    const std::vector<TimedPoint> s = face(i, 0.6);  // a box's side 0.6 m beside the path
+    EXPECT_TRUE(standing.track(s, robot(i)).empty()) << "scan " << i;
+    centroid_only.track(s, robot(i));
+  }
+  EXPECT_EQ(standing.movers(), 0);
+  EXPECT_EQ(centroid_only.movers(), 1);  // the centroid alone: sliding at 0.8 m/s
+  // The same face coming nearer at 0.5 m/s (a board carried towards the path): a mover, with
+  // the velocity across it.
+  MoverPrediction approaching;
+  std::vector<MoverPrediction::MovingRun> runs;
+  for (int i = 0; i < 4; ++i) runs = approaching.track(face(i, 1.0 - 0.1 * i), robot(i));
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_NEAR(runs[0].vel.x(), 0.0, 0.05);
+  EXPECT_NEAR(runs[0].vel.y(), -0.5, 0.1);
+}
+
 TEST(MoverPrediction, BadParametersAreRejected) {
   MoverPredictionParams p;
   p.max_speed = p.min_speed;
@@ -226,6 +263,9 @@ TEST(MoverPrediction, BadParametersAreRejected) {
   EXPECT_THROW(MoverPrediction{p}, std::invalid_argument);
   p = {};
   p.agree_speed = 0;
+  EXPECT_THROW(MoverPrediction{p}, std::invalid_argument);
+  p = {};
+  p.flat_face_rms = -0.01;
   EXPECT_THROW(MoverPrediction{p}, std::invalid_argument);
 }
 
