@@ -711,9 +711,9 @@ RmSegment fitLine(const std::vector<Vec2>& points, IndexRange r) {
     syy += d.y() * d.y();
     sxy += d.x() * d.y();
   }
-  // Principal axis of the scatter: minimises the sum of squared orthogonal distances.
-  const double phi = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
-  const Vec2 dir = geom::unitVector(phi);
+  // Principal axis of the scatter: minimises the sum of squared orthogonal distances. The rms is
+  // taken from the residuals below (not the minor eigenvalue): the same value up to rounding.
+  const Vec2 dir = geom::unitVector(geom::principalAxes(sxx, syy, sxy).angle);
   const Vec2 nrm(-dir.y(), dir.x());
   double ss = 0;
   for (size_t k = r.first; k <= r.last; ++k) {

@@ -2,6 +2,7 @@
 // 2-D geometry for the whole pipeline: poses, and the ray / segment / circle / beam-sector
 // queries that the sensor models, the hypothetical scan and the evaluation share.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -52,6 +53,22 @@ struct Segment {
   Vec2 a, b;
   double length() const { return (b - a).norm(); }
 };
+
+// The principal axes of a 2-D scatter from its central second moments (sums or means, weighted
+// or not: any common scale). A line through the centroid along `angle` is the total-least-squares
+// fit (it minimises the sum of squared orthogonal distances, which is `minor`); `major` is the
+// spread along it. The one formula every line fit here shares (Radar Map lines, movers' faces,
+// tactical lines, pass-through's remembered lines).
+struct PrincipalAxes {
+  double angle = 0;  // of the major axis, in (-pi/2, pi/2]
+  double major = 0, minor = 0;  // eigenvalues, major >= minor >= 0
+};
+inline PrincipalAxes principalAxes(double sxx, double syy, double sxy) {
+  const double half = 0.5 * (sxx - syy);
+  const double disc = std::sqrt(half * half + sxy * sxy);
+  const double mean = 0.5 * (sxx + syy);
+  return {0.5 * std::atan2(2.0 * sxy, sxx - syy), mean + disc, std::max(0.0, mean - disc)};
+}
 
 // Pose2::transform for many points: the pose's cos and sin taken once (the same values, bit for
 // bit: the same expression on the same numbers).

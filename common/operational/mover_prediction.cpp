@@ -51,10 +51,9 @@ std::vector<MoverPrediction::Blob> MoverPrediction::candidates(const std::vector
           sxx += d.x() * d.x(), sxy += d.x() * d.y(), syy += d.y() * d.y();
         }
         sxx /= static_cast<double>(n), sxy /= static_cast<double>(n), syy /= static_cast<double>(n);
-        const double half = 0.5 * (sxx - syy);
-        blob.rms = std::sqrt(std::max(0.0, 0.5 * (sxx + syy) - std::sqrt(half * half + sxy * sxy)));
-        const double axis = 0.5 * std::atan2(2 * sxy, sxx - syy);
-        blob.normal = geom::Vec2(-std::sin(axis), std::cos(axis));
+        const geom::PrincipalAxes ax = geom::principalAxes(sxx, syy, sxy);
+        blob.rms = std::sqrt(ax.minor);
+        blob.normal = geom::Vec2(-std::sin(ax.angle), std::cos(ax.angle));
         out.push_back(blob);
       }
     }

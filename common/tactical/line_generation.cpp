@@ -216,7 +216,7 @@ complement::RmSegment fitWeighted(const std::vector<const CandidateCell*>& cells
     syy += w * d.y() * d.y();
     sxy += w * d.x() * d.y();
   }
-  const geom::Vec2 dir = geom::unitVector(0.5 * std::atan2(2.0 * sxy, sxx - syy));
+  const geom::Vec2 dir = geom::unitVector(geom::principalAxes(sxx, syy, sxy).angle);
   const geom::Vec2 nrm(-dir.y(), dir.x());
   double ss = 0;
   for (const CandidateCell* k : cells) ss += std::max(1, k->g) * std::pow((k->centre - c).dot(nrm), 2);

@@ -37,12 +37,11 @@ bool rememberedLineNormal(const AccumulativeGridMap& agm, int ix, int iy, const 
   if (n < p.line_min_cells) return false;
   const double mx = sx / n, my = sy / n;
   const double cxx = sxx / n - mx * mx, cyy = syy / n - my * my, cxy = sxy / n - mx * my;
-  // Eigenvalues of the 2 x 2 covariance; the line runs along the larger one's eigenvector.
-  const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
-  const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
-  if (!(l1 > 0) || std::sqrt(l2 / l1) > p.line_ratio) return false;
-  const double along = 0.5 * std::atan2(2 * cxy, cxx - cyy);
-  normal = geom::Vec2(-std::sin(along), std::cos(along));
+  // The line runs along the covariance's major axis; straight enough when the spread across it is
+  // small beside the spread along it.
+  const geom::PrincipalAxes ax = geom::principalAxes(cxx, cyy, cxy);
+  if (!(ax.major > 0) || std::sqrt(ax.minor / ax.major) > p.line_ratio) return false;
+  normal = geom::Vec2(-std::sin(ax.angle), std::cos(ax.angle));
   return true;
 }
 

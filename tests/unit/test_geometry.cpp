@@ -259,3 +259,34 @@ TEST(PoseHistory, CursorRotationWhileTurning) {
   EXPECT_LT(worst, 1e-15);
   EXPECT_GT(worst, 0.0);  // (not the library's own cos and sin: angle addition)
 }
+
+// The shared total-least-squares axis: points along a known line give its angle, a zero spread
+// across it, and the spread along it; the eigenvalues do not depend on the frame.
+TEST(PrincipalAxes, PointsOnALineGiveItsAngleAndNoSpreadAcrossIt) {
+  const double a = deg2rad(30.0);
+  const Vec2 d = unitVector(a);
+  double sxx = 0, syy = 0, sxy = 0;
+  for (int k = -2; k <= 2; ++k) {
+    const Vec2 p = 0.1 * k * d;  // centroid 0
+    sxx += p.x() * p.x(), syy += p.y() * p.y(), sxy += p.x() * p.y();
+  }
+  const PrincipalAxes ax = principalAxes(sxx, syy, sxy);
+  EXPECT_NEAR(ax.angle, a, 1e-12);
+  EXPECT_NEAR(ax.minor, 0.0, 1e-15);
+  EXPECT_NEAR(ax.major, 0.1, 1e-12);  // 0.01 * (4 + 1 + 0 + 1 + 4)
+}
+
+TEST(PrincipalAxes, AnAxisAlignedScatterHasItsVariancesAsEigenvalues) {
+  const PrincipalAxes x = principalAxes(4.0, 1.0, 0.0);
+  EXPECT_DOUBLE_EQ(x.angle, 0.0);
+  EXPECT_DOUBLE_EQ(x.major, 4.0);
+  EXPECT_DOUBLE_EQ(x.minor, 1.0);
+  const PrincipalAxes y = principalAxes(1.0, 4.0, 0.0);
+  EXPECT_NEAR(std::abs(y.angle), kPi / 2, 1e-15);
+  EXPECT_DOUBLE_EQ(y.major, 4.0);
+  EXPECT_DOUBLE_EQ(y.minor, 1.0);
+  // A round scatter: both equal, never a negative minor from rounding.
+  const PrincipalAxes r = principalAxes(1e-3, 1e-3, 0.0);
+  EXPECT_GE(r.minor, 0.0);
+  EXPECT_DOUBLE_EQ(r.major, r.minor);
+}
