@@ -261,7 +261,7 @@ TEST(PoseHistory, CursorRotationWhileTurning) {
 }
 
 // The shared total-least-squares axis: points along a known line give its angle, a zero spread
-// across it, and the spread along it; the eigenvalues do not depend on the frame.
+// across it, and the spread along it.
 TEST(PrincipalAxes, PointsOnALineGiveItsAngleAndNoSpreadAcrossIt) {
   const double a = deg2rad(30.0);
   const Vec2 d = unitVector(a);
@@ -285,6 +285,12 @@ TEST(PrincipalAxes, AnAxisAlignedScatterHasItsVariancesAsEigenvalues) {
   EXPECT_NEAR(std::abs(y.angle), kPi / 2, 1e-15);
   EXPECT_DOUBLE_EQ(y.major, 4.0);
   EXPECT_DOUBLE_EQ(y.minor, 1.0);
+  // The same scatter turned by 30 deg: the same eigenvalues, the axis turned with it.
+  const double c = std::cos(deg2rad(30.0)), sn = std::sin(deg2rad(30.0));
+  const PrincipalAxes t = principalAxes(4 * c * c + sn * sn, 4 * sn * sn + c * c, 3 * c * sn);
+  EXPECT_NEAR(t.angle, deg2rad(30.0), 1e-12);
+  EXPECT_NEAR(t.major, 4.0, 1e-12);
+  EXPECT_NEAR(t.minor, 1.0, 1e-12);
   // A round scatter: both equal, never a negative minor from rounding.
   const PrincipalAxes r = principalAxes(1e-3, 1e-3, 0.0);
   EXPECT_GE(r.minor, 0.0);
