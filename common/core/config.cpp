@@ -226,6 +226,12 @@ Config Config::loadFiles(const std::vector<std::string>& filenames) {
   return Config(merged, "", names);
 }
 
+Config Config::loadConfiguration(const std::vector<std::string>& filenames) {
+  // Each file checked on its own, so the message names the file that holds the key.
+  for (const std::string& f : filenames) loadFile(f).allowOnly(kConfigSections);
+  return loadFiles(filenames);
+}
+
 Config Config::mergedWith(const Config& over) const {
   YAML::Node merged(YAML::NodeType::Map);
   for (const auto& kv : node_) merged[kv.first.as<std::string>()] = kv.second;

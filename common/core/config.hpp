@@ -24,6 +24,11 @@
 
 namespace lasonic {
 
+// The top-level sections of lasonic's configuration (deploy/config/lasonic.yaml), read by some
+// process or tool each.
+inline const std::vector<std::string> kConfigSections = {"sim_world", "odometry", "laser",    "sonar",
+                                                         "complement", "pilot",  "navigator", "baselines"};
+
 class ConfigError : public std::runtime_error {
  public:
   explicit ConfigError(const std::string& what) : std::runtime_error(what) {}
@@ -88,6 +93,10 @@ class Config {
   // can override a few keys of the shipped configuration:
   //   --config deploy/config/lasonic.yaml --config deploy/config/pioneer.yaml
   static Config loadFiles(const std::vector<std::string>& filenames);
+  // lasonic's configuration from the --config files: loadFiles, and then a top-level key that is
+  // none of kConfigSections is an error. Each process reads only its own sections, so a misspelt
+  // one (`pilto:`) would otherwise change nothing, silently, in every process.
+  static Config loadConfiguration(const std::vector<std::string>& filenames);
   static Config fromString(const std::string& yaml, const std::string& name = "<string>");
 
   const std::string& path() const { return path_; }

@@ -30,7 +30,7 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   setupLogging(name_);
   // Start-up errors go to stderr as one plain line (the launcher's log shows it as it is).
   try {
-    const Config root = Config::loadFiles(config_files_);
+    const Config root = Config::loadConfiguration(config_files_);
     configure(root);
   } catch (const ConfigError& e) {
     std::cerr << name_ << ": " << e.what() << "\n";

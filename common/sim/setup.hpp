@@ -18,7 +18,7 @@ struct SimSetup {
 
 inline SimSetup loadSimSetup(const std::vector<std::string>& config_files, const std::string& scenario_file) {
   SimSetup s;
-  s.config = Config::loadFiles(config_files);
+  s.config = Config::loadConfiguration(config_files);
   s.scenario = loadScenario(scenario_file);
   return s;
 }

@@ -4,12 +4,12 @@
 
 #include <fstream>
 #include <iostream>
-
-#include "core/config.hpp"
-#include "eval/baselines.hpp"
 #include <string>
 #include <vector>
 
+#include "core/cli.hpp"
+#include "core/config.hpp"
+#include "eval/baselines.hpp"
 #include "eval/evaluate.hpp"
 #include "lcmio/eventlog.hpp"
 
@@ -36,11 +36,11 @@ int main(int argc, char** argv) {
                  "also write every sample of the tactical breakdown as CSV to FILE (time, true position, "
                  "obstacle and material of a located laser-invisible boundary point; whether the tactical AGM "
                  "holds it and else why not; whether a sonar line covers it and else why not); implies --breakdown");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   lasonic::eval::BaselinesConfig baselines;
   lasonic::eval::EvalOptions opts;
   try {
-    const auto config = lasonic::Config::loadFiles(config_files);
+    const auto config = lasonic::Config::loadConfiguration(config_files);
     baselines = lasonic::eval::baselinesConfig(config);
     opts = lasonic::eval::evalOptions(config);  // the breakdown redoes the run's line generation
   } catch (const lasonic::ConfigError& e) {

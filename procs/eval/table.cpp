@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "core/cli.hpp"
+
 namespace {
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -110,7 +112,7 @@ int main(int argc, char** argv) {
   app.add_option("--methods", methods_arg,
                  "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
   app.add_option("files", files, "lasonic-eval JSON files named <scene>-s<seed>.json")->required();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   if (keys_arg.empty() && targets_arg.empty()) {
     std::cerr << "lasonic-eval-table: --keys or --targets is required\n";
     return 2;

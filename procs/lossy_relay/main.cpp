@@ -20,6 +20,7 @@
 #include <regex>
 #include <string>
 
+#include "core/cli.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/signals.hpp"
 
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", d.seed, "seed of the drops")->capture_default_str();
   app.add_option("--lossy", lossy, "regex of the channels that lose messages (default: all but the truth)")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   try {
     d.lossy = std::regex(lossy, std::regex::ECMAScript);
   } catch (const std::regex_error& e) {

@@ -36,6 +36,7 @@
 #include "complement/complement.hpp"
 #include "complement/complement_config.hpp"
 #include "complement/radar_map.hpp"
+#include "core/cli.hpp"
 #include "core/config.hpp"
 #include "eval/baselines.hpp"
 #include "eval/evaluate.hpp"
@@ -304,12 +305,11 @@ int main(int argc, char** argv) {
   app.add_option("--log", log_path, "LCM log run through lasonic-replay (raw channels, SECTOR_MAP, truth)")->required();
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from")->required();
   app.add_option("--config", config_files,
-                 "YAML configuration (pilot, complement and baselines sections); repeat to layer overrides")
-      ->check(CLI::ExistingFile);
+                 "YAML configuration (pilot, complement and baselines sections); repeat to layer overrides");
   app.add_option("--json", json_path, "also write the results as JSON to FILE ('-' = standard output)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   try {
-    const Config root = Config::loadFiles(config_files);
+    const Config root = Config::loadConfiguration(config_files);
     return run(log_path, scenario_path, root, json_path);
   } catch (const ConfigError& e) {
     std::cerr << "lasonic-mrpt-peer: " << e.what() << "\n";

@@ -29,6 +29,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/cli.hpp"
 #include "core/config.hpp"
 #include "core/logging.hpp"
 #include "lcmio/eventlog.hpp"
@@ -184,8 +185,7 @@ int main(int argc, char** argv) {
   app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
   app.add_option("--config", config_files,
-                 "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides")
-      ->check(CLI::ExistingFile);
+                 "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides");
   app.add_option("--stages", stage_list,
                  "stages to run, comma-separated (complement, pilot, navigator); only their outputs are "
                  "recomputed, the others' are taken from the log")
@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--status", print_status,
                "at the end, print every stage's counters and errors (its PROCESS_STATUS) as 'process key value' lines");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   std::set<std::string> stages;
   for (size_t a = 0; a <= stage_list.size();) {
     const size_t b = std::min(stage_list.find(',', a), stage_list.size());
@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
   }
   lasonic::setupLogging("lasonic-replay");
   try {
-    const lasonic::Config root = lasonic::Config::loadFiles(config_files);
+    const lasonic::Config root = lasonic::Config::loadConfiguration(config_files);
     // Auto: a thread per stage from two cores up (three stages and the log writer). On two cores
     // two threads were fastest while the pilot was the most work; since the navigator's scan
     // matching the navigator is, and sharing its thread with the complement costs more than a

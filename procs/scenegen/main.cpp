@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "core/cli.hpp"
 #include "core/config.hpp"
 #include "sim/scenario.hpp"
 #include "sim/scene_generator.hpp"
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "directory to write the scenes and scenes.list into")->required();
   app.add_option("--pioneer-overlay", pioneer_overlay,
                  "config overlay listed in scenes.list for the Pioneer-type scenes");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);

@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/cli.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "sim/drivers.hpp"
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
                  "sensor profile of both laser and sonar, overriding config and scenario: physical (the default) "
                  "or ideal (the method's idealised sensors)")
       ->check(CLI::IsMember({"physical", "ideal"}));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   std::optional<sim::SimSetup> setup;
   sim::OdometryConfig odo_cfg;

@@ -30,6 +30,7 @@
 #include <lasonic/sector_map_t.hpp>
 #include <lasonic/sonar_ring_t.hpp>
 
+#include "core/cli.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 
@@ -77,7 +78,7 @@ int main(int argc, char** argv) {
   app.add_option("--settle", settle_s, "seconds to wait for the last maps after the last group");
   app.add_option("--min-groups", min_groups, "exit 1 unless at least this many groups were matched");
   app.add_option("--samples", samples_path, "write each matched group's latency [ms] to this file");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   lcm::LCM pub(url), sub(url);
   if (!pub.good() || !sub.good()) {

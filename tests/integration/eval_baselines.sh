@@ -5,7 +5,8 @@
 #     observability keys and every baseline's keys are in the JSON, all rates in [0, 1], and
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
-#  3. a missing config file and a bad baselines value exit 2 and name the file and key path;
+#  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
+#     and key path; the offline tools exit 0 on --help and 2 on any bad command line;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -60,7 +61,33 @@ printf 'baselines:\n  sonar_himm:\n    threshold: 99\n' >"$tmp/bad.yaml"
 expect_error bad_value "bad.yaml: baselines.sonar_himm.threshold" --config "$tmp/bad.yaml"
 printf 'baselines:\n  log_odds:\n    size: 40\n' >"$tmp/small.yaml"
 expect_error small_window "small.yaml: baselines.log_odds.size" --config "$tmp/small.yaml"
+printf 'pilto:\n  robot_radius: 0.27\n' >"$tmp/typo.yaml"
+expect_error misspelt_section "typo.yaml: pilto: unknown key" --config "$config" --config "$tmp/typo.yaml"
 echo "$test_name: (3) ok: bad configuration exits 2 naming the file and key"
+
+# (3b) The offline tools' command lines: --help exits 0, an unknown option, a missing required one
+# or a misspelt configuration section exits 2 (README "Processes: start-up, exit codes, status").
+expect_rc() {  # WANT CASE TOOL ARGS...
+  local want=$1 case=$2 tool=$3 rc=0
+  shift 3
+  "$bin/$tool" "$@" >"$tmp/cli.$case.out" 2>&1 || rc=$?
+  [[ $rc -eq $want ]] || die "$tool ($case): exit status $rc, expected $want: $(tail -n 2 "$tmp/cli.$case.out")"
+}
+for tool in lasonic-sim lasonic-replay lasonic-eval lasonic-eval-table lasonic-scenegen lasonic-log-stats; do
+  [[ -x $bin/$tool ]] || continue
+  expect_rc 0 "$tool-help" "$tool" --help
+  expect_rc 2 "$tool-unknown" "$tool" --no-such-option
+done
+expect_rc 2 sim-required lasonic-sim --out "$tmp/x.lcmlog"
+expect_rc 2 replay-required lasonic-replay --out "$tmp/x.lcmlog"
+expect_rc 2 replay-range lasonic-replay --in "$tmp/raw.lcmlog" --out "$tmp/x.lcmlog" --threads 99
+expect_rc 2 replay-typo lasonic-replay --in "$tmp/raw.lcmlog" --out "$tmp/x.lcmlog" --config "$config" --config "$tmp/typo.yaml"
+grep -qF "typo.yaml: pilto: unknown key" "$tmp/cli.replay-typo.out" || die "lasonic-replay does not name the misspelt section"
+expect_rc 2 replay-missing-config lasonic-replay --in "$tmp/raw.lcmlog" --out "$tmp/x.lcmlog" --config "$tmp/none.yaml"
+grep -qF "$tmp/none.yaml: cannot open file" "$tmp/cli.replay-missing-config.out" ||
+  die "lasonic-replay: no 'cannot open file' for a missing --config: $(cat "$tmp/cli.replay-missing-config.out")"
+expect_rc 2 sim-typo lasonic-sim --scenario "$scenario" --out "$tmp/x.lcmlog" --config "$tmp/typo.yaml"
+echo "$test_name: (3b) ok: the offline tools exit 0 on --help and 2 on a bad command line or section"
 
 # (4) Two seeds of one scene: a rate's worst is its highest value, a recall's its lowest.
 mkdir -p "$tmp/table"

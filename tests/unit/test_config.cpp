@@ -2,7 +2,9 @@
 
 #include <fstream>
 
+#include "core/cli.hpp"
 #include "core/config.hpp"
+#include "core/logging.hpp"
 
 using lasonic::Config;
 using lasonic::ConfigError;
@@ -94,4 +96,58 @@ TEST(Config, LayeredFilesMergeKeyByKey) {
   EXPECT_TRUE(Config::loadFiles({}).node().IsMap());
   EXPECT_NE(errorOf([&] { Config::loadFiles({a, "/nonexistent/over.yaml"}); }).find("cannot open"),
             std::string::npos);
+}
+
+// A misspelt section in a --config file is an error naming the file and the key: each process
+// reads only its own sections, so it would otherwise change nothing anywhere.
+TEST(Config, ConfigurationFilesAllowOnlyTheKnownSections) {
+  const std::string dir = ::testing::TempDir();
+  const std::string good = dir + "/sections_good.yaml", typo = dir + "/sections_typo.yaml";
+  {
+    std::ofstream(good) << "pilot: {robot_radius: 0.27}\nnavigator: {}\n";
+    std::ofstream(typo) << "pilto: {robot_radius: 0.27}\n";
+  }
+  const Config c = Config::loadConfiguration({good});
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.27);
+  const std::string e = errorOf([&] { Config::loadConfiguration({good, typo}); });
+  EXPECT_EQ(e.rfind(typo + ": pilto: unknown key (allowed: sim_world, odometry", 0), 0u) << e;
+  // Layered files are merged as loadFiles merges them.
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({good, good}); }), "");
+  // Every section of the shipped file is known.
+  const std::string shipped = std::string(LASONIC_SOURCE_DIR) + "/deploy/config/lasonic.yaml";
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({shipped}); }), "");
+  EXPECT_EQ(Config::loadConfiguration({shipped}).keys().size(), lasonic::kConfigSections.size());
+}
+
+TEST(CommandLine, HelpIsZeroAnyOtherErrorTwo) {
+  const auto parse = [](std::vector<const char*> args) {
+    CLI::App app{"test"};
+    std::string in;
+    int n = 0;
+    app.add_option("--in", in, "input")->required();
+    app.add_option("--n", n, "a count")->check(CLI::Range(0, 9));
+    args.insert(args.begin(), "tool");
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const auto rc = lasonic::parseCommandLine(app, static_cast<int>(args.size()), args.data());
+    testing::internal::GetCapturedStdout();
+    testing::internal::GetCapturedStderr();
+    return rc;
+  };
+  EXPECT_EQ(parse({"--in", "x"}), std::nullopt);
+  EXPECT_EQ(parse({"--help"}), std::optional<int>(0));
+  EXPECT_EQ(parse({}), std::optional<int>(2));                        // a required option missing
+  EXPECT_EQ(parse({"--in", "x", "--bogus"}), std::optional<int>(2));  // an unknown option
+  EXPECT_EQ(parse({"--in", "x", "--n", "99"}), std::optional<int>(2));  // out of range
+}
+
+TEST(Logging, LevelNamesAndUnknownOnes) {
+  EXPECT_EQ(lasonic::parseLogLevel("debug"), spdlog::level::debug);
+  EXPECT_EQ(lasonic::parseLogLevel("Info"), spdlog::level::info);
+  EXPECT_EQ(lasonic::parseLogLevel("WARNING"), spdlog::level::warn);
+  EXPECT_EQ(lasonic::parseLogLevel("error"), spdlog::level::err);
+  EXPECT_EQ(lasonic::parseLogLevel("off"), spdlog::level::off);
+  // spdlog itself would read these as "off" and hide every warning.
+  EXPECT_EQ(lasonic::parseLogLevel("bogus"), std::nullopt);
+  EXPECT_EQ(lasonic::parseLogLevel(""), std::nullopt);
 }
