@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "core/cli.hpp"
 #include "core/logging.hpp"
 
 namespace lasonic {
@@ -17,16 +18,7 @@ ProcessMain::ProcessMain(std::string name, const std::string& description)
 
 int ProcessMain::run(int argc, char** argv, const std::function<void(const Config& root)>& configure,
                      const std::function<int(Node& node)>& body, Node::Options node_options) {
-  try {
-    app_.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app_.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app_.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app_.exit(e);  // prints the reason
-    return exit_code::kBadConfig;
-  }
+  if (const auto rc = parseCommandLine(app_, argc, argv)) return *rc;
   setupLogging(name_);
   // Start-up errors go to stderr as one plain line (the launcher's log shows it as it is).
   try {

@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "core/cli.hpp"
 #include "core/config.hpp"
 #include "launch/profile.hpp"
 #include "launch/supervisor.hpp"
@@ -42,14 +43,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--check", check, "check the profile and the executables, print the commands, start nothing");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return 2;
-  }
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   std::map<std::string, std::string> overrides;
   for (const std::string& s : sets) {

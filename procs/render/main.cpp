@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cli.hpp"
 #include "core/config.hpp"
 #include "lcmio/eventlog.hpp"
 #include "render/fig8.hpp"
@@ -84,11 +85,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_path, "scenario YAML the log was simulated from: true obstacles drawn faintly");
   app.add_option("--view", ro.view_m, "ground shown across each panel [m] (default 7)");
   app.add_option("--panel", ro.panel_px, "panel size [px] (default 400; the image is 4 x 2 panels)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   try {
     checkOptions(ro);
