@@ -45,6 +45,12 @@ struct RunLog {
   std::vector<SparseGridMap> agm_tactical;
   std::vector<line_map_t> current_sensor_maps;
   int64_t undecodable = 0;  // events on known channels that did not decode
+  // No message on any channel the evaluation reads (an empty log, or another project's).
+  bool empty() const {
+    return sim_states.empty() && odometry.empty() && laser_scans.empty() && laser_truths.empty() &&
+           sonar_rings.empty() && sonar_truths.empty() && hypotheses.empty() && complements.empty() &&
+           sector_maps.empty() && agm_operational.empty() && agm_tactical.empty() && current_sensor_maps.empty();
+  }
 };
 
 // Throws LogError if the file cannot be read.

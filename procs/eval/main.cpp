@@ -50,6 +50,11 @@ int main(int argc, char** argv) {
   try {
     const auto scenario = lasonic::sim::loadScenario(scenario_path);
     const auto log = lasonic::eval::loadRunLog(log_path);
+    if (log.empty()) {  // nothing to score is an error, not an empty table (as lasonic-render says)
+      std::cerr << "lasonic-eval: " << log_path << ": no lasonic message on any scored channel"
+                << (log.undecodable > 0 ? " (" + std::to_string(log.undecodable) + " did not decode)" : std::string()) << "\n";
+      return 2;
+    }
     if (log.sim_states.empty())
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
     if (log.undecodable > 0)

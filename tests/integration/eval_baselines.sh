@@ -6,7 +6,7 @@
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
-#     and key path; the offline tools exit 0 on --help and 2 on any bad command line;
+#     and key path, an empty log exits 2 saying so; the offline tools exit 0 on --help and 2 on any bad command line;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -57,6 +57,12 @@ expect_error() {  # CASE WANT ARGS...
   echo "  ($case) $(head -n 1 "$tmp/$case.err")"
 }
 expect_error missing_config "$tmp/none.yaml: cannot open file" --config "$tmp/none.yaml"
+: >"$tmp/empty.lcmlog"
+rc=0
+"$bin/lasonic-eval" --log "$tmp/empty.lcmlog" --scenario "$scenario" >"$tmp/empty_log.err" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] || die "an empty log: exit status $rc, expected 2"
+grep -qF "empty.lcmlog: no lasonic message on any scored channel" "$tmp/empty_log.err" ||
+  die "an empty log: the message does not say so: $(cat "$tmp/empty_log.err")"
 printf 'baselines:\n  sonar_himm:\n    threshold: 99\n' >"$tmp/bad.yaml"
 expect_error bad_value "bad.yaml: baselines.sonar_himm.threshold" --config "$tmp/bad.yaml"
 printf 'baselines:\n  log_odds:\n    size: 40\n' >"$tmp/small.yaml"
