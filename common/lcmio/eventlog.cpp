@@ -1,6 +1,7 @@
 #include "lcmio/eventlog.hpp"
 
 #include <pthread.h>
+#include <sys/stat.h>
 #include <sys/uio.h>
 #include <unistd.h>
 
@@ -63,14 +64,42 @@ std::optional<LogRecord> LogReader::next() {
   return r;
 }
 
+bool LogReader::refreshFileSize(int64_t need) {
+  // (A log still being written has grown since it was opened.)
+  struct stat st {};
+  if (::fstat(::fileno(f_.get()), &st) == 0) file_size_ = static_cast<int64_t>(st.st_size);
+  return file_size_ >= need;
+}
+
+void LogReader::stop(const std::string& reason, int64_t at) {
+  // Said once, with where: a log cut short by a power loss or a killed lcm-logger is still worth
+  // reading up to there, but never silently (the tools go on with the events before it).
+  std::cerr << "warning: " << path_ << ": the log ends at byte " << at << " of " << file_size_ << " (" << reason
+            << "); " << events_ << " events read before it\n";
+  stop_reason_ = reason;
+  pos_ = end_;
+  std::fseek(f_.get(), 0, SEEK_END);
+  file_offset_ = file_size_;
+}
+
 std::optional<LogRecordView> LogReader::nextView() {
+  if (!stop_reason_.empty()) return std::nullopt;
   // The sync word, byte by byte (skipping anything before it), as LCM does.
   uint32_t magic = 0;
+  const int64_t scan_start = bytesRead();
   do {
-    if (!fill(1)) return std::nullopt;
+    if (!fill(1)) {
+      if (bytesRead() > scan_start)
+        stop(std::to_string(bytesRead() - scan_start) + " bytes at the end that hold no event's sync word", scan_start);
+      return std::nullopt;
+    }
     magic = (magic << 8) | buf_[pos_++];
   } while (magic != kSync);
-  if (!fill(24)) return std::nullopt;
+  const int64_t at = bytesRead() - 4;  // where this event starts
+  if (!fill(24)) {
+    stop("an event's header cut short", at);
+    return std::nullopt;
+  }
   const uint8_t* h = buf_.data() + pos_;
   LogRecordView r;
   r.timestamp = static_cast<int64_t>(be64(h + 8));
@@ -78,15 +107,25 @@ std::optional<LogRecordView> LogReader::nextView() {
   const auto datalen = static_cast<int32_t>(be32(h + 20));
   pos_ += 24;
   if (channellen <= 0 || channellen >= 1000) {
-    std::cerr << "Log event has invalid channel length: " << channellen << "\n";
+    stop("an event with an invalid channel length, " + std::to_string(channellen), at);
     return std::nullopt;
   }
   if (datalen < 0) {
-    std::cerr << "Log event has invalid data length: " << datalen << "\n";
+    stop("an event with an invalid data length, " + std::to_string(datalen), at);
     return std::nullopt;
   }
   const size_t body = static_cast<size_t>(channellen) + static_cast<size_t>(datalen);
-  if (!fill(body)) return std::nullopt;
+  // An event longer than what is left of the file is a cut or corrupt one: said before buffering
+  // it (a corrupt length near 2^31 would otherwise make the reader allocate 2 GB first).
+  if (bytesRead() + static_cast<int64_t>(body) > file_size_ && !refreshFileSize(bytesRead() + static_cast<int64_t>(body))) {
+    stop("an event of " + std::to_string(body) + " bytes, more than the " + std::to_string(file_size_ - bytesRead()) +
+         " left in the file: cut short or corrupt", at);
+    return std::nullopt;
+  }
+  if (!fill(body)) {
+    stop("an event's data cut short", at);
+    return std::nullopt;
+  }
   // The next event's sync word buffered too (if there is one) before pointing into the buffer,
   // which fill() may move.
   const bool more = fill(body + 4);
@@ -94,12 +133,13 @@ std::optional<LogRecordView> LogReader::nextView() {
   r.data = buf_.data() + pos_ + channellen;
   r.size = static_cast<size_t>(datalen);
   pos_ += body;
-  // After the data: the next event's sync word or the end of the file; anything else ends the log.
+  // After the data: the next event's sync word or the end of the file; anything else ends the log,
+  // this event included (as LCM's reader does: its length may be what is corrupt).
   if (more && be32(buf_.data() + pos_) != kSync) {
-    std::cerr << "Invalid header after log data\n";
-    pos_ = end_;
+    stop("no sync word after an event's data: the event dropped", at);
     return std::nullopt;
   }
+  ++events_;
   return r;
 }
 

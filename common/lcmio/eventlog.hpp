@@ -8,6 +8,8 @@
 // lasonic-replay's time on small messages). The reader keeps LCM 1.3.1's rules exactly: it
 // scans for the sync word; a channel length outside 1..999 or a negative data length, a short
 // read, or anything but a sync word or the end of the file after an event's data end the log.
+// Unlike LCM it says so, once, naming the file and the byte (stopReason()), and it does not
+// buffer an event longer than the rest of the file.
 #include <lcm/lcm-cpp.hpp>
 
 #include <condition_variable>
@@ -89,9 +91,16 @@ class LogReader {
   int64_t bytesRead() const { return file_offset_ - static_cast<int64_t>(end_ - pos_); }
   // Size of the file when it was opened.
   int64_t fileSize() const { return file_size_; }
+  // Events returned so far.
+  int64_t events() const { return events_; }
+  // Why the log ended before the end of the file (a cut or corrupt event; also warned about on
+  // stderr with the file's name and the byte), or empty when it ended at the end of the file.
+  const std::string& stopReason() const { return stop_reason_; }
 
  private:
   bool fill(size_t need);  // at least `need` unread bytes buffered; false at the end of the file
+  bool refreshFileSize(int64_t need);  // the file's size now; whether it holds `need` bytes
+  void stop(const std::string& reason, int64_t at);  // at: the byte where the log stops making sense
   struct Closer {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
@@ -100,6 +109,8 @@ class LogReader {
   std::vector<uint8_t> buf_;
   size_t pos_ = 0, end_ = 0;
   int64_t file_offset_ = 0, file_size_ = 0;
+  int64_t events_ = 0;
+  std::string stop_reason_;
 };
 
 // Events are gathered in a buffer of about a megabyte; a full buffer is handed to a writer thread

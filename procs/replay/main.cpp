@@ -20,6 +20,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -152,6 +153,11 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   };
   pipeline.run(next, [&recorder](int64_t timestamp) { recorder.timestamp = timestamp; });
   out.flush();
+  if (events == 0) {  // nothing to replay is an error, not an empty output log
+    std::cerr << "lasonic-replay: " << in_path << ": no LCM event in the file" << "\n";
+    std::remove(out_path.c_str());
+    return 2;
+  }
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,
                out.events(), out_path);
   std::cerr << "lasonic-replay: " << meter.summary() << std::endl;

@@ -93,7 +93,14 @@ expect_rc 2 replay-missing-config lasonic-replay --in "$tmp/raw.lcmlog" --out "$
 grep -qF "$tmp/none.yaml: cannot open file" "$tmp/cli.replay-missing-config.out" ||
   die "lasonic-replay: no 'cannot open file' for a missing --config: $(cat "$tmp/cli.replay-missing-config.out")"
 expect_rc 2 sim-typo lasonic-sim --scenario "$scenario" --out "$tmp/x.lcmlog" --config "$tmp/typo.yaml"
-echo "$test_name: (3b) ok: the offline tools exit 0 on --help and 2 on a bad command line or section"
+# A file with no LCM event is an error; a log cut short is replayed up to the cut, and said so.
+head -c 20000 /dev/urandom >"$tmp/random.lcmlog"
+expect_rc 2 replay-random lasonic-replay --in "$tmp/random.lcmlog" --out "$tmp/x.lcmlog"
+grep -qF "random.lcmlog: no LCM event in the file" "$tmp/cli.replay-random.out" || die "lasonic-replay: random bytes not named"
+head -c $(($(stat -c %s "$tmp/raw.lcmlog") - 30)) "$tmp/raw.lcmlog" >"$tmp/cut.lcmlog"
+expect_rc 0 replay-cut lasonic-replay --in "$tmp/cut.lcmlog" --out "$tmp/x.lcmlog" --config "$config"
+grep -qF "cut.lcmlog: the log ends at byte" "$tmp/cli.replay-cut.out" || die "lasonic-replay: a cut log not said: $(cat "$tmp/cli.replay-cut.out")"
+echo "$test_name: (3b) ok: the offline tools exit 0 on --help and 2 on a bad command line or section, or on a file with no event"
 
 # (4) Two seeds of one scene: a rate's worst is its highest value, a recall's its lowest.
 mkdir -p "$tmp/table"

@@ -174,6 +174,40 @@ TEST(ReplayIo, LogReaderReadsWhatLcmReadsAlsoWhenCorrupt) {
     const auto ours = LogReader::readAll(path);
     expectSame(ours, lcm_events, what);
   }
+  // And where LCM stops silently, ours says why (stopReason, and a warning on stderr); a whole
+  // log, or one with junk only before its first event, ends without one.
+  const auto stopReason = [&](const std::string& bytes) {
+    spit(path, bytes);
+    LogReader r(path);
+    testing::internal::CaptureStderr();
+    while (r.nextView()) {
+    }
+    const std::string warned = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(warned.empty(), r.stopReason().empty()) << warned;
+    return r.stopReason();
+  };
+  EXPECT_EQ(stopReason(good), "");
+  EXPECT_EQ(stopReason(""), "");
+  EXPECT_NE(stopReason(good.substr(0, good.size() - 17)).find("cut short"), std::string::npos);
+  EXPECT_NE(stopReason(good.substr(0, second) + "junk" + good.substr(second)).find("no sync word after"), std::string::npos);
+  EXPECT_NE(stopReason(bad_channel_len).find("invalid channel length"), std::string::npos);
+  EXPECT_NE(stopReason(good + "ab").find("2 bytes at the end"), std::string::npos);
+  EXPECT_NE(stopReason(std::string(5000, 'x')).find("5000 bytes at the end"), std::string::npos);
+  // A data length near 2^31 in the second event: the first event is read, and the reader stops
+  // without buffering 2 GB (LCM's reader allocates it first, so it is not compared here).
+  std::string huge = good;
+  huge[second + 24] = '\x7f';
+  huge[second + 25] = '\xff';
+  spit(path, huge);
+  {
+    LogReader r(path);
+    testing::internal::CaptureStderr();
+    int n = 0;
+    while (r.nextView()) ++n;
+    testing::internal::GetCapturedStderr();
+    EXPECT_EQ(n, 1);
+    EXPECT_NE(r.stopReason().find("more than the"), std::string::npos) << r.stopReason();
+  }
   fs::remove(path);
 }
 
