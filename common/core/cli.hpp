@@ -2,12 +2,14 @@
 // One rule for every executable's command line (README "Processes: start-up, exit codes,
 // status"): --help prints the help and exits 0; any other command-line error (an unknown
 // option, a missing required one, a value out of range, a missing input file) prints CLI11's
-// reason and exits 2, like a bad configuration. CLI11's own codes (105, 106, 109, ...) would
+// reason on one line after the tool's name and exits 2, like a bad configuration. CLI11's own codes (105, 106, 109, ...) would
 // tell a script nothing the table does not.
 //   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 #include <CLI/CLI.hpp>
 
+#include <iostream>
 #include <optional>
+#include <string>
 
 namespace lasonic {
 
@@ -17,7 +19,12 @@ inline std::optional<int> parseCommandLine(CLI::App& app, int argc, const char* 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : kExitBadCommandLine;  // app.exit prints help or the reason
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help: printed
+    // One line naming the tool, as every start-up error (a log or a launcher shows it as it is).
+    std::string name = argc > 0 && argv[0] ? argv[0] : "lasonic";
+    if (const auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
+    std::cerr << name << ": " << e.what() << " (" << name << " --help lists the options)\n";
+    return kExitBadCommandLine;
   }
   return std::nullopt;
 }
