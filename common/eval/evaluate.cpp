@@ -64,6 +64,52 @@ RunLog loadRunLog(const std::string& path) {
   return log;
 }
 
+ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& scenario) {
+  ScenarioMatch m;
+  if (log.sim_states.empty()) return m;
+  const size_t n = scenario.movers.size();
+  for (const sim_state_t& st : log.sim_states) {
+    if (st.movers.size() != n) {
+      m.error = "its SIM_STATE has " + std::to_string(st.movers.size()) + " movers, the scenario " + std::to_string(n);
+      return m;
+    }
+    for (const mover_state_t& mv : st.movers)
+      if (mv.id < 0 || static_cast<size_t>(mv.id) >= n) {
+        m.error = "its SIM_STATE names mover " + std::to_string(mv.id) + ", the scenario has " + std::to_string(n);
+        return m;
+      }
+  }
+  // The truth channels name obstacles by their index in the scenario (movers -(id)-2).
+  const auto known = [&](int64_t o) {
+    return o == -1 || (o >= 0 && static_cast<size_t>(o) < scenario.obstacles.size()) ||
+           (o <= -2 && static_cast<size_t>(-o - 2) < n);
+  };
+  for (const laser_truth_t& t : log.laser_truths)
+    for (const int32_t o : t.obstacle)
+      if (!known(o)) {
+        m.error = "its LASER_TRUTH names obstacle " + std::to_string(o) + ", the scenario has " +
+                  std::to_string(scenario.obstacles.size()) + " obstacles and " + std::to_string(n) + " movers";
+        return m;
+      }
+  for (const sonar_truth_t& t : log.sonar_truths)
+    for (const sonar_cause_t& c : t.causes)
+      if (!known(c.obstacle)) {
+        m.error = "its SONAR_TRUTH names obstacle " + std::to_string(c.obstacle) + ", the scenario has " +
+                  std::to_string(scenario.obstacles.size()) + " obstacles and " + std::to_string(n) + " movers";
+        return m;
+      }
+  if (!scenario.robot.path.empty()) {
+    const geom::Pose2 p0{log.sim_states.front().robot_pose.x, log.sim_states.front().robot_pose.y,
+                          log.sim_states.front().robot_pose.theta};
+    const geom::Vec2 start = scenario.robot.path.front();
+    const double d = std::hypot(p0.x - start.x(), p0.y - start.y());
+    if (d > 0.5)
+      m.warning = "the robot's first true pose (" + std::to_string(p0.x) + ", " + std::to_string(p0.y) +
+                  ") is " + std::to_string(d) + " m from the scenario's first waypoint";
+  }
+  return m;
+}
+
 // ------------------------------------------------------------------------------ truth
 
 TruthTrack::TruthTrack(const std::vector<sim_state_t>& states) : states_(&states) {}

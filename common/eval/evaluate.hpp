@@ -56,6 +56,16 @@ struct RunLog {
 // Throws LogError if the file cannot be read.
 RunLog loadRunLog(const std::string& path);
 
+// Whether a log was simulated from the scenario it is scored against. `error`: the log's
+// SIM_STATE holds movers the scenario does not have (or the other way round), so no truth can be
+// computed; `warning`: the robot's first true pose lies more than 0.5 m from the scenario's first
+// waypoint (a live log recorded after the start may do that). Empty when they agree or the log
+// has no SIM_STATE.
+struct ScenarioMatch {
+  std::string error, warning;
+};
+ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& scenario);
+
 struct EvalOptions {
   double range_limit = 2.20;       // [m] the ideal sonar's limit (overridden by SONAR_HYPOTHESIS)
   double sector_range = 2.0;       // [m] sector map: obstacles this close to the boundary must be seen

@@ -68,8 +68,20 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
                           "=VALUE, or in the environment)");
     });
   };
+  // The variables the profile uses, so that a --set of one it does not use is an error (a
+  // misspelt name, or a variable of another profile, would otherwise change nothing).
+  std::set<std::string> used;
+  const auto noteUsed = [&used](const std::string& text) {
+    for (size_t i = text.find("${"); i != std::string::npos; i = text.find("${", i + 2)) {
+      if (i > 0 && text[i - 1] == '$') continue;  // "$${": a literal
+      const size_t end = text.find('}', i + 2);
+      if (end == std::string::npos) break;
+      used.insert(text.substr(i + 2, end - i - 2));
+    }
+  };
   // Expanding twice lets an environment variable found on the first pass be substituted.
   auto expandValue = [&](const Config& where, const std::string& key, const std::string& text) {
+    noteUsed(text);
     (void)lookup(where, key, text);
     return lookup(where, key, text);
   };
@@ -125,6 +137,12 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
     }
     p.processes.push_back(std::move(s));
   }
+  for (const auto& [k, v] : overrides)
+    if (k != "lcm_url" && !used.count(k)) {
+      std::string list;
+      for (const std::string& u : used) list += (list.empty() ? "" : ", ") + u;
+      throw ConfigError("--set " + k + ": the profile uses no variable ${" + k + "} (it uses: " + list + ")");
+    }
   return p;
 }
 

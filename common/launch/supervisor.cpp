@@ -182,6 +182,16 @@ void Supervisor::reap(Clock::time_point now) {
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
     p->last_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     const double up = seconds(now - p->started);
+    // Exit 2 is a bad command line or configuration (README "Processes: start-up, exit codes,
+    // status"): starting it again cannot help, and the systemd units do not either.
+    const bool bad_config = WIFEXITED(status) && WEXITSTATUS(status) == 2;
+    if (bad_config && !finishing_ && p->spec.restart != RestartPolicy::Never) {
+      p->done = true;
+      bad_config_ = true;
+      say("%s exited 2 (bad command line or configuration: see %s/%s.txt) after %.1f s: not restarted",
+          p->spec.name.c_str(), log_dir_.c_str(), p->spec.name.c_str(), up);
+      continue;
+    }
     const bool again = !finishing_ && (p->spec.restart == RestartPolicy::Always ||
                                        (p->spec.restart == RestartPolicy::OnFailure && !ok));
     if (!again) {
@@ -254,7 +264,7 @@ int Supervisor::run(double max_time_s) {
     if (shutdown::requested()) {
       say("signal received: stopping every process");
       stopAll();
-      return 0;
+      return bad_config_ ? 2 : 0;
     }
     if (max_time_s > 0 && now >= deadline) {
       say("still running after --max-time %.0f s: stopping every process", max_time_s);
@@ -263,7 +273,7 @@ int Supervisor::run(double max_time_s) {
     }
     if (finishing_ && now >= finish_at_) {
       stopAll();
-      return exit_code_;
+      return bad_config_ ? 2 : exit_code_;
     }
     bool alive = false;
     for (Proc& p : procs_) {
@@ -276,7 +286,7 @@ int Supervisor::run(double max_time_s) {
       for (const Proc& p : procs_)
         if (!p.skip && p.last_status != 0) worst = 1;
       say("every process has ended");
-      return worst;
+      return bad_config_ ? 2 : worst;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

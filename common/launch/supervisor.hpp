@@ -62,6 +62,7 @@ class Supervisor {
   bool finishing_ = false;
   Clock::time_point finish_at_;
   int exit_code_ = 0;
+  bool bad_config_ = false;  // a process exited 2: not restarted, and the launcher exits 2 at the end
 };
 
 }  // namespace lasonic::launch

@@ -57,6 +57,14 @@ int main(int argc, char** argv) {
     }
     if (log.sim_states.empty())
       std::cerr << "lasonic-eval: warning: " << log_path << " holds no SIM_STATE: truth-based scores are skipped\n";
+    // Scored against a scenario it was not simulated from, a log gives numbers that mean nothing.
+    if (const auto match = lasonic::eval::checkLogMatchesScenario(log, scenario); !match.error.empty()) {
+      std::cerr << "lasonic-eval: " << log_path << " was not simulated from " << scenario_path << ": " << match.error << "\n";
+      return 2;
+    } else if (!match.warning.empty()) {
+      std::cerr << "lasonic-eval: warning: " << log_path << " against " << scenario_path << ": " << match.warning
+                << " (was it simulated from this scenario?)\n";
+    }
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     opts.breakdown = breakdown || !tactical_samples_path.empty();

@@ -6,7 +6,8 @@
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
-#     and key path, an empty log exits 2 saying so; the offline tools exit 0 on --help and 2 on any bad command line;
+#     and key path; an empty log, and a log scored against a scenario it was not simulated from,
+#     exit 2 saying so; the offline tools exit 0 on --help and 2 on any bad command line;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -57,6 +58,15 @@ expect_error() {  # CASE WANT ARGS...
   echo "  ($case) $(head -n 1 "$tmp/$case.err")"
 }
 expect_error missing_config "$tmp/none.yaml: cannot open file" --config "$tmp/none.yaml"
+# A log scored against a scenario it was not simulated from: no numbers, an error naming both.
+for other in corridor_people:SIM_STATE fig4_room:LASER_TRUTH; do
+  rc=0
+  "$bin/lasonic-eval" --log "$tmp/out.lcmlog" --scenario "$src/deploy/scenarios/${other%%:*}.yaml" >"$tmp/other.err" 2>&1 || rc=$?
+  [[ $rc -eq 2 ]] || die "scored against ${other%%:*}: exit status $rc, expected 2"
+  grep -qF "was not simulated from $src/deploy/scenarios/${other%%:*}.yaml: its ${other#*:}" "$tmp/other.err" ||
+    die "scored against ${other%%:*}: $(cat "$tmp/other.err")"
+  echo "  (against ${other%%:*}) $(head -n 1 "$tmp/other.err")"
+done
 : >"$tmp/empty.lcmlog"
 rc=0
 "$bin/lasonic-eval" --log "$tmp/empty.lcmlog" --scenario "$scenario" >"$tmp/empty_log.err" 2>&1 || rc=$?

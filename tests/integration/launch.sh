@@ -6,7 +6,8 @@
 #     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
 #     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
 #     no process left over; one that ignores SIGINT is killed after stop_timeout_s;
-#  3. SIGTERM to the launcher stops every process and exits 0.
+#  3. SIGTERM to the launcher stops every process and exits 0;
+#  4. a process that exits 2 (bad configuration) is not restarted; the launcher exits 2 at the end.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 launch=$bin/lasonic-launch
@@ -101,4 +102,22 @@ wait "$lpid" || rc=$?
 ! kill -0 "$a" 2>/dev/null || die "a (pid $a) still runs after the launcher stopped"
 grep -q "signal received: stopping every process" "$tmp/launch3.txt" || die "no stop message"
 echo "$test_name: (3) ok"
+
+# 4. A process that exits 2 (bad command line or configuration) is not restarted, whatever its
+# restart policy: the others run on, and the launcher exits 2 when the run ends.
+cat >"$tmp/badconfig.yaml" <<'YAML'
+lcm_url: memq://
+restart: {initial_delay_s: 0.1, max_delay_s: 0.2, reset_after_s: 30}
+processes:
+  - {name: misconfigured, command: [sh, -c, 'echo "x.yaml: pilto: unknown key" >&2; exit 2'], restart: always}
+  - {name: done, command: [sleep, "1.5"], restart: never, finish: true}
+YAML
+rc=0
+"$launch" "$tmp/badconfig.yaml" --log-dir "$tmp/logs4" --max-time 20 2>"$tmp/launch4.txt" || rc=$?
+((rc == 2)) || die "a process exiting 2: the launcher exited $rc, expected 2"
+starts=$(grep -c "misconfigured started" "$tmp/launch4.txt" || true)
+((starts == 1)) || die "a process exiting 2 was started $starts times, expected once"
+grep -q "misconfigured exited 2 (bad command line or configuration: see .*misconfigured.txt) after .* s: not restarted" \
+  "$tmp/launch4.txt" || die "no 'not restarted' message: $(cat "$tmp/launch4.txt")"
+echo "$test_name: (4) ok"
 echo "$test_name: PASS"

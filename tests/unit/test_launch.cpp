@@ -59,6 +59,19 @@ TEST(HostProfile, SetOverridesVarsAndTheUrl) {
   EXPECT_EQ(p.lcm_url, "u2");
 }
 
+TEST(HostProfile, SetOfAVariableTheProfileDoesNotUseIsAnError) {
+  const std::string yaml = "lcm_url: u\nvars: {config: c.yaml}\nprocesses: [{name: a, command: [a, '${config}']}]\n";
+  EXPECT_EQ(load(yaml, {{"config", "d.yaml"}}).processes[0].command[1], "d.yaml");
+  try {
+    load(yaml, {{"robot", "pioneer.yaml"}});
+    ADD_FAILURE() << "a --set of an unused variable was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set robot: the profile uses no variable ${robot} (it uses: config"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(HostProfile, EnvironmentFillsUnknownVariables) {
   ::setenv("LASONIC_TEST_LAUNCH_VAR", "from-env", 1);
   const auto p = load("lcm_url: u\nprocesses: [{name: a, command: [a, '${LASONIC_TEST_LAUNCH_VAR}']}]\n");

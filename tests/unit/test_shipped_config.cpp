@@ -61,7 +61,7 @@ TEST(ShippedConfig, CodeDefaultsAreTheShippedValues) {
 TEST(ShippedConfig, EveryOverlayParsesOverTheShippedFile) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(LASONIC_SOURCE_DIR) / "deploy/config";
-  std::vector<fs::path> overlays{dir / "pioneer.yaml"};
+  std::vector<fs::path> overlays{dir / "pioneer.yaml", dir / "mobot4.yaml"};
   for (const auto& e : fs::directory_iterator(dir / "experiments"))
     if (e.path().extension() == ".yaml") overlays.push_back(e.path());
   std::sort(overlays.begin(), overlays.end());
