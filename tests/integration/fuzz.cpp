@@ -3,8 +3,8 @@
 //   lasonic-fuzz feed PIPE_URL SIM_URL NAV_URL COUNT SEED
 //     Waits for the PROCESS_STATUS of every target, then publishes COUNT messages, deterministic
 //     from SEED, spread over the targets' input channels:
-//       PIPE_URL: ODOMETRY, LASER_SCAN, SONAR_RING (lasonic-complement), SONAR_COMPLEMENT and
-//                 AGM_TACTICAL (lasonic-pilot; ODOMETRY and LASER_SCAN too)
+//       PIPE_URL: ODOMETRY, LASER_SCAN, SONAR_RING (lasonic-complement), SONAR_COMPLEMENT,
+//                 AGM_TACTICAL and AGM_LINES (lasonic-pilot; ODOMETRY and LASER_SCAN too)
 //       SIM_URL:  SIM_STATE (lasonic-laser-driver, lasonic-sonar-driver)
 //       NAV_URL:  ODOMETRY, SONAR_COMPLEMENT, RADAR_MAP, LASER_SCAN (lasonic-navigator)
 //     Kinds: random bytes; a valid message cut short; bit flips in a valid message; a valid message
@@ -20,8 +20,8 @@
 //   lasonic-fuzz write LOG COUNT SEED [CHANNELS]
 //     The same messages for the pipeline's channels, written to a log (for lasonic-replay:
 //     deterministic, no network, fast); CHANNELS (comma-separated) instead of ODOMETRY,
-//     LASER_SCAN, SONAR_RING, SONAR_COMPLEMENT may add RADAR_MAP and AGM_TACTICAL (the navigator's
-//     and the remembering pilot's inputs, for `lasonic-replay --stages`). Prints sent.CH and
+//     LASER_SCAN, SONAR_RING, SONAR_COMPLEMENT may add RADAR_MAP, AGM_TACTICAL and AGM_LINES (the
+//     navigator's and the remembering pilot's inputs, for `lasonic-replay --stages`). Prints sent.CH and
 //     undecodable.CH (what Node cannot decode or finds over a cap) per channel.
 //   lasonic-fuzz check PIPE_LOG [SIM_LOG [NAV_LOG]]   |   check-only CHANNELS LOG...
 //     Every message on an output channel in the logs decodes, and its numbers are valid (finite
@@ -75,11 +75,12 @@ struct Target {
   std::vector<std::string> channels;
 };
 // The navigator listens on a URL of its own (NAV_URL): there only the fuzz feeds it (on PIPE_URL
-// the complement's outputs would be its inputs too), and its AGM_TACTICAL never reaches the
-// pilot, whose AGM_TACTICAL input is fuzzed on PIPE_URL instead.
+// the complement's outputs would be its inputs too), and its AGM_TACTICAL and AGM_LINES never
+// reach the pilot, whose AGM_TACTICAL and AGM_LINES inputs are fuzzed on PIPE_URL instead.
 const std::vector<Target> kTargets = {
     {"lasonic-complement", kPipe, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_RING}},
-    {"lasonic-pilot", kPipe, {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL}},
+    {"lasonic-pilot", kPipe,
+     {channels::ODOMETRY, channels::LASER_SCAN, channels::SONAR_COMPLEMENT, channels::AGM_TACTICAL, channels::AGM_LINES}},
     {"lasonic-laser-driver", kSim, {channels::SIM_STATE}},
     {"lasonic-sonar-driver", kSim, {channels::SIM_STATE}},
     {"lasonic-navigator", kNav, {channels::ODOMETRY, channels::SONAR_COMPLEMENT, channels::RADAR_MAP, channels::LASER_SCAN}},
@@ -107,7 +108,7 @@ Fate fateOn(const std::string& channel, const std::vector<uint8_t>& b) {
   if (channel == channels::SONAR_RING) return fateOf<sonar_ring_t>(b);
   if (channel == channels::SONAR_COMPLEMENT) return fateOf<complement_t>(b);
   if (channel == channels::SIM_STATE) return fateOf<sim_state_t>(b);
-  if (channel == channels::RADAR_MAP) return fateOf<line_map_t>(b);
+  if (channel == channels::RADAR_MAP || channel == channels::AGM_LINES) return fateOf<line_map_t>(b);
   if (channel == channels::AGM_TACTICAL) return fateOf<grid_map_t>(b);
   return Fate::DecodeError;
 }
@@ -287,7 +288,7 @@ class Gen {
       }
       return bytes(c);
     }
-    if (ch == channels::RADAR_MAP) {
+    if (ch == channels::RADAR_MAP || ch == channels::AGM_LINES) {  // (the pilot reads both as lines)
       line_map_t m = radarMap(t);
       for (int i = 0; i < n; ++i) {
         line_segment_t& l = m.segments[pick(m.segments.size())];
@@ -346,7 +347,7 @@ class Gen {
     if (ch == channels::LASER_SCAN) return bytes(scan(t));
     if (ch == channels::SONAR_RING) return bytes(ring(t));
     if (ch == channels::SONAR_COMPLEMENT) return bytes(complement(t));
-    if (ch == channels::RADAR_MAP) return bytes(radarMap(t));
+    if (ch == channels::RADAR_MAP || ch == channels::AGM_LINES) return bytes(radarMap(t));
     if (ch == channels::AGM_TACTICAL) return bytes(tactical(t));
     return bytes(simState(t));
   }
@@ -394,7 +395,7 @@ class Gen {
       if (ch == channels::LASER_SCAN) off = wireShape<laser_scan_t>().count_offset;
       else if (ch == channels::SONAR_RING) off = wireShape<sonar_ring_t>().count_offset;
       else if (ch == channels::SONAR_COMPLEMENT) off = wireShape<complement_t>().count_offset;
-      else if (ch == channels::RADAR_MAP) off = wireShape<line_map_t>().count_offset;
+      else if (ch == channels::RADAR_MAP || ch == channels::AGM_LINES) off = wireShape<line_map_t>().count_offset;
       else if (ch == channels::AGM_TACTICAL) off = wireShape<grid_map_t>().count_offset;
       else off = wireShape<sim_state_t>().count_offset;
       const int32_t claims[] = {std::numeric_limits<int32_t>::max(), -1, std::numeric_limits<int32_t>::min(),
@@ -440,7 +441,7 @@ class Gen {
       s.movers.assign(static_cast<size_t>(limits::kMovers + 1), mover_state_t{});
       return bytes(s);
     }
-    if (ch == channels::RADAR_MAP) {
+    if (ch == channels::RADAR_MAP || ch == channels::AGM_LINES) {
       line_map_t m = radarMap(t);
       m.segments.assign(static_cast<size_t>(limits::kLineSegments + 1), m.segments[0]);
       setLengths(m);
@@ -532,7 +533,7 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
   for (const Target& t : kTargets) expected_in[t.process] = base[t.process];
   const std::vector<std::string> chans = {channels::ODOMETRY,         channels::LASER_SCAN, channels::SONAR_RING,
                                           channels::SONAR_COMPLEMENT, channels::SIM_STATE,  channels::RADAR_MAP,
-                                          channels::AGM_TACTICAL};
+                                          channels::AGM_TACTICAL,     channels::AGM_LINES};
   const auto t_start = std::chrono::steady_clock::now();
   for (int64_t i = 0; i < count; ++i) {
     const std::string& ch = chans[gen.pick(chans.size())];
@@ -656,14 +657,14 @@ int check(const std::vector<std::string>& files, const std::set<std::string>& on
   try {
     for (size_t fi = 0; fi < files.size(); ++fi) {
       const bool sim_log = fi == 1;  // check PIPE_LOG SIM_LOG: LASER_SCAN there is the driver's
-      // check PIPE_LOG SIM_LOG NAV_LOG: AGM_TACTICAL on PIPE_URL and RADAR_MAP on NAV_URL are the
-      // fuzz's input, not a process's output.
+      // check PIPE_LOG SIM_LOG NAV_LOG: AGM_TACTICAL and AGM_LINES on PIPE_URL and RADAR_MAP on
+      // NAV_URL are the fuzz's input, not a process's output.
       const bool three = files.size() == 3;
       LogReader log(files[fi]);
       while (auto ev = log.next()) {
         const std::string& ch = ev->channel;
         if (!only.empty() && !only.count(ch)) continue;
-        if (three && fi == 0 && ch == channels::AGM_TACTICAL) continue;
+        if (three && fi == 0 && (ch == channels::AGM_TACTICAL || ch == channels::AGM_LINES)) continue;
         if (three && fi == 2 && ch != channels::AGM_TACTICAL && ch != channels::AGM_LINES &&
             ch != channels::CURRENT_SENSOR_MAP)
           continue;
@@ -798,7 +799,8 @@ int main(int argc, char** argv) {
     const auto chans = splitList(argv[5]);
     for (const auto& c : chans)
       if (c != channels::ODOMETRY && c != channels::LASER_SCAN && c != channels::SONAR_RING &&
-          c != channels::SONAR_COMPLEMENT && c != channels::RADAR_MAP && c != channels::AGM_TACTICAL) {
+          c != channels::SONAR_COMPLEMENT && c != channels::RADAR_MAP && c != channels::AGM_TACTICAL &&
+          c != channels::AGM_LINES) {
         std::fprintf(stderr, "lasonic-fuzz: write: no fuzz for channel '%s'\n", c.c_str());
         return 2;
       }

@@ -32,7 +32,7 @@ cat "$tmp/check.out"
 grep -h "input errors" "$tmp/replay1.err" || true
 
 config_with pilot remembered true "$tmp/remembered.yaml"
-"$bin/lasonic-fuzz" write "$tmp/tactical.lcmlog" $((count / 2)) "$seed" ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,RADAR_MAP,AGM_TACTICAL \
+"$bin/lasonic-fuzz" write "$tmp/tactical.lcmlog" $((count / 2)) "$seed" ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,RADAR_MAP,AGM_TACTICAL,AGM_LINES \
   >"$tmp/tactical.sent" || die "lasonic-fuzz write failed"
 sent() { awk -v k="$1" '$1 == k {print $2}' "$tmp/tactical.sent"; }
 # stage PROCESS STAGE OUTPUTS INPUTS: replay, check OUTPUTS, count errors on INPUTS.
@@ -59,7 +59,7 @@ stage() {
 }
 echo "tactical fuzz: $(tr '\n' ' ' <"$tmp/tactical.sent")"
 stage lasonic-navigator navigator AGM_TACTICAL,AGM_LINES,CURRENT_SENSOR_MAP ODOMETRY,SONAR_COMPLEMENT,RADAR_MAP
-stage lasonic-pilot pilot SECTOR_MAP,AGM_OPERATIONAL ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,AGM_TACTICAL
+stage lasonic-pilot pilot SECTOR_MAP,AGM_OPERATIONAL ODOMETRY,LASER_SCAN,SONAR_COMPLEMENT,AGM_TACTICAL,AGM_LINES
 grep -q "out.AGM_TACTICAL [1-9]" <("$bin/lasonic-fuzz" check-only AGM_TACTICAL "$tmp/navigator1.lcmlog") ||
   die "the navigator published no tactical map under fuzzing"
 echo "$test_name: PASS ($count messages, then $((count / 2)) for the tactical level, seed $seed)"
