@@ -68,12 +68,22 @@ int main(int argc, char** argv) {
   const bool ready = sup.prepare(!check);
   if (check) {
     std::cout << "host " << profile.host << ", LCM " << profile.lcm_url << "\n";
+    bool files_ok = true;
     for (const auto& p : profile.processes) {
       std::cout << (p.enabled ? "  " : "  (disabled) ") << p.name << ":";
       for (const auto& a : p.command) std::cout << " " << a;
       std::cout << "\n";
+      // The files every lasonic process reads at start-up: a profile names them relative to
+      // where it is started (the repository, or PREFIX/share/lasonic), so say so before a run
+      // would end in exit 2.
+      for (size_t i = 0; p.enabled && i + 1 < p.command.size(); ++i)
+        if ((p.command[i] == "--config" || p.command[i] == "--scenario") && !std::filesystem::exists(p.command[i + 1])) {
+          std::cerr << "lasonic-launch: " << p.name << ": " << p.command[i] << " " << p.command[i + 1]
+                    << ": no such file (from " << std::filesystem::current_path().string() << ")\n";
+          files_ok = false;
+        }
     }
-    return ready ? 0 : 2;
+    return ready && files_ok ? 0 : 2;
   }
   if (!ready) return 2;
   return sup.run(max_time);

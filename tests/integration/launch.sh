@@ -2,6 +2,7 @@
 # launch.sh: lasonic-launch's process handling, with plain shell processes (no LCM, no network).
 # Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 #  1. a profile naming a missing executable: exit 2, the message names it; optional: started anyway;
+#     --check names a --config file that is not there (exit 2);
 #  2. a process that always fails is restarted with a doubling back-off (0.2, 0.4, 0.8 s);
 #     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
 #     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
@@ -27,6 +28,16 @@ grep -q "ghost: executable 'lasonic-no-such-program' not found" "$tmp/launch1.tx
 sed -i 's/command: \[lasonic-no-such-program\]}/command: [lasonic-no-such-program], optional: true}/' "$tmp/missing.yaml"
 "$launch" "$tmp/missing.yaml" --log-dir "$tmp/logs1" 2>"$tmp/launch1b.txt" || die "optional missing: exit $?"
 grep -q "optional, not started" "$tmp/launch1b.txt" || die "the optional missing executable is not reported"
+# --check says when a --config or --scenario file is not there (relative to where it runs).
+cat >"$tmp/files.yaml" <<'YAML'
+lcm_url: memq://
+processes:
+  - {name: p, command: [sleep, --config, no-such-config.yaml]}
+YAML
+rc=0
+(cd "$tmp" && "$launch" files.yaml --check) >"$tmp/launch1c.txt" 2>&1 || rc=$?
+((rc == 2)) || die "--check with a missing --config file: exit $rc, expected 2"
+grep -q "p: --config no-such-config.yaml: no such file" "$tmp/launch1c.txt" || die "the missing file is not named"
 echo "$test_name: (1) ok"
 
 # 2. Restarts, back-off, kill -9, finish, stop order, SIGINT ignored.
