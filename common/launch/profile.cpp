@@ -73,7 +73,11 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
   std::set<std::string> used;
   const auto noteUsed = [&used](const std::string& text) {
     for (size_t i = text.find("${"); i != std::string::npos; i = text.find("${", i + 2)) {
-      if (i > 0 && text[i - 1] == '$') continue;  // "$${": a literal
+      // As expand() reads it: "$$" is a literal "$", so "${" starts a variable after an even
+      // number of "$" ("$${x}" is a literal, "$$${x}" a "$" and then ${x}).
+      size_t run = 1;
+      while (run <= i && text[i - run] == '$') ++run;
+      if (run % 2 == 0) continue;
       const size_t end = text.find('}', i + 2);
       if (end == std::string::npos) break;
       used.insert(text.substr(i + 2, end - i - 2));
@@ -141,7 +145,8 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
     if (k != "lcm_url" && !used.count(k)) {
       std::string list;
       for (const std::string& u : used) list += (list.empty() ? "" : ", ") + u;
-      throw ConfigError("--set " + k + ": the profile uses no variable ${" + k + "} (it uses: " + list + ")");
+      throw ConfigError("--set " + k + ": the profile uses no variable ${" + k + "}" +
+                        (list.empty() ? std::string(" (it uses none)") : " (it uses: " + list + ")"));
     }
   return p;
 }

@@ -185,18 +185,16 @@ void Supervisor::reap(Clock::time_point now) {
     // Exit 2 is a bad command line or configuration (README "Processes: start-up, exit codes,
     // status"): starting it again cannot help, and the systemd units do not either.
     const bool bad_config = WIFEXITED(status) && WEXITSTATUS(status) == 2;
-    if (bad_config && !finishing_ && p->spec.restart != RestartPolicy::Never) {
-      p->done = true;
-      bad_config_ = true;
-      say("%s exited 2 (bad command line or configuration: see %s/%s.txt) after %.1f s: not restarted",
-          p->spec.name.c_str(), log_dir_.c_str(), p->spec.name.c_str(), up);
-      continue;
-    }
-    const bool again = !finishing_ && (p->spec.restart == RestartPolicy::Always ||
-                                       (p->spec.restart == RestartPolicy::OnFailure && !ok));
+    if (bad_config) bad_config_ = true;
+    const bool again = !finishing_ && !bad_config &&
+                       (p->spec.restart == RestartPolicy::Always || (p->spec.restart == RestartPolicy::OnFailure && !ok));
     if (!again) {
       p->done = true;
-      say("%s %s after %.1f s", p->spec.name.c_str(), describeStatus(status).c_str(), up);
+      if (bad_config)
+        say("%s exited 2 (bad command line or configuration: see %s/%s.txt) after %.1f s: not restarted",
+            p->spec.name.c_str(), log_dir_.c_str(), p->spec.name.c_str(), up);
+      else
+        say("%s %s after %.1f s", p->spec.name.c_str(), describeStatus(status).c_str(), up);
       if (p->spec.finish && !finishing_) {
         finishing_ = true;
         finish_at_ = now + std::chrono::milliseconds(static_cast<int64_t>(1000 * profile_.finish_grace_s));

@@ -29,10 +29,11 @@ uint64_t be64(const uint8_t* p) { return (uint64_t{be32(p)} << 32) | be32(p + 4)
 LogReader::LogReader(const std::string& path) : path_(path) {
   f_.reset(std::fopen(path.c_str(), "rb"));
   if (!f_) throw LogError(path + ": cannot open LCM log for reading");
-  if (std::fseek(f_.get(), 0, SEEK_END) == 0) {
-    file_size_ = std::ftell(f_.get());
-    std::fseek(f_.get(), 0, SEEK_SET);
-  }
+  // A regular file's size bounds its events; a pipe or FIFO (`--in <(...)`) has none, and is read
+  // to its end as LCM reads it.
+  struct stat st {};
+  regular_ = ::fstat(::fileno(f_.get()), &st) == 0 && S_ISREG(st.st_mode);
+  if (regular_) file_size_ = static_cast<int64_t>(st.st_size);
   std::setvbuf(f_.get(), nullptr, _IONBF, 0);  // buffered here
 }
 
@@ -72,14 +73,13 @@ bool LogReader::refreshFileSize(int64_t need) {
 }
 
 void LogReader::stop(const std::string& reason, int64_t at) {
-  // Said once, with where: a log cut short by a power loss or a killed lcm-logger is still worth
-  // reading up to there, but never silently (the tools go on with the events before it).
-  std::cerr << "warning: " << path_ << ": the log ends at byte " << at << " of " << file_size_ << " (" << reason
-            << "); " << events_ << " events read before it\n";
+  // Said once per reading, with where: a log cut short by a power loss or a killed lcm-logger is
+  // still worth reading up to there, but never silently (the tools go on with the events before it).
+  std::cerr << "warning: " << path_ << ": the log ends at byte " << at;
+  if (regular_) std::cerr << " of " << file_size_;
+  std::cerr << " (" << reason << "); " << events_ << " events read before it\n";
   stop_reason_ = reason;
   pos_ = end_;
-  std::fseek(f_.get(), 0, SEEK_END);
-  file_offset_ = file_size_;
 }
 
 std::optional<LogRecordView> LogReader::nextView() {
@@ -117,7 +117,8 @@ std::optional<LogRecordView> LogReader::nextView() {
   const size_t body = static_cast<size_t>(channellen) + static_cast<size_t>(datalen);
   // An event longer than what is left of the file is a cut or corrupt one: said before buffering
   // it (a corrupt length near 2^31 would otherwise make the reader allocate 2 GB first).
-  if (bytesRead() + static_cast<int64_t>(body) > file_size_ && !refreshFileSize(bytesRead() + static_cast<int64_t>(body))) {
+  if (regular_ && bytesRead() + static_cast<int64_t>(body) > file_size_ &&
+      !refreshFileSize(bytesRead() + static_cast<int64_t>(body))) {
     stop("an event of " + std::to_string(body) + " bytes, more than the " + std::to_string(file_size_ - bytesRead()) +
          " left in the file: cut short or corrupt", at);
     return std::nullopt;

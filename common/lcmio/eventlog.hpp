@@ -89,7 +89,8 @@ class LogReader {
   static std::vector<LogRecord> readAll(const std::string& path);
   // Bytes read from the file so far (for progress reports).
   int64_t bytesRead() const { return file_offset_ - static_cast<int64_t>(end_ - pos_); }
-  // Size of the file when it was opened.
+  // Size of a regular file (when opened, or as found when an event seemed to run past it); 0 for
+  // a pipe.
   int64_t fileSize() const { return file_size_; }
   // Events returned so far.
   int64_t events() const { return events_; }
@@ -110,6 +111,7 @@ class LogReader {
   size_t pos_ = 0, end_ = 0;
   int64_t file_offset_ = 0, file_size_ = 0;
   int64_t events_ = 0;
+  bool regular_ = false;
   std::string stop_reason_;
 };
 

@@ -77,9 +77,11 @@ int main(int argc, char** argv) {
       // where it is started (the repository, or PREFIX/share/lasonic), so say so before a run
       // would end in exit 2.
       for (size_t i = 0; p.enabled && i + 1 < p.command.size(); ++i)
-        if ((p.command[i] == "--config" || p.command[i] == "--scenario") && !std::filesystem::exists(p.command[i + 1])) {
+        if (std::error_code ec; (p.command[i] == "--config" || p.command[i] == "--scenario") &&
+                                !std::filesystem::is_regular_file(p.command[i + 1], ec)) {
+          std::error_code cwd_ec;
           std::cerr << "lasonic-launch: " << p.name << ": " << p.command[i] << " " << p.command[i + 1]
-                    << ": no such file (from " << std::filesystem::current_path().string() << ")\n";
+                    << ": no such file (from " << std::filesystem::current_path(cwd_ec).string() << ")\n";
           files_ok = false;
         }
     }

@@ -154,8 +154,8 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
   pipeline.run(next, [&recorder](int64_t timestamp) { recorder.timestamp = timestamp; });
   out.flush();
   if (events == 0) {  // nothing to replay is an error, not an empty output log
-    std::cerr << "lasonic-replay: " << in_path << ": no LCM event in the file" << "\n";
-    std::remove(out_path.c_str());
+    std::cerr << "lasonic-replay: " << in_path << ": no LCM event in the file (" << out_path
+              << " holds none either)\n";
     return 2;
   }
   spdlog::info("replay: {} input events ({} derived dropped), {} events written to {}", events, dropped,

@@ -89,10 +89,18 @@ expect_rc() {  # WANT CASE TOOL ARGS...
   "$bin/$tool" "$@" >"$tmp/cli.$case.out" 2>&1 || rc=$?
   [[ $rc -eq $want ]] || die "$tool ($case): exit status $rc, expected $want: $(tail -n 2 "$tmp/cli.$case.out")"
 }
-for tool in lasonic-sim lasonic-replay lasonic-eval lasonic-eval-table lasonic-scenegen lasonic-log-stats; do
-  [[ -x $bin/$tool ]] || continue
+# (Each with its required options, so that the unknown one is what is refused.)
+declare -A required=(
+  [lasonic-sim]="--scenario $scenario --out $tmp/x.lcmlog" [lasonic-replay]="--in $tmp/raw.lcmlog --out $tmp/x.lcmlog"
+  [lasonic-eval]="--log $tmp/out.lcmlog --scenario $scenario" [lasonic-eval-table]="$tmp/eval1.json"
+  [lasonic-scenegen]="--out $tmp/scenes"
+)
+for tool in lasonic-sim lasonic-replay lasonic-eval lasonic-eval-table lasonic-scenegen; do
   expect_rc 0 "$tool-help" "$tool" --help
-  expect_rc 2 "$tool-unknown" "$tool" --no-such-option
+  # shellcheck disable=SC2086  # the required options are words
+  expect_rc 2 "$tool-unknown" "$tool" ${required[$tool]} --no-such-option
+  grep -q "^$tool: .*no-such-option" "$tmp/cli.$tool-unknown.out" ||
+    die "$tool: the unknown option is not what was refused: $(cat "$tmp/cli.$tool-unknown.out")"
 done
 expect_rc 2 sim-required lasonic-sim --out "$tmp/x.lcmlog"
 expect_rc 2 replay-required lasonic-replay --out "$tmp/x.lcmlog"

@@ -130,5 +130,16 @@ starts=$(grep -c "misconfigured started" "$tmp/launch4.txt" || true)
 ((starts == 1)) || die "a process exiting 2 was started $starts times, expected once"
 grep -q "misconfigured exited 2 (bad command line or configuration: see .*misconfigured.txt) after .* s: not restarted" \
   "$tmp/launch4.txt" || die "no 'not restarted' message: $(cat "$tmp/launch4.txt")"
+# ... also a `finish` process: the run ends (exit 2), it does not wait for --max-time.
+cat >"$tmp/badfinish.yaml" <<'YAML'
+lcm_url: memq://
+processes:
+  - {name: other, command: [sleep, "30"]}
+  - {name: world, command: [sh, -c, 'exit 2'], restart: on-failure, finish: true}
+YAML
+rc=0
+"$launch" "$tmp/badfinish.yaml" --log-dir "$tmp/logs4b" --max-time 20 2>"$tmp/launch4b.txt" || rc=$?
+((rc == 2)) || die "a finish process exiting 2: the launcher exited $rc, expected 2: $(cat "$tmp/launch4b.txt")"
+grep -q "world has finished" "$tmp/launch4b.txt" || die "a finish process exiting 2 did not end the run"
 echo "$test_name: (4) ok"
 echo "$test_name: PASS"
