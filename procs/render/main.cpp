@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
   // ---- pass 2: the pictures
   const std::string log_name = basename(log_path);
   SnapshotCollector collector;
+  bool scenario_mismatch = false;
   size_t next = 0;
   int64_t written = 0;
   auto emit = [&](size_t k) {
@@ -168,7 +169,18 @@ int main(int argc, char** argv) {
     s.log_name = log_name;
     for (const auto& [ch, n] : info.messages) s.in_log.insert(ch);
     const std::string path = every_s ? framePath(out_path, static_cast<int64_t>(k)) : out_path;
-    const auto status = writeFig8Png(path, s, scenario ? &*scenario : nullptr, ro);
+    // A scenario the log was not simulated from would draw a wrong truth under right maps: its
+    // movers must be the log's (SIM_STATE names them by their index in the scenario).
+    if (scenario && s.true_robot && !scenario_mismatch) {
+      for (const auto& m : s.movers)
+        if (m.id < 0 || static_cast<size_t>(m.id) >= scenario->movers.size()) scenario_mismatch = true;
+      if (s.movers.size() != scenario->movers.size()) scenario_mismatch = true;
+      if (scenario_mismatch)
+        std::fprintf(stderr, "%s: warning: %s was not simulated from %s (its SIM_STATE has %zu movers, the scenario %zu): "
+                     "no truth drawn\n", kName, log_path.c_str(), scenario_path.c_str(), s.movers.size(),
+                     scenario->movers.size());
+    }
+    const auto status = writeFig8Png(path, s, scenario && !scenario_mismatch ? &*scenario : nullptr, ro);
     ++written;
     const auto size = fig8Size(ro);
     std::printf("%s: wrote %s (%d x %d px, t = %.2f s)\n", kName, path.c_str(), size.width, size.height, s.t_s);

@@ -32,6 +32,12 @@ W=1600 H=878
   die "lasonic-render exited $? on the replayed log"
 grep -q "wrote $tmp/a.png (1600 x 878 px, t = 2.50 s)" "$tmp/a.txt" || die "no 'wrote' line for t = 2.50 s"
 "$check" png "$tmp/a.png" $W $H >"$tmp/a-check.txt" 2>&1 || die "a.png: $(cat "$tmp/a-check.txt")"
+! grep -q "was not simulated from" "$tmp/a.txt" || die "the log's own scenario was called another's"
+# A scenario with other movers (corridor_people's people; fig7_lab has none): said, no truth drawn.
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/other.png" --time 2.5 --scenario "$src/deploy/scenarios/corridor_people.yaml" \
+  >"$tmp/other.txt" 2>&1 || die "lasonic-render exited $? with another scenario"
+grep -q "was not simulated from .*corridor_people.yaml (its SIM_STATE has 0 movers, the scenario 3): no truth drawn" \
+  "$tmp/other.txt" || die "another scenario's truth drawn without a word: $(cat "$tmp/other.txt")"
 "$bin/lasonic-log-stats" "$tmp/out.lcmlog" >"$tmp/stats"
 for ch in RADAR_MAP SONAR_HYPOTHESIS SONAR_RING SONAR_COMPLEMENT AGM_OPERATIONAL AGM_TACTICAL CURRENT_SENSOR_MAP SECTOR_MAP; do
   if [[ -z $(stat "$ch") ]]; then
