@@ -1,4 +1,4 @@
-// lasonic-render --log LOG --out PNG [--time S | --most-sonar] [--every S] [--scenario FILE]
+// lasonic-render --log LOG --out PNG [--time S [--every S] | --most-sonar] [--scenario FILE]
 //
 // Draws the paper's Fig. 8 (section 4) for one moment of a log, or a frame sequence: the Radar
 // Map, the hypothetical and the real sonar scan, the complementary readings, the operational and
