@@ -214,22 +214,28 @@ YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over) {
 }
 }  // namespace
 
-Config Config::loadFiles(const std::vector<std::string>& filenames) {
+namespace {
+// The files layered in order; with `top_level`, each file's top-level keys checked on its own,
+// so that a message names the file that holds the key.
+Config layerFiles(const std::vector<std::string>& filenames, const std::vector<std::string>* top_level) {
   if (filenames.empty()) return Config{};
-  if (filenames.size() == 1) return loadFile(filenames.front());
   YAML::Node merged(YAML::NodeType::Map);
   std::string names;
   for (const std::string& f : filenames) {
-    merged = deepMerge(merged, loadFile(f).node());
+    const Config c = Config::loadFile(f);
+    if (top_level) c.allowOnly(*top_level);
+    if (filenames.size() == 1) return c;
+    merged = deepMerge(merged, c.node());
     names += (names.empty() ? "" : " + ") + f;
   }
   return Config(merged, "", names);
 }
+}  // namespace
+
+Config Config::loadFiles(const std::vector<std::string>& filenames) { return layerFiles(filenames, nullptr); }
 
 Config Config::loadConfiguration(const std::vector<std::string>& filenames) {
-  // Each file checked on its own, so the message names the file that holds the key.
-  for (const std::string& f : filenames) loadFile(f).allowOnly(kConfigSections);
-  return loadFiles(filenames);
+  return layerFiles(filenames, &kConfigSections);
 }
 
 Config Config::mergedWith(const Config& over) const {

@@ -68,16 +68,11 @@ ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& sc
   ScenarioMatch m;
   if (log.sim_states.empty()) return m;
   const size_t n = scenario.movers.size();
+  std::vector<int> ids;
   for (const sim_state_t& st : log.sim_states) {
-    if (st.movers.size() != n) {
-      m.error = "its SIM_STATE has " + std::to_string(st.movers.size()) + " movers, the scenario " + std::to_string(n);
-      return m;
-    }
-    for (const mover_state_t& mv : st.movers)
-      if (mv.id < 0 || static_cast<size_t>(mv.id) >= n) {
-        m.error = "its SIM_STATE names mover " + std::to_string(mv.id) + ", the scenario has " + std::to_string(n);
-        return m;
-      }
+    ids.clear();
+    for (const mover_state_t& mv : st.movers) ids.push_back(mv.id);
+    if (m.error = sim::simStateMoversMismatch(scenario, ids); !m.error.empty()) return m;
   }
   // The truth channels name obstacles by their index in the scenario (movers -(id)-2).
   const auto known = [&](int64_t o) {

@@ -387,6 +387,16 @@ Scenario parseScenario(const Config& root) {
   return s;
 }
 
+std::string simStateMoversMismatch(const Scenario& scenario, const std::vector<int>& mover_ids) {
+  const size_t n = scenario.movers.size();
+  if (mover_ids.size() != n)
+    return "its SIM_STATE has " + std::to_string(mover_ids.size()) + " movers, the scenario " + std::to_string(n);
+  for (const int id : mover_ids)
+    if (id < 0 || static_cast<size_t>(id) >= n)
+      return "its SIM_STATE names mover " + std::to_string(id) + ", the scenario has " + std::to_string(n);
+  return {};
+}
+
 Scenario loadScenario(const std::string& file) {
   Scenario s = parseScenario(Config::loadFile(file));
   s.file = file;

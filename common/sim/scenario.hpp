@@ -136,5 +136,8 @@ struct Scenario {
 // Throws ConfigError naming the file and key path.
 Scenario loadScenario(const std::string& file);
 Scenario parseScenario(const Config& root);
+// Whether the movers a log's SIM_STATE names (their ids) are this scenario's, as they are in a
+// log simulated from it: empty if so, else why not ("its SIM_STATE has 3 movers, the scenario 0").
+std::string simStateMoversMismatch(const Scenario& scenario, const std::vector<int>& mover_ids);
 
 }  // namespace lasonic::sim

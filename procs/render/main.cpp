@@ -172,13 +172,13 @@ int main(int argc, char** argv) {
     // A scenario the log was not simulated from would draw a wrong truth under right maps: its
     // movers must be the log's (SIM_STATE names them by their index in the scenario).
     if (scenario && s.true_robot && !scenario_mismatch) {
-      for (const auto& m : s.movers)
-        if (m.id < 0 || static_cast<size_t>(m.id) >= scenario->movers.size()) scenario_mismatch = true;
-      if (s.movers.size() != scenario->movers.size()) scenario_mismatch = true;
-      if (scenario_mismatch)
-        std::fprintf(stderr, "%s: warning: %s was not simulated from %s (its SIM_STATE has %zu movers, the scenario %zu): "
-                     "no truth drawn\n", kName, log_path.c_str(), scenario_path.c_str(), s.movers.size(),
-                     scenario->movers.size());
+      std::vector<int> ids;
+      for (const auto& m : s.movers) ids.push_back(m.id);
+      if (const std::string why = sim::simStateMoversMismatch(*scenario, ids); !why.empty()) {
+        scenario_mismatch = true;
+        std::fprintf(stderr, "%s: warning: %s was not simulated from %s (%s): no truth drawn\n", kName,
+                     log_path.c_str(), scenario_path.c_str(), why.c_str());
+      }
     }
     const auto status = writeFig8Png(path, s, scenario && !scenario_mismatch ? &*scenario : nullptr, ro);
     ++written;
