@@ -7,7 +7,8 @@
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
 #     and key path; an empty log, and a log scored against a scenario it was not simulated from,
-#     exit 2 saying so; the offline tools exit 0 on --help and 2 on any bad command line;
+#     exit 2 saying so (lasonic-log-stats too); the offline tools exit 0 on --help and 2 on any bad
+#     command line;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -73,6 +74,10 @@ rc=0
 [[ $rc -eq 2 ]] || die "an empty log: exit status $rc, expected 2"
 grep -qF "empty.lcmlog: no lasonic message on any scored channel" "$tmp/empty_log.err" ||
   die "an empty log: the message does not say so: $(cat "$tmp/empty_log.err")"
+rc=0
+"$bin/lasonic-log-stats" "$tmp/empty.lcmlog" >"$tmp/empty_stats.err" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] && grep -qF "empty.lcmlog: no event in the log" "$tmp/empty_stats.err" ||
+  die "lasonic-log-stats on an empty log: exit status $rc: $(cat "$tmp/empty_stats.err")"
 printf 'baselines:\n  sonar_himm:\n    threshold: 99\n' >"$tmp/bad.yaml"
 expect_error bad_value "bad.yaml: baselines.sonar_himm.threshold" --config "$tmp/bad.yaml"
 printf 'baselines:\n  log_odds:\n    size: 40\n' >"$tmp/small.yaml"

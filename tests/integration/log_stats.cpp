@@ -5,7 +5,7 @@
 //   LASER_SCAN.readings <n>        readings per scan (of the last scan)
 //   LASER_SCAN.ok_fraction <f>     fraction of all readings with FLAG_OK
 //   <process>.<counter> <value>    from each process's last PROCESS_STATUS: errors, and counters
-// Exit status: 0, or 2 when the log cannot be read.
+// Exit status: 0, or 2 when the log cannot be read or holds no event (a recording that failed).
 #include <cstdio>
 #include <map>
 #include <string>
@@ -48,6 +48,10 @@ int main(int argc, char** argv) {
     }
   } catch (const LogError& e) {
     std::fprintf(stderr, "lasonic-log-stats: %s\n", e.what());
+    return 2;
+  }
+  if (events == 0) {
+    std::fprintf(stderr, "lasonic-log-stats: %s: no event in the log\n", argv[1]);
     return 2;
   }
   std::printf("events %lld\nspan_s %.3f\n", static_cast<long long>(events), static_cast<double>(last - first) * 1e-6);
