@@ -126,10 +126,10 @@ struct ClassifiedReading {
   bool by_pole = false;  // Redundant because it matched a pole of the Radar Map (poleEcho)
   bool by_crosstalk = false;  // Redundant because it matched crosstalk by way of a corner
   bool by_late_echo = false;  // Redundant because it matched a late echo of an earlier ping (firstLateEcho)
-  // Its echo arc lies (partly) where the newest scan does not look, but an earlier one saw it:
-  // judged with that scan's lines too (RadarMapMemory), not outside_view.
   // Its echo arc lies wholly inside the Radar Map's view (arcSeen; true without an echo or a map).
   bool arc_seen = true;
+  // Its echo arc lies (partly) where the newest scan does not look, but an earlier one saw it:
+  // judged with that scan's lines too (RadarMapMemory), not outside_view.
   bool seen_before = false;
   double seen_before_range = 0;  // [m] the hypothesis on the newest and that scan's lines
 };

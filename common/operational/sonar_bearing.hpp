@@ -10,8 +10,9 @@
 // - a thin object (pipe) anywhere within +-b/2 of the axis is put on the axis.
 // Adjacent sensors of a ring overlap (24 sensors of 30 deg: the beam of sensor i covers the axes
 // of i-1 and i+1), so their readings locate the echo better, still as ONE point per reading:
-//   neighbours j of reading i: readings of other sensors of this ring cycle, whose axis lies
-//   inside i's beam (|angleDiff(psi_j, psi_i)| < b). Per side of i's axis (left: psi_j > psi_i):
+//   neighbours j of reading i: readings of other sensors of this ring cycle whose beam overlaps
+//   i's (|angleDiff(psi_j, psi_i)| < (b_i + b_j) / 2, each reading's own beam width; for equal
+//   beams, the axis lies inside i's beam). Per side of i's axis (left: psi_j > psi_i):
 //   - "shorter": some neighbour on that side reads r_j < r_i - similar: the surface comes nearer
 //     on that side, so i's nearest point is at its beam edge on that side: psi_i +- b/2;
 //   - "similar": some neighbour reads |r_j - r_i| <= similar: the same nearest point is most

@@ -31,6 +31,7 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     poles_.reset();
     rm_memory_.clear();
     last_scan_utime_.reset();
+    last_ring_utime_.reset();
     overlapping_reported_.clear();  // a restarted driver may fire another ring
     pings_.clear();
     laser_stamps_.reset();
@@ -118,6 +119,10 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
 void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   if (!timeOk(m.utime, channels::SONAR_RING)) return;
   node_.noteMessageTime(m.utime);
+  // A repeated or out-of-order group would be classified and published again, and the ping
+  // history (late echoes, crosstalk) assumes firings in time order.
+  if (!isNewer(node_, last_ring_utime_, m.utime, channels::SONAR_RING, "sonar")) return;
+  last_ring_utime_ = m.utime;
   std::vector<cp::InputProblem> problems;
   const cp::SonarGroup group = cp::sonarGroupFromMessage(m, problems);
   reportProblems(node_, problems);

@@ -79,6 +79,7 @@ class ComplementStage {
   complement::PoleTracker poles_;
   complement::RadarMapMemory rm_memory_;  // earlier scans' lines where the newest does not look
   std::optional<int64_t> last_scan_utime_;
+  std::optional<int64_t> last_ring_utime_;  // (groups fire one after another: each is newer)
   TimeReset clock_;
   StampAgreement laser_stamps_, sonar_stamps_;  // each driver's clock against the odometry's
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here

@@ -60,7 +60,8 @@ NavigatorConfig navigatorConfig(const Config& c) {
   p.lines_follow_g_threshold = !c.section("lines").has("gp_threshold");
   p.g_threshold_fixed = c.section("agm").has("g_threshold");
   p.g_threshold_walking_speed = c.get("g_threshold_walking_speed", p.g_threshold_walking_speed, Range::between(0, 10));
-  p.publish_hz = c.get("publish_hz", p.publish_hz, Range::positive());
+  // (Bounded: its period in µs must fit an int64; below one per 100 s the tactical maps say nothing.)
+  p.publish_hz = c.get("publish_hz", p.publish_hz, Range::between(0.01, 1000));
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
   p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
   p.verify_max_wait_scans = c.get("verify_max_wait_scans", p.verify_max_wait_scans, Range::between(0, 100));

@@ -86,8 +86,10 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
   p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
-  p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::positive());
-  p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::positive());
+  // (Bounded: a period or interval in µs must fit an int64; a display rate below one per 100 s or
+  // a map interval of a minute has no use on a moving robot.)
+  p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::between(0.01, 1000));
+  p.map_max_interval_s = c.get("map_max_interval_s", p.map_max_interval_s, Range::between(0.001, 60));
   p.placement = echoPlacementConfig(c, p.placement);
   {
     const Config m = c.section("motion_confirmation");
@@ -540,7 +542,14 @@ void PilotStage::publishSectorMap() {
 }
 
 void PilotStage::publishAgm(int64_t utime) {
-  gridMapMessageInto(agm_msg_, agm_, utime, poses_.at(utime).value_or(geom::Pose2{}), cfg_.sector_map.gp_threshold);
+  // Without the robot's pose at that time the grid would go out with a made-up one (the origin);
+  // as the sector map, it waits for odometry (the AGM itself runs on: its hits are global).
+  const auto pose = poses_.at(utime);
+  if (!pose) {
+    node_.count("agm.no_odometry");
+    return;
+  }
+  gridMapMessageInto(agm_msg_, agm_, utime, *pose, cfg_.sector_map.gp_threshold);
   node_.publish(channels::AGM_OPERATIONAL, agm_msg_);
   last_agm_publish_ = utime;
 }

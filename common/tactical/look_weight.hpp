@@ -1,6 +1,7 @@
 #pragma once
-// Look weight (beyond the paper; Jörg 1995 sec. 3.4 sets the tactical G_T by how often a static
-// obstacle is heard): how many hits one echo counts for in the tactical AGM.
+// Look weight (beyond the paper, whose sec. 3.3 sets G_T between perceiving moving obstacles and
+// the signal-to-noise ratio; tying it to how often a static surface is heard is this project's):
+// how many hits one echo counts for in the tactical AGM.
 //
 // G_T counts echoes. A static surface is heard while the robot drives past it, for a time
 // inversely proportional to the robot's speed, so at twice the speed it gives half the echoes and

@@ -124,6 +124,13 @@ TEST_F(StageTest, TimestampsGoingBackwardsAreRejected) {
   scan(50'000);
   EXPECT_EQ(maps.size(), 1u);
   EXPECT_EQ(node.counter("rejected.laser_backwards"), 1);
+  ring(200'000, {kDoor}, {1.5});
+  ring(200'000, {kDoor}, {1.5});  // the same group again
+  ring(150'000, {kDoor}, {1.5});  // an older one
+  EXPECT_EQ(comps.size(), 1u);
+  EXPECT_EQ(node.counter("rejected.sonar_backwards"), 2);
+  ring(210'000, {kDoor}, {1.5});  // the next one is taken
+  EXPECT_EQ(comps.size(), 2u);
 }
 
 TEST_F(StageTest, MissingOdometryMakesTheGroupInvalidAndKeepsTheRadarMap) {

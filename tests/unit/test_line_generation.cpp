@@ -171,6 +171,7 @@ TEST(LineGeneration, OnlyTheNearestCellsPerAngleUnlessPerCluster) {
   // Two rows of one surface (quantisation): only the nearer row is a line candidate.
   const auto visible = nearestPerAngle(toPolar(join(along({-1, 1}, {1, 1}), along({-1, 1.1}, {1, 1.1})), {0, 0, 0}),
                                        geom::deg2rad(1.0), kCell);
+  ASSERT_EQ(visible.size(), along({-1, 1}, {1, 1}).size());  // every cell of the nearer row
   for (const auto& c : visible) EXPECT_NEAR(c.cell.centre.y(), 1.0, 1e-9);
 }
 

@@ -860,7 +860,7 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("navigator.published_size"), std::string::npos) << e.what();
   }
-  for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {hit_weight_low_speed: -1}", "navigator: {publish_hz: 0}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
+  for (const char* bad : {"navigator: {hit_weight_speed: -0.1}", "navigator: {hit_weight_speed: .nan}", "navigator: {hit_weight_low_speed: -1}", "navigator: {publish_hz: 0}", "navigator: {publish_hz: 1e-14}", "navigator: {agm: {size: 1}}", "navigator: {lines: {min_cells: 0}}",
                           "navigator: {verify_max_wait_s: -1}", "navigator: {verify_max_wait_scans: -1}", "navigator: {speed: 1}", "navigator: {g_threshold_walking_speed: -0.5}", "navigator: {agm_bearing: cone}",
                           "navigator: {published_size: 201}", "navigator: {published_size: -1}",
                           "navigator: {agm: {size: 50}}", "navigator: {agm: {forget_sigma_m: -0.1}}",

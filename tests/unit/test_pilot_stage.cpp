@@ -253,7 +253,9 @@ TEST_F(PilotFixture, NoOdometryNoSectorMap) {
   complement(300'000);
   EXPECT_TRUE(maps.empty());
   EXPECT_EQ(node.counter("sector_map.no_odometry"), 1);
-  EXPECT_EQ(grids.size(), 1u);  // the AGM itself still runs (hits are global)
+  EXPECT_TRUE(grids.empty());  // no grid with a made-up robot pose either
+  EXPECT_EQ(node.counter("agm.no_odometry"), 1);
+  EXPECT_EQ(node.counter("agm.cycles"), 1);  // the AGM itself still runs (hits are global)
 }
 
 TEST_F(PilotFixture, RotationDoesNotRotateTheGrid) {
@@ -278,6 +280,8 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   expectError("pilot: {agm: {t: -1}}", "pilot.agm.t");
   expectError("pilot: {max_range: 6.0}", "pilot.max_range");  // beyond the AGM window
   expectError("pilot: {agm_publish_hz: 0}", "pilot.agm_publish_hz");
+  expectError("pilot: {agm_publish_hz: 1e-14}", "pilot.agm_publish_hz");  // its period would overflow
+  expectError("pilot: {map_max_interval_s: 1e13}", "pilot.map_max_interval_s");
   expectError("pilot: {predict_movers: maybe}", "pilot.predict_movers");
   expectError("pilot: {mover_prediction: {horizon_s: -1}}", "pilot.mover_prediction.horizon_s");
   expectError("pilot: {mover_prediction: {horizon_scans: -1}}", "pilot.mover_prediction.horizon_scans");
