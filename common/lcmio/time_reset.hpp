@@ -7,9 +7,18 @@
 // input may legitimately run ahead of another (odometry published ahead of a slow sensor); after
 // a reset every channel starts afresh, so one restart is one reset. Smaller steps back are late
 // or reordered messages: the stages drop them (rejected.*_backwards).
+//
+// The other way (admit): a message more than kJumpUs AHEAD of the newest time of every input is
+// held back until the next message on its channel shows which it was. Accepted at once, one
+// stray time (a clock stepped on one computer, a stray publisher, a second log played into the
+// same processes) would make the very next normal message look like a restart, and the stages
+// would throw away everything they remember. If the channel goes on from the held time, its
+// clock stepped forward: the held message is lost, the rest is used. If it comes back to the
+// common time, the held one was a stray: reported, dropped, nothing reset.
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -40,9 +49,55 @@ class TimeReset {
     return jumped;
   }
 
+  // What admit() says of one message on `channel`.
+  struct Admission {
+    enum Kind { Ok, Restarted, HeldAhead } kind = Ok;
+    int64_t reference = 0;               // HeldAhead: the newest input time it is ahead of
+    std::optional<int64_t> stray;        // a time held on this channel that this message shows was a stray
+    int64_t stray_reference = 0;         // the newest input time when that stray came
+    std::optional<int64_t> stepped_from;  // the held time was confirmed: the newest input time it stepped from
+  };
+  // jumpedBack's restarts, and holding back a time far ahead of every input (see above): Ok and
+  // Restarted are used (after a reset for Restarted), HeldAhead is dropped for now.
+  Admission admit(std::string_view channel, int64_t utime) {
+    Admission a;
+    if (const auto h = held_.find(channel); h != held_.end()) {
+      const Held held = h->second;
+      held_.erase(h);
+      if (utime >= held.utime) {
+        a.stepped_from = held.reference;
+        jumpedBack(channel, utime);  // (cannot jump back: later than every time kept)
+        return a;
+      }
+      a.stray = held.utime;
+      a.stray_reference = held.reference;
+    }
+    if (const auto latest = newestOfAll(); latest && utime > *latest + kJumpUs) {
+      held_.insert_or_assign(std::string(channel), Held{utime, *latest});
+      a.kind = Admission::HeldAhead;
+      a.reference = *latest;
+      return a;
+    }
+    if (jumpedBack(channel, utime)) {
+      held_.clear();
+      a.kind = Admission::Restarted;
+    }
+    return a;
+  }
+
  private:
+  std::optional<int64_t> newestOfAll() const {
+    std::optional<int64_t> latest;
+    for (const auto& [channel, t] : newest_)
+      if (!latest || t > *latest) latest = t;
+    return latest;
+  }
+  struct Held {
+    int64_t utime = 0, reference = 0;
+  };
   // (std::less<>: looked up by the channel's name as given, without a string made per message)
   std::map<std::string, int64_t, std::less<>> newest_;
+  std::map<std::string, Held, std::less<>> held_;
 };
 
 }  // namespace lasonic

@@ -37,7 +37,7 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     laser_stamps_.reset();
     sonar_stamps_.reset();
   }
-  return c != ClockCheck::Bad;
+  return c == ClockCheck::Ok || c == ClockCheck::Restarted;
 }
 
 void ComplementStage::onOdometry(const odometry_t& m) {

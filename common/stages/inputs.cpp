@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -46,11 +47,37 @@ ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* c
                                           " us is not a time (outside [0, " + std::to_string(kMaxUtime) + "]): dropped");
     return ClockCheck::Bad;
   }
-  if (!clock.jumpedBack(channel, utime)) return ClockCheck::Ok;
-  node.count("time_resets");
-  spdlog::warn("{}.utime = {} jumps back by more than {} s: the clock restarted; starting afresh [time_resets: {}]",
-               channel, utime, TimeReset::kJumpUs / 1e6, node.counter("time_resets"));
-  return ClockCheck::Restarted;
+  const TimeReset::Admission a = clock.admit(channel, utime);
+  const auto seconds = [](int64_t us) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.3f", static_cast<double>(us) * 1e-6);
+    return std::string(s);
+  };
+  if (a.stray)
+    node.reportError("rejected.time_ahead",
+                     std::string(channel) + ".utime = " + std::to_string(*a.stray) + " was " +
+                         seconds(*a.stray - a.stray_reference) + " s ahead of every input and the next " + channel +
+                         " (" + std::to_string(utime) +
+                         ") is back: a stray time (a clock stepped on one computer, or a second source on the "
+                         "channel), dropped");
+  if (a.stepped_from) {
+    node.count("time.steps_forward");
+    spdlog::warn("{}.utime = {} goes on {} s ahead of the other inputs: its clock stepped forward; its first "
+                 "message at the new time was held back and dropped [time.steps_forward: {}]",
+                 channel, utime, seconds(utime - *a.stepped_from), node.counter("time.steps_forward"));
+  }
+  switch (a.kind) {
+    case TimeReset::Admission::HeldAhead:
+      node.count(std::string("time.held_ahead.") + channel);
+      return ClockCheck::HeldAhead;
+    case TimeReset::Admission::Restarted:
+      node.count("time_resets");
+      spdlog::warn("{}.utime = {} jumps back by more than {} s: the clock restarted; starting afresh [time_resets: {}]",
+                   channel, utime, TimeReset::kJumpUs / 1e6, node.counter("time_resets"));
+      return ClockCheck::Restarted;
+    case TimeReset::Admission::Ok: break;
+  }
+  return ClockCheck::Ok;
 }
 
 bool laserReportsEcho(const std::vector<geom::Vec2>& laser, const geom::Pose2& sensor, double range, double tolerance,

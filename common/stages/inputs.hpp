@@ -32,8 +32,10 @@ bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, cons
 
 // Every input's time first: Bad = outside [0, kMaxUtime] (reported as rejected.time; drop the
 // message); Restarted = the sources' clock restarted (TimeReset; counted under time_resets and
-// logged: start afresh, then use the message); Ok.
-enum class ClockCheck { Ok, Restarted, Bad };
+// logged: start afresh, then use the message); HeldAhead = more than a second ahead of every
+// input (TimeReset::admit; counted under time.held_ahead.<CHANNEL>; drop it: the channel's next message
+// tells a stepped clock, time.steps_forward, from a stray time, rejected.time_ahead); Ok.
+enum class ClockCheck { Ok, Restarted, HeldAhead, Bad };
 ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel);
 
 // SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading

@@ -16,7 +16,9 @@
 //     accounted for. At the end it waits for every target to report all input received, then
 //     checks, per process and channel: messages received == sent; decode_errors and oversize
 //     counters == what the bytes say (classified here with Node's own rules); errors >= those;
-//     the kinds of semantic garbage show up under their counters. Prints "key value" lines.
+//     the kinds of semantic garbage show up under their counters; every ring that decodes with a
+//     plausible time answered by lasonic-complement (the pilot's SONAR_COMPLEMENT input) or
+//     dropped for its time and counted. Prints "key value" lines.
 //   lasonic-fuzz write LOG COUNT SEED [CHANNELS]
 //     The same messages for the pipeline's channels, written to a log (for lasonic-replay:
 //     deterministic, no network, fast); CHANNELS (comma-separated) instead of ODOMETRY,
@@ -474,12 +476,30 @@ struct Watch {
       if (c.direction == channel_stat_t::DIR_IN) n += c.messages;
     return n;
   }
+  // What `process` reports having published on `channel` (0 before its first heartbeat).
+  int64_t published(const std::string& process, const std::string& channel) const {
+    const auto it = newest.find(process);
+    if (it == newest.end()) return 0;
+    for (const auto& c : it->second.channels)
+      if (c.direction == channel_stat_t::DIR_OUT && c.channel == channel) return c.messages;
+    return 0;
+  }
+  int64_t counter(const std::string& process, const std::string& name) const {
+    const auto it = newest.find(process);
+    if (it == newest.end()) return 0;
+    for (size_t i = 0; i < it->second.counter_names.size() && i < it->second.counter_values.size(); ++i)
+      if (it->second.counter_names[i] == name) return it->second.counter_values[i];
+    return 0;
+  }
 };
 
 struct Expect {
   std::map<std::string, int64_t> sent, decode_errors, oversize;  // per channel
   std::map<std::string, int64_t> kinds;
-  int64_t ring_decodes = 0;  // each becomes one SONAR_COMPLEMENT from lasonic-complement to the pilot
+  // Rings that decode with a plausible time: each becomes one SONAR_COMPLEMENT from
+  // lasonic-complement to the pilot, unless the complement drops it for its time (not newer than
+  // the previous ring, or held back as far ahead of every input), which it counts.
+  int64_t ring_decodes = 0;
 };
 
 int failures = 0;
@@ -534,6 +554,16 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
   const std::vector<std::string> chans = {channels::ODOMETRY,         channels::LASER_SCAN, channels::SONAR_RING,
                                           channels::SONAR_COMPLEMENT, channels::SIM_STATE,  channels::RADAR_MAP,
                                           channels::AGM_TACTICAL,     channels::AGM_LINES};
+  // The pilot also receives what lasonic-complement publishes (as of its last heartbeat).
+  const auto expectedIn = [&](const std::string& process) {
+    return expected_in[process] +
+           (process == "lasonic-pilot" ? watch.published("lasonic-complement", channels::SONAR_COMPLEMENT) : 0);
+  };
+  const auto ringsAnswered = [&] { return watch.published("lasonic-complement", channels::SONAR_COMPLEMENT); };
+  const auto ringsDropped = [&] {
+    return watch.counter("lasonic-complement", "rejected.sonar_backwards") +
+           watch.counter("lasonic-complement", std::string("time.held_ahead.") + channels::SONAR_RING);
+  };
   const auto t_start = std::chrono::steady_clock::now();
   for (int64_t i = 0; i < count; ++i) {
     const std::string& ch = chans[gen.pick(chans.size())];
@@ -564,7 +594,6 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
               return plausibleUtime(r.utime);
             }()) {
           ++ex.ring_decodes;
-          ++expected_in["lasonic-pilot"];
         }
         break;
     }
@@ -575,7 +604,7 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
     if (i % 64 == 0) spin(0);
     while (true) {
       int64_t lag = 0;
-      for (const Target& t : kTargets) lag = std::max(lag, expected_in[t.process] - watch.received(t.process));
+      for (const Target& t : kTargets) lag = std::max(lag, expectedIn(t.process) - watch.received(t.process));
       if (lag <= kWindow) break;
       spin(20);
     }
@@ -584,9 +613,19 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
   const double feed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   const bool all_in = waitUntil(30, [&] {
     for (const Target& t : kTargets)
-      if (watch.received(t.process) < expected_in[t.process]) return false;
-    return true;
+      if (watch.received(t.process) < expectedIn(t.process)) return false;
+    return ringsAnswered() + ringsDropped() == ex.ring_decodes;  // (and the complement's heartbeat says so)
   });
+  // Every ring that decoded with a plausible time was answered, or dropped for its time and counted.
+  const int64_t answered = ringsAnswered();
+  const int64_t dropped = ringsDropped();
+  expect(answered + dropped == ex.ring_decodes,
+         "lasonic-complement answered " + std::to_string(answered) + " and dropped " + std::to_string(dropped) +
+             " of " + std::to_string(ex.ring_decodes) + " rings");
+  // (The fuzz's times jump back and forth: over half of its rings come out of order.)
+  expect(answered > 0, "lasonic-complement answered none of " + std::to_string(ex.ring_decodes) + " rings");
+  std::printf("complement.rings_answered %lld\ncomplement.rings_dropped %lld\n", static_cast<long long>(answered),
+              static_cast<long long>(dropped));
   std::printf("fuzz.messages %lld\nfuzz.seconds %.1f\nfuzz.rate_hz %.0f\n", static_cast<long long>(count), feed_s,
               static_cast<double>(count) / feed_s);
   for (const auto& [k, n] : ex.kinds) std::printf("kind.%s %lld\n", k.c_str(), static_cast<long long>(n));
@@ -612,7 +651,7 @@ int feed(const std::string& pipe_url, const std::string& sim_url, const std::str
           de = cs.decode_errors;
         }
       const int64_t want =
-          ex.sent[c] + (t.process == "lasonic-pilot" && c == channels::SONAR_COMPLEMENT ? ex.ring_decodes : 0);
+          ex.sent[c] + (t.process == "lasonic-pilot" && c == channels::SONAR_COMPLEMENT ? answered : 0);
       expect(in == want, t.process + " " + c + ": received " + std::to_string(in) + " of " + std::to_string(want));
       expect(de == ex.decode_errors[c], t.process + " " + c + ": decode_errors " + std::to_string(de) + ", expected " +
                                             std::to_string(ex.decode_errors[c]));

@@ -133,6 +133,21 @@ TEST_F(StageTest, TimestampsGoingBackwardsAreRejected) {
   EXPECT_EQ(comps.size(), 2u);
 }
 
+TEST_F(StageTest, OneStrayTimeFarAheadIsDroppedAndForgetsNothing) {
+  odometry(0, 200'000);
+  scan(0);
+  ASSERT_EQ(maps.size(), 1u);
+  // One odometry message stamped an hour ahead (a clock stepped on one computer), then the
+  // stream goes on: accepted, it would make the next message look like a restarted clock.
+  send(channels::ODOMETRY, fixture::odometryAt(traj, 3'600'000'000));
+  odometry(220'000, 300'000);
+  EXPECT_EQ(node.counter("time_resets"), 0);
+  EXPECT_EQ(node.counter("rejected.time_ahead"), 1);
+  ring(250'000, {kDoor}, {1.5});  // the Radar Map and the poses are still there
+  EXPECT_EQ(cls(0), kComplementary);
+  EXPECT_EQ(comps.back().radar_map_stale, 0);
+}
+
 TEST_F(StageTest, MissingOdometryMakesTheGroupInvalidAndKeepsTheRadarMap) {
   ring(0, {kDoor}, {1.5});  // no odometry at all yet
   EXPECT_EQ(cls(0), kInvalid);

@@ -229,6 +229,62 @@ TEST(TimeReset, PerChannelJumpsOfMoreThanASecond) {
   EXPECT_FALSE(plausibleUtime(kMaxUtime + 1));
 }
 
+TEST(TimeReset, AStrayTimeFarAheadIsHeldAndDroppedNotARestart) {
+  using A = TimeReset::Admission;
+  TimeReset c;
+  EXPECT_EQ(c.admit("ODO", 10'000'000).kind, A::Ok);
+  EXPECT_EQ(c.admit("LASER", 9'900'000).kind, A::Ok);
+  // One odometry message stamped an hour ahead: held, not used.
+  const A held = c.admit("ODO", 3'610'000'000);
+  EXPECT_EQ(held.kind, A::HeldAhead);
+  EXPECT_EQ(held.reference, 10'000'000);
+  // The next one is back at the common time: the held one was a stray, and nothing restarts.
+  const A back = c.admit("ODO", 10'020'000);
+  EXPECT_EQ(back.kind, A::Ok);
+  ASSERT_TRUE(back.stray.has_value());
+  EXPECT_EQ(*back.stray, 3'610'000'000);
+  EXPECT_EQ(back.stray_reference, 10'000'000);
+  EXPECT_EQ(c.admit("LASER", 10'000'000).kind, A::Ok);
+  EXPECT_FALSE(c.admit("ODO", 10'040'000).stray.has_value());  // reported once
+}
+
+TEST(TimeReset, AClockThatSteppedForwardIsTakenFromItsSecondMessage) {
+  using A = TimeReset::Admission;
+  TimeReset c;
+  EXPECT_EQ(c.admit("ODO", 10'000'000).kind, A::Ok);
+  EXPECT_EQ(c.admit("ODO", 15'000'000).kind, A::HeldAhead);  // 5 s on: a stray, or a step?
+  const A next = c.admit("ODO", 15'020'000);                 // it goes on from there: a step
+  EXPECT_EQ(next.kind, A::Ok);
+  EXPECT_FALSE(next.stray.has_value());
+  ASSERT_TRUE(next.stepped_from.has_value());
+  EXPECT_EQ(*next.stepped_from, 10'000'000);
+  EXPECT_EQ(c.admit("LASER", 15'030'000).kind, A::Ok);  // the other inputs follow
+  // A channel that starts late but in step with the others is not held.
+  EXPECT_EQ(c.admit("SONAR", 15'040'000).kind, A::Ok);
+  // Restarts are still restarts, and forget what was held.
+  EXPECT_EQ(c.admit("ODO", 30'000'000).kind, A::HeldAhead);
+  EXPECT_EQ(c.admit("LASER", 1'000'000).kind, A::Restarted);
+  const A after = c.admit("ODO", 1'020'000);
+  EXPECT_EQ(after.kind, A::Ok);
+  EXPECT_FALSE(after.stray.has_value());
+}
+
+TEST(TimeReset, TwoInterleavedTimelinesKeepTheOneTakenAndReportTheOther) {
+  using A = TimeReset::Admission;
+  TimeReset c;
+  int restarts = 0, strays = 0;
+  for (int k = 0; k < 50; ++k) {
+    const int64_t dt = 20'000 * k;
+    for (const int64_t t : {100'000'000 + dt, 50'000'000 + dt}) {  // two logs played together
+      const A a = c.admit("ODO", t);
+      restarts += a.kind == A::Restarted ? 1 : 0;
+      strays += a.stray ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(restarts, 1);  // the second log's first message; then its timeline is kept
+  EXPECT_EQ(strays, 49);   // every later message of the first one, reported
+}
+
 namespace {
 // T::decode, out of line (inlined into a test, GCC warns about the generated decode's fingerprint).
 template <typename T>
