@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -214,6 +215,12 @@ int main(int argc, char** argv) {
     }
     stages.insert(s);
     a = b + 1;
+  }
+  // The output is opened (truncated) before the input is read: the same file would be lost.
+  if (std::error_code ec; std::filesystem::equivalent(in_path, out_path, ec)) {
+    std::cerr << "lasonic-replay: --out " << out_path << " is the input log (--in " << in_path
+              << "): writing it would destroy it\n";
+    return 2;
   }
   lasonic::setupLogging("lasonic-replay");
   try {

@@ -74,6 +74,12 @@ rc=0
 [[ $rc -eq 2 ]] || die "an empty log: exit status $rc, expected 2"
 grep -qF "empty.lcmlog: no lasonic message on any scored channel" "$tmp/empty_log.err" ||
   die "an empty log: the message does not say so: $(cat "$tmp/empty_log.err")"
+# --out naming the input log (before, it was truncated to nothing first).
+size=$(command stat -c %s "$tmp/raw.lcmlog")
+rc=0
+"$bin/lasonic-replay" --in "$tmp/raw.lcmlog" --out "$tmp/./raw.lcmlog" >"$tmp/same.err" 2>&1 || rc=$?
+[[ $rc -eq 2 && $(command stat -c %s "$tmp/raw.lcmlog") -eq $size ]] && grep -qF "is the input log" "$tmp/same.err" ||
+  die "lasonic-replay --out = --in: exit status $rc, $(command stat -c %s "$tmp/raw.lcmlog") of $size bytes left: $(cat "$tmp/same.err")"
 rc=0
 "$bin/lasonic-log-stats" "$tmp/empty.lcmlog" >"$tmp/empty_stats.err" 2>&1 || rc=$?
 [[ $rc -eq 2 ]] && grep -qF "empty.lcmlog: no event in the log" "$tmp/empty_stats.err" ||
