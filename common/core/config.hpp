@@ -44,6 +44,11 @@ struct Range {
   static Range nonNegative() { return {0.0, std::numeric_limits<double>::infinity(), false}; }
   static Range between(double lo, double hi) { return {lo, hi, false}; }
   static Range probability() { return {0.0, 1.0, false}; }
+  // A time span [s] that is turned into int64 microseconds or added to message times: beyond
+  // 10^6 s (11.6 days) no span means anything to a robot's world model, and µs stay far from
+  // overflowing.
+  static Range duration() { return {0.0, 1e6, false}; }
+  static Range positiveDuration() { return {0.0, 1e6, true}; }
 };
 
 // DefaultsAudit: while one is alive (on this thread), every Config::get* of a key that is present

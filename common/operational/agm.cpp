@@ -13,14 +13,18 @@ AgmParams agmParams(const Config& c, AgmParams p) {
                "recenter_min_cells", "recenter_lookahead_s", "hit_centroids", "h_max_m", "forget_sigma_m", "odometry_trans_noise",
                "odometry_rot_noise", "odometry_drift_noise", "arc_vote_tau"});
   p.size = c.get("size", p.size, Range::between(3, 10000));
-  p.cell_size = c.get("cell_size", p.cell_size, Range::positive());
+  // (A cell finer than 5 mm is below the sonar's range resolution, one wider than 2 m wider
+  // than the robot: neither locates an obstacle.)
+  p.cell_size = c.get("cell_size", p.cell_size, Range::between(0.005, 2.0));
   p.g_max = c.get("g_max", p.g_max, Range::between(1, std::numeric_limits<int16_t>::max()));
-  p.h_max = c.get("h_max", p.h_max, Range::nonNegative());
+  // (At most 10^6 cycles: 8 h of 30 ms groups; the navigator keeps a time per cycle.)
+  p.h_max = c.get("h_max", p.h_max, Range::between(0, 1e6));
   p.t = c.get("t", p.t, Range::between(0, (p.size - 1) / 2));
-  p.g_threshold = c.get("g_threshold", p.g_threshold, Range::between(1, 1e9));
+  // (G saturates at g_max: a higher G_T is never reached, and the map stays empty.)
+  p.g_threshold = c.get("g_threshold", p.g_threshold, Range::between(1, p.g_max));
   p.recenter_max_cells = c.get("recenter_max_cells", p.recenter_max_cells, Range::between(0, p.size / 2 - 1));
   p.recenter_min_cells = c.get("recenter_min_cells", p.recenter_min_cells, Range::between(0, p.recenter_max_cells));
-  p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::nonNegative());
+  p.recenter_lookahead_s = c.get("recenter_lookahead_s", p.recenter_lookahead_s, Range::duration());
   p.hit_centroids = c.get<bool>("hit_centroids", p.hit_centroids);
   p.h_max_m = c.get("h_max_m", p.h_max_m, Range::nonNegative());
   p.forget_sigma_m = c.get("forget_sigma_m", p.forget_sigma_m, Range::nonNegative());

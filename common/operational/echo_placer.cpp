@@ -33,7 +33,7 @@ EchoPlacementConfig echoPlacementConfig(const Config& c, EchoPlacementConfig p) 
   p.params.beam_width =
       geom::deg2rad(nb.get("beam_deg", geom::rad2deg(p.params.beam_width), Range::between(1e-3, 180)));
   p.params.similar = nb.get("similar", p.params.similar, Range::nonNegative());
-  p.params.max_age_s = nb.get("max_age_s", p.params.max_age_s, Range::nonNegative());
+  p.params.max_age_s = nb.get("max_age_s", p.params.max_age_s, Range::duration());
   return p;
 }
 

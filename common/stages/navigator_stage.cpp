@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -39,6 +40,17 @@ NavigatorConfig navigatorConfigFromRoot(const Config& root) {
   NavigatorConfig cfg = navigatorConfig(root.section("navigator"));
   cfg.scan_cut = complement::radarMapConfig(root.section("complement").section("radar_map"));
   cfg.robot_radius = pilotConfig(root.section("pilot")).sector_map.robot_radius;
+  // The window must hold every complementary echo wherever re-centring lets the robot be (as the
+  // pilot's holds the sector map's reach): else the tactical map stays empty without a word.
+  const double reach = cfg.robot_radius + complement::complementConfig(root.section("complement")).params.model.range_limit;
+  const double view = (cfg.agm.size / 2 - cfg.agm.recenter_max_cells - 1) * cfg.agm.cell_size;
+  if (view < reach) {
+    std::ostringstream msg;
+    msg << (cfg.agm.size / 2 - cfg.agm.recenter_max_cells - 1) << " cells of " << cfg.agm.cell_size
+        << " m ((size/2 - recenter_max_cells - 1) * cell_size = " << view
+        << " m) do not hold the sonar's reach, pilot.robot_radius + complement.range_limit = " << reach << " m";
+    root.section("navigator").section("agm").fail("cell_size", msg.str());
+  }
   return cfg;
 }
 
@@ -58,12 +70,16 @@ NavigatorConfig navigatorConfig(const Config& c) {
   lines.neighbourhood = p.agm.t;  // the sums Gp is made of (one source: the AGM's t)
   p.lines = lineGenerationParams(c.section("lines"), lines);
   p.lines_follow_g_threshold = !c.section("lines").has("gp_threshold");
+  // (Gp sums G over (2t+1)^2 cells, each at most g_max: a higher threshold is never reached.)
+  if (const double most = (2.0 * p.agm.t + 1) * (2.0 * p.agm.t + 1) * p.agm.g_max; p.lines.gp_threshold > most)
+    c.section("lines").fail("gp_threshold", std::to_string(p.lines.gp_threshold) + " is never reached: Gp is at most " +
+                                                std::to_string(most) + " ((2 agm.t + 1)^2 * agm.g_max)");
   p.g_threshold_fixed = c.section("agm").has("g_threshold");
   p.g_threshold_walking_speed = c.get("g_threshold_walking_speed", p.g_threshold_walking_speed, Range::between(0, 10));
   // (Bounded: its period in µs must fit an int64; below one per 100 s the tactical maps say nothing.)
   p.publish_hz = c.get("publish_hz", p.publish_hz, Range::between(0.01, 1000));
   p.verify_with_next_scan = c.get<bool>("verify_with_next_scan", p.verify_with_next_scan);
-  p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::nonNegative());
+  p.verify_max_wait_s = c.get("verify_max_wait_s", p.verify_max_wait_s, Range::duration());
   p.verify_max_wait_scans = c.get("verify_max_wait_scans", p.verify_max_wait_scans, Range::between(0, 100));
   p.hit_weight_speed = c.get("hit_weight_speed", p.hit_weight_speed, Range::between(0, 10));
   p.hit_weight_low_speed = c.get("hit_weight_low_speed", p.hit_weight_low_speed, Range::between(0, 10));

@@ -81,11 +81,14 @@ PilotConfig pilotConfig(const Config& c) {
   SectorMapParams& s = p.sector_map;
   s.sectors = c.get("sectors", s.sectors, Range::between(3, 3600));
   s.robot_radius = c.get("robot_radius", s.robot_radius, Range::nonNegative());
-  s.max_range = c.get("max_range", s.max_range, Range::positive());
-  s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, 1e9));
-  s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positive());
+  // (A reach below 10 cm reports nothing a robot could act on.)
+  s.max_range = c.get("max_range", s.max_range, Range::between(0.1, 1e3));
+  // (Gp sums G over (2t+1)^2 cells, each at most g_max: a higher threshold is never reached.)
+  const int cluster = (2 * p.agm.t + 1) * (2 * p.agm.t + 1);
+  s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, static_cast<double>(cluster) * p.agm.g_max));
+  s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positiveDuration());
   p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
-  s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positive());
+  s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positiveDuration());
   // (Bounded: a period or interval in µs must fit an int64; a display rate below one per 100 s or
   // a map interval of a minute has no use on a moving robot.)
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::between(0.01, 1000));
@@ -108,7 +111,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.remembered = c.get<bool>("remembered", p.remembered);
   p.outside_view_redundant_laser = c.getChoice("outside_view_redundant", p.outside_view_redundant_laser,
                                                {{"laser_sector", true}, {"echo", false}});
-  s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positive());
+  s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positiveDuration());
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
   p.remembered_on_lines_m = c.get("remembered_on_lines_m", p.remembered_on_lines_m, Range::between(0, 1));

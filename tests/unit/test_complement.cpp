@@ -443,6 +443,12 @@ TEST(ComplementConfigTest, DefaultsOverridesAndKeyPathErrors) {
   };
   EXPECT_NE(err("complement: {tolerence: 0.2}").find("complement.tolerence"), std::string::npos);
   EXPECT_NE(err("complement: {tolerance: -1}").find("complement.tolerance"), std::string::npos);
+  // Values that would silence the sonar: every echo redundant, every Radar Map stale (the span
+  // overflowed int64 microseconds), a memory whose span overflows.
+  EXPECT_NE(err("complement: {tolerance: 2.2}").find("complement.tolerance"), std::string::npos);
+  EXPECT_NE(err("complement: {rm_max_age_s: 1e13}").find("complement.rm_max_age_s"), std::string::npos);
+  EXPECT_NE(err("complement: {late_echo_window_s: 1e13}").find("complement.late_echo_window_s"), std::string::npos);
+  EXPECT_NE(err("complement: {poles: {memory_s: 1e13}}").find("complement.poles.memory_s"), std::string::npos);
   EXPECT_NE(err("complement: {radar_map: {split: 1}}").find("complement.radar_map.split"), std::string::npos);
   EXPECT_NE(err("complement: {beam_width_deg: 0}").find("beam_width_deg"), std::string::npos);
   EXPECT_TRUE(def.params.outside_view_complementary);

@@ -282,6 +282,13 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   expectError("pilot: {agm_publish_hz: 0}", "pilot.agm_publish_hz");
   expectError("pilot: {agm_publish_hz: 1e-14}", "pilot.agm_publish_hz");  // its period would overflow
   expectError("pilot: {map_max_interval_s: 1e13}", "pilot.map_max_interval_s");
+  // Thresholds never reached, cells and memories that could not be meant: exit 2, not an empty map.
+  expectError("pilot: {agm: {g_threshold: 101}}", "pilot.agm.g_threshold");  // g_max 100
+  expectError("pilot: {gp_threshold: 1000}", "pilot.gp_threshold");          // (2t+1)^2 g_max = 900
+  expectError("pilot: {max_range: 1e-300}", "pilot.max_range");
+  expectError("pilot: {agm: {cell_size: 1e9}}", "pilot.agm.cell_size");
+  expectError("pilot: {agm: {h_max: 1e9}}", "pilot.agm.h_max");
+  expectError("pilot: {sonar_stale_s: 1e13}", "pilot.sonar_stale_s");
   expectError("pilot: {predict_movers: maybe}", "pilot.predict_movers");
   expectError("pilot: {mover_prediction: {horizon_s: -1}}", "pilot.mover_prediction.horizon_s");
   expectError("pilot: {mover_prediction: {horizon_scans: -1}}", "pilot.mover_prediction.horizon_scans");

@@ -111,6 +111,16 @@ TEST(ShippedConfig, TheLaserCutIsTheComplementsInEveryProcess) {
   // The shipped file: the code's defaults.
   EXPECT_DOUBLE_EQ(navigatorConfigFromRoot(shipped()).scan_cut.split_threshold,
                    complement::RadarMapConfig{}.split_threshold);
+  // A tactical window that cannot hold the sonar's reach (0.35 + 2.20 m) would stay empty.
+  try {
+    navigatorConfigFromRoot(shipped().mergedWith(Config::fromString("navigator: {agm: {cell_size: 0.01}}")));
+    ADD_FAILURE() << "no error for a 1 m tactical window";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("navigator.agm.cell_size"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("do not hold the sonar's reach"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(navigatorConfigFromRoot(shipped().mergedWith(Config::fromString("navigator: {lines: {gp_threshold: 1e9}}"))),
+               ConfigError);
   // A bad value fails in every process that reads it, naming the key.
   const Config bad = shipped().mergedWith(Config::fromString("complement: {radar_map: {split_threshold: -1}}"));
   for (int which = 0; which < 2; ++which) {
