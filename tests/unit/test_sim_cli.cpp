@@ -150,3 +150,14 @@ TEST(SimCli, OutputNeverOverwritesAnInput) {
   EXPECT_EQ(slurp(frame0), before);
 #endif
 }
+
+TEST(SimCli, ScenegenIndicesAndOverlay) {
+  const std::string out = "--out " + (tmpDir() / "scenes").string();
+  expectBad("lasonic-scenegen", "--first 18446744073709551615 --count 2 " + out, "would pass 2^64 - 1");
+  expectBad("lasonic-scenegen", "--first -1 " + out, "--first");
+  expectBad("lasonic-scenegen", "--pioneer-overlay " + (tmpDir() / "none.yaml").string() + " " + out,
+            "none.yaml: no such file");
+  // The last index there is still generated.
+  const ToolRun last = run("lasonic-scenegen", "--first 18446744073709551615 --count 1 " + out, kSource);
+  EXPECT_NE(last.status, 2) << last.output;
+}
