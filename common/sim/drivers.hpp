@@ -47,6 +47,9 @@ struct OdometryConfig {
   double publish_hz = 0;
 };
 OdometryConfig odometryConfig(const Config& c, OdometryConfig base = {});  // throws ConfigError
+// Each key of an odometry section on its own (names, ranges), without the checks that depend on
+// the layer beneath (publish_hz <= rate_hz): a scenario's override, when the scenario is loaded.
+void checkOdometryKeys(const Config& c);
 
 class WorldCore {
  public:
@@ -128,6 +131,8 @@ struct LaserConfig {
   double clock_offset_s = 0;
 };
 LaserConfig laserConfig(const Config& c, LaserConfig base = {});
+// As checkOdometryKeys, for a laser section (range_min < range_max is checked with its base).
+void checkLaserKeys(const Config& c);
 
 // A rotating scanner: a scan takes 1/scan_rate_hz; reading i is taken at angle
 // angle_min + i*increment and at time utime + offset_us[i], evenly spread over the scan, and is
@@ -237,6 +242,9 @@ struct SonarConfig {
 };
 // Keys of `c` replace those of `base`; `ring` or `sensors` replaces the whole sensor set.
 SonarConfig sonarConfig(const Config& c, SonarConfig base = {});
+// As checkOdometryKeys, for a sonar section (range_min < range_max, group_period_s against the
+// echo time of flight, ... are checked with its base).
+void checkSonarKeys(const Config& c);
 
 class PhysicalSonar;  // sim/sonar_physical.hpp
 

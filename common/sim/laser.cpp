@@ -14,7 +14,9 @@
 
 namespace lasonic::sim {
 
-LaserConfig laserConfig(const Config& c, LaserConfig base) {
+namespace {
+
+LaserConfig laserKeys(const Config& c, LaserConfig base) {
   c.allowOnly({"profile", "scan_rate_hz", "readings", "fov_deg", "range_max", "range_min", "noise_std", "mount",
                "range_10pct_m", "dropout_db", "beam_divergence_deg", "beam_diameter_m", "footprint_rays", "merge_range_m",
                "clock_offset_s"});
@@ -24,14 +26,14 @@ LaserConfig laserConfig(const Config& c, LaserConfig base) {
   base.fov_deg = c.get("fov_deg", base.fov_deg, Range::between(1, 360));
   base.range_min = c.get("range_min", base.range_min, Range::nonNegative());
   base.range_max = c.get("range_max", base.range_max, Range::positive());
-  if (base.range_max <= base.range_min)
-    c.fail(c.has("range_max") ? "range_max" : "range_min", "range_max must be > range_min");
   base.noise_std = c.get("noise_std", base.noise_std, Range::nonNegative());
   if (c.has("mount")) {
     const Config m = c.section("mount");
     m.allowOnly({"x", "y", "yaw_deg"});
-    base.mount.x = m.get("x", base.mount.x, Range::any());
-    base.mount.y = m.get("y", base.mount.y, Range::any());
+    // On the robot's body (bounds::kMaxBodyRadius).
+    const Range on_body = Range::between(-bounds::kMaxBodyRadius, bounds::kMaxBodyRadius);
+    base.mount.x = m.get("x", base.mount.x, on_body);
+    base.mount.y = m.get("y", base.mount.y, on_body);
     base.mount.theta = geom::deg2rad(m.get("yaw_deg", geom::rad2deg(base.mount.theta), Range::between(-180, 180)));
   }
   base.range_10pct = c.get("range_10pct_m", base.range_10pct, Range::positive());
@@ -43,6 +45,17 @@ LaserConfig laserConfig(const Config& c, LaserConfig base) {
   base.merge_range = c.get("merge_range_m", base.merge_range, Range::nonNegative());
   // (an hour either way: beyond that no clock is merely unsynchronised)
   base.clock_offset_s = c.get("clock_offset_s", base.clock_offset_s, Range::between(-3600, 3600));
+  return base;
+}
+
+}  // namespace
+
+void checkLaserKeys(const Config& c) { laserKeys(c, {}); }
+
+LaserConfig laserConfig(const Config& c, LaserConfig base) {
+  base = laserKeys(c, base);
+  if (base.range_max <= base.range_min)
+    c.fail(c.has("range_max") ? "range_max" : "range_min", "range_max must be > range_min");
   return base;
 }
 

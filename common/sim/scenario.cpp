@@ -1,7 +1,10 @@
 #include "sim/scenario.hpp"
 
+#include "sim/drivers.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace lasonic::sim {
@@ -94,10 +97,25 @@ std::string requireMaterial(const Config& c, const std::string& key,
   return *name;
 }
 
+// A place in the world: within bounds::kMaxCoordinate of the origin.
+void checkPoint(const Config& c, const std::string& key, const geom::Vec2& p) {
+  if (!(std::abs(p.x()) <= bounds::kMaxCoordinate && std::abs(p.y()) <= bounds::kMaxCoordinate))
+    c.fail(key, "must lie within 1000 km of the origin (|x|, |y| <= 1e6 m)");
+}
+void checkPoints(const Config& c, const std::string& key, const std::vector<geom::Vec2>& pts) {
+  for (size_t i = 0; i < pts.size(); ++i) checkPoint(c, key + "[" + std::to_string(i) + "]", pts[i]);
+}
+geom::Vec2 requirePlace(const Config& c, const std::string& key) {
+  const geom::Vec2 p = c.requireVec2(key);
+  checkPoint(c, key, p);
+  return p;
+}
+
 // Waypoints of a path (robot or mover): at least two, no two consecutive ones equal, since a
 // zero-length leg has no direction of travel.
 std::vector<geom::Vec2> requirePath(const Config& c, const std::string& key) {
   std::vector<geom::Vec2> pts = c.requirePoints(key, 2);
+  checkPoints(c, key, pts);
   for (size_t i = 1; i < pts.size(); ++i)
     if ((pts[i] - pts[i - 1]).norm() < 1e-9)
       c.fail(key + "[" + std::to_string(i) + "]", "repeats the previous point (zero-length leg)");
@@ -184,6 +202,7 @@ void parseFrame(const Config& o, ObstacleSpec& spec, const std::map<std::string,
   spec.frame_material = requireMaterial(f, "material", materials);
   spec.frame_width = f.requireNum("width", Range::positive());
   spec.frame_depth = f.get("depth", spec.frame_width, Range::positive());
+  if (spec.frame_depth > bounds::kMaxCoordinate) f.fail("depth", "must be <= 1e6 m (1000 km)");
   auto& p = spec.points;
   const double first = (p[1] - p[0]).norm(), last = (p[p.size() - 1] - p[p.size() - 2]).norm();
   const double need = p.size() == 2 ? 2 * spec.frame_width : spec.frame_width;
@@ -220,8 +239,8 @@ std::vector<ObstacleSpec> frameJambs(const ObstacleSpec& spec, int index) {
 EmitterSpec parseEmitter(const Config& e) {
   e.allowOnly({"position", "period_s", "phase_s", "level_db", "heading_deg"});
   EmitterSpec spec;
-  spec.position = e.requireVec2("position");
-  spec.period_s = e.requireNum("period_s", Range::positive());
+  spec.position = requirePlace(e, "position");
+  spec.period_s = e.requireNum("period_s", Range{bounds::kMinEmitterPeriodS, std::numeric_limits<double>::infinity(), false});
   spec.phase_s = e.get("phase_s", spec.phase_s, Range::nonNegative());
   if (e.has("level_db")) spec.level_db = e.requireNum("level_db", Range::between(-100, 200));
   if (e.has("heading_deg")) spec.heading = geom::deg2rad(e.requireNum("heading_deg", Range::any()));
@@ -233,11 +252,12 @@ ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material
   spec.shape = o.require<std::string>("shape");
   if (spec.shape == "segment") {
     o.allowOnly({"shape", "material", "from", "to", "frame"});
-    spec.points = {o.requireVec2("from"), o.requireVec2("to")};
+    spec.points = {requirePlace(o, "from"), requirePlace(o, "to")};
     if ((spec.points[1] - spec.points[0]).norm() < 1e-9) o.fail("to", "equals from (zero-length segment)");
   } else if (spec.shape == "polyline") {
     o.allowOnly({"shape", "material", "points", "closed", "frame"});
     spec.points = o.requirePoints("points", 2);
+    checkPoints(o, "points", spec.points);
     spec.closed = o.get<bool>("closed", false);
     for (size_t i = 1; i < spec.points.size(); ++i)
       if ((spec.points[i] - spec.points[i - 1]).norm() < 1e-9)
@@ -247,13 +267,16 @@ ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material
       o.fail("closed", "the last point already equals the first (leave out closed: true or the last point)");
   } else if (spec.shape == "circle") {
     o.allowOnly({"shape", "material", "center", "radius"});
-    spec.circle.center = o.requireVec2("center");
+    spec.circle.center = requirePlace(o, "center");
     spec.circle.radius = o.requireNum("radius", Range::positive());
+    if (spec.circle.radius > bounds::kMaxCoordinate) o.fail("radius", "must be <= 1e6 m (1000 km)");
   } else if (spec.shape == "box") {
     o.allowOnly({"shape", "material", "center", "size", "yaw_deg"});
-    const geom::Vec2 c = o.requireVec2("center");
+    const geom::Vec2 c = requirePlace(o, "center");
     const geom::Vec2 size = o.requireVec2("size");
     if (size.x() <= 0 || size.y() <= 0) o.fail("size", "both sides must be > 0");
+    if (size.x() > bounds::kMaxCoordinate || size.y() > bounds::kMaxCoordinate)
+      o.fail("size", "both sides must be <= 1e6 m (1000 km)");
     const geom::Pose2 frame{c.x(), c.y(), geom::deg2rad(o.get("yaw_deg", 0.0, Range::any()))};
     const double hx = 0.5 * size.x(), hy = 0.5 * size.y();
     spec.points = {frame.transform({-hx, -hy}), frame.transform({hx, -hy}), frame.transform({hx, hy}),
@@ -298,9 +321,9 @@ MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Materi
   spec.id = id;
   const std::string shape = m.get<std::string>("shape", "circle");
   if (shape != "circle") m.fail("shape", "movers must be circles (got \"" + shape + "\")");
-  spec.radius = m.get("radius", spec.radius, Range::positive());
+  spec.radius = m.get("radius", spec.radius, Range{0, bounds::kMaxBodyRadius, true});
   spec.material = requireMaterial(m, "material", materials, spec.material);
-  spec.speed = m.get("speed", spec.speed, Range::positive());
+  spec.speed = m.get("speed", spec.speed, Range{0, bounds::kMaxMoverSpeed, true});
   spec.path = requirePath(m, "path");
   spec.mode = parseMode(m, spec.mode);
   spec.start_delay_s = m.get("start_delay_s", spec.start_delay_s, Range::nonNegative());
@@ -312,9 +335,9 @@ MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Materi
 RobotSpec parseRobot(const Config& r) {
   r.allowOnly({"radius", "path", "speed", "mode", "turn_rate"});
   RobotSpec spec;
-  spec.radius = r.get("radius", spec.radius, Range::positive());
+  spec.radius = r.get("radius", spec.radius, Range{0, bounds::kMaxBodyRadius, true});
   spec.path = requirePath(r, "path");
-  spec.speed = r.get("speed", spec.speed, Range::positive());
+  spec.speed = r.get("speed", spec.speed, Range{0, bounds::kMaxRobotSpeed, true});
   spec.mode = parseMode(r, spec.mode);
   spec.turn_rate = r.get("turn_rate", spec.turn_rate, Range::positive());
   return spec;
@@ -358,7 +381,10 @@ Scenario parseScenario(const Config& root) {
                   "laser", "sonar", "odometry"});
   Scenario s;
   s.name = root.require<std::string>("name");
-  s.duration_s = root.get("duration_s", s.duration_s, Range::positive());
+  // The name names a run's logs and files: neither empty nor a path.
+  if (s.name.empty()) root.fail("name", "must not be empty (it names the run's files)");
+  if (s.name.find('/') != std::string::npos) root.fail("name", "must not contain '/' (it names the run's files)");
+  s.duration_s = root.get("duration_s", s.duration_s, Range{0, bounds::kMaxDurationS, true});
   const int64_t seed = root.get<int64_t>("seed", static_cast<int64_t>(s.seed));
   if (seed < 0) root.fail("seed", "must be >= 0");
   s.seed = static_cast<uint64_t>(seed);
@@ -380,10 +406,15 @@ Scenario parseScenario(const Config& root) {
   s.robot = parseRobot(root.requireSection("robot"));
 
   // Sensor overrides keep their paths ("laser.noise_std"), so the drivers' config readers name
-  // the scenario key when they reject one.
+  // the scenario key when they reject one. Each key is checked here, by the simulator's own
+  // readers, so that every tool refuses a scenario the simulator would refuse; what depends on
+  // the configuration they are layered over (range_min < range_max, ...) is checked with it.
   s.laser = root.section("laser");
   s.sonar = root.section("sonar");
   s.odometry = root.section("odometry");
+  checkLaserKeys(s.laser);
+  checkSonarKeys(s.sonar);
+  checkOdometryKeys(s.odometry);
   return s;
 }
 

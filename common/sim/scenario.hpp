@@ -13,6 +13,28 @@
 
 namespace lasonic::sim {
 
+// Physical bounds of what the simulator accepts (README "Scenario format"). Each lies far beyond
+// any real robot, person or building, and keeps the simulation's arithmetic sound: ray casting
+// in metres, schedules in int64 microseconds.
+namespace bounds {
+// [m] No mobile robot of this kind (MOBOT-IV: 0.35 m, a Pioneer: 0.27 m) reaches more than 5 m
+// from its centre, so nothing mounted on it (a laser, a sonar) is further out; nor is a person,
+// trolley or forklift moving about a building wider than that.
+inline constexpr double kMaxBodyRadius = 5.0;
+// [m/s] A mobile robot indoors drives at most a few metres a second (as --robot-speed).
+inline constexpr double kMaxRobotSpeed = 5.0;
+// [m/s] No person runs faster than a sprinter, nor does anything else that moves among people.
+inline constexpr double kMaxMoverSpeed = 10.0;
+// [s] A day of simulated time: no battery-powered robot drives longer in one run.
+inline constexpr double kMaxDurationS = 86'400.0;
+// [m] 1000 km from the origin: far beyond any building, and where doubles still resolve
+// 1e-10 m (the drivers refuse a SIM_STATE beyond it, as a pose of 1e30 m turns ray casting into NaN).
+inline constexpr double kMaxCoordinate = 1e6;
+// [s] An ultrasound source cannot ping again before its own burst has rung down: about 1 ms for
+// a 49 kHz transducer.
+inline constexpr double kMinEmitterPeriodS = 1e-3;
+}  // namespace bounds
+
 enum class LaserBehaviour { Reflect, Transparent, Absorb };
 
 // How a surface material looks to each sensor. Two sensor profiles read it (README "Sensor

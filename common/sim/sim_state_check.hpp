@@ -4,6 +4,7 @@
 // value or an absurd time must be refused here, with the field named (counted as
 // rejected.sim_state by the driver).
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -23,7 +24,7 @@ inline std::optional<std::string> simStateProblem(const sim_state_t& st, const S
                                                    {"omega", st.omega}};
   // 1000 km, 1000 m/s: far beyond any simulated room, and where doubles still resolve 1e-10 m;
   // a pose of 1e30 m is finite but turns ray casting into NaN.
-  constexpr double kMaxCoordinate = 1e6, kMaxSpeed = 1e3;
+  constexpr double kMaxCoordinate = bounds::kMaxCoordinate, kMaxSpeed = 1e3;
   for (const auto& [name, v] : fields) {
     if (!std::isfinite(v)) return std::string("SIM_STATE.") + name + " is not finite";
     const double limit = name[0] == 'r' ? kMaxCoordinate : kMaxSpeed;
@@ -51,9 +52,22 @@ inline std::optional<std::string> simStateProblem(const sim_state_t& st, const S
 
 namespace lasonic::sim {
 
+// --seed of every simulator executable: an integer in [0, 2^63 - 1], as a scenario's `seed`
+// (CLI11 alone would read -1 as 2^64 - 1).
+inline CLI::Option* addSeedOption(CLI::App& app, std::optional<uint64_t>& seed) {
+  return app.add_option("--seed", seed, "random seed, an integer >= 0 (default: the scenario's)")
+      ->check(CLI::NonNegativeNumber);
+}
+// After parsing: a seed above a scenario's largest (CLI11 lets 2^63 .. 2^64 - 1 through) is a
+// ConfigError (exit 2).
+inline void checkSeedOption(const std::optional<uint64_t>& seed) {
+  if (seed && *seed > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+    throw ConfigError("--seed must be an integer in [0, 2^63 - 1], as a scenario's seed");
+}
+
 inline void addDriverOptions(ProcessMain& pm, std::string& scenario_file, std::optional<uint64_t>& seed) {
   pm.app().add_option("--scenario", scenario_file, "scenario YAML (its sensor section overrides the config)")->required();
-  pm.app().add_option("--seed", seed, "random seed (default: the scenario's)");
+  addSeedOption(pm.app(), seed);
 }
 
 // The gate every SIM_STATE passes in a driver: a bad one is counted (rejected.sim_state) and

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lcmio/lengths.hpp"
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
 #include "sim/sonar_physical.hpp"
@@ -19,8 +20,10 @@ double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11)
 SonarSensor parseSensor(const Config& s) {
   s.allowOnly({"x", "y", "theta_deg", "beam_deg", "group"});
   SonarSensor out;
-  out.mount.x = s.requireNum("x", Range::any());
-  out.mount.y = s.requireNum("y", Range::any());
+  // On the robot's body (bounds::kMaxBodyRadius).
+  const Range on_body = Range::between(-bounds::kMaxBodyRadius, bounds::kMaxBodyRadius);
+  out.mount.x = s.requireNum("x", on_body);
+  out.mount.y = s.requireNum("y", on_body);
   out.mount.theta = geom::normalizeAngle(geom::deg2rad(s.requireNum("theta_deg", Range::any())));
   out.beam_width = geom::deg2rad(s.get("beam_deg", 30.0, Range{0, 180, true}));
   if (!s.has("group")) s.fail("group", "is required");
@@ -31,7 +34,7 @@ SonarSensor parseSensor(const Config& s) {
 std::vector<SonarSensor> parseRing(const Config& r) {
   r.allowOnly({"count", "radius", "beam_deg", "groups", "offset_deg"});
   const int count = r.get("count", 24, Range::between(1, 1000));
-  const double radius = r.get("radius", 0.35, Range::nonNegative());
+  const double radius = r.get("radius", 0.35, Range::between(0, bounds::kMaxBodyRadius));  // on the robot's body
   const double beam = geom::deg2rad(r.get("beam_deg", 30.0, Range{0, 180, true}));
   const int groups = r.get("groups", 6, Range::between(1, 1000));
   if (groups > count) r.fail("groups", "must be <= count (" + std::to_string(count) + ")");
@@ -73,7 +76,14 @@ std::vector<std::vector<int>> firingGroups(const std::vector<SonarSensor>& senso
   return groups;
 }
 
-SonarConfig sonarConfig(const Config& c, SonarConfig base) {
+namespace {
+
+// A SONAR_RING carries at most limits::kSonarReadings readings (one firing group), and its
+// sensor ids are int16: a ring of more transducers than that (real ones have 8 to 48) could not
+// be sent.
+constexpr int64_t kMaxSensors = limits::kSonarReadings;
+
+SonarConfig sonarKeys(const Config& c, SonarConfig base) {
   c.allowOnly({"profile", "ring", "sensors", "range_max", "range_min", "group_period_s", "group_jitter_s", "beam_scale", "report_scaled_beam", "rays_per_beam",
                "noise_std", "noise_rel", "multipath_prob", "multipath_bounces", "crosstalk", "crosstalk_prob",
                "foreign_prob", "frequency_hz", "transducer_radius_m", "pulse_cycles", "side_lobes", "plane_range_m",
@@ -85,7 +95,11 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   if (c.has("ring")) o.sensors = parseRing(c.section("ring"));
   if (c.has("sensors")) {
     o.sensors.clear();
-    for (const Config& s : c.list("sensors")) o.sensors.push_back(parseSensor(s));
+    const std::vector<Config> sensors = c.list("sensors");
+    if (static_cast<int64_t>(sensors.size()) > kMaxSensors)
+      c.fail("sensors", "has " + std::to_string(sensors.size()) + " sensors: at most " + std::to_string(kMaxSensors) +
+                            " (what one SONAR_RING carries)");
+    for (const Config& s : sensors) o.sensors.push_back(parseSensor(s));
     if (o.sensors.empty()) c.fail("sensors", "needs at least one sensor");
     const auto groups = firingGroups(o.sensors);
     for (size_t g = 0; g < groups.size(); ++g)
@@ -97,7 +111,9 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
 
   o.range_max = c.get("range_max", o.range_max, Range::positive());
   o.range_min = c.get("range_min", o.range_min, Range::nonNegative());
-  o.group_period_s = c.get("group_period_s", o.group_period_s, Range::positive());
+  // A minute between groups: no ranging sensor is that slow (and the schedule, in int64
+  // microseconds, stays exact).
+  o.group_period_s = c.get("group_period_s", o.group_period_s, Range{0, 60, true});
   o.group_jitter_s = c.get("group_jitter_s", o.group_jitter_s, Range::between(0, 1));
   o.clock_offset_s = c.get("clock_offset_s", o.clock_offset_s, Range::between(-3600, 3600));
   if (c.has("send_delay_s")) o.send_delay_s = c.requireNum("send_delay_s", Range::between(0, 10));
@@ -124,7 +140,15 @@ SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   o.ideal_beam_width =
       geom::deg2rad(c.get("ideal_beam_deg", geom::rad2deg(o.ideal_beam_width), Range{0, 180, true}));
   o.ideal_range = c.get("ideal_range", o.ideal_range, Range::positive());
+  return o;
+}
 
+}  // namespace
+
+void checkSonarKeys(const Config& c) { sonarKeys(c, {}); }
+
+SonarConfig sonarConfig(const Config& c, SonarConfig base) {
+  SonarConfig o = sonarKeys(c, base);
   // Cross-key checks name the key this layer set (the one the user just edited).
   auto key = [&c](const char* a, const char* b) { return c.has(a) ? a : b; };
   if (o.range_min >= o.range_max)

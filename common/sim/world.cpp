@@ -93,22 +93,35 @@ PathFollower::State PathFollower::at(double t) const {
 
 // ---------------------------------------------------------------- odometry config
 
-OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
+namespace {
+
+OdometryConfig odometryKeys(const Config& c, OdometryConfig base) {
   c.allowOnly({"rate_hz", "publish_hz", "trans_noise", "rot_noise", "drift_noise", "scale_error", "turn_scale_error",
                "curvature_error"});
   base.rate_hz = c.get("rate_hz", base.rate_hz, Range::between(1, 1000));
   base.publish_hz = c.get("publish_hz", base.publish_hz, Range::between(0, 1000));
+  // An odometry whose error after one metre driven (one radian turned) is a metre (a radian) is
+  // no odometry: wheels spinning on ice do better.
+  base.trans_noise = c.get("trans_noise", base.trans_noise, Range::between(0, 1));
+  base.rot_noise = c.get("rot_noise", base.rot_noise, Range::between(0, 1));
+  base.drift_noise = c.get("drift_noise", base.drift_noise, Range::between(0, 1));
+  base.scale_error = c.get("scale_error", base.scale_error, Range::between(-0.5, 0.5));
+  base.turn_scale_error = c.get("turn_scale_error", base.turn_scale_error, Range::between(-0.5, 0.5));
+  base.curvature_error = c.get("curvature_error", base.curvature_error, Range::between(-1, 1));
+  return base;
+}
+
+}  // namespace
+
+void checkOdometryKeys(const Config& c) { odometryKeys(c, {}); }
+
+OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
+  base = odometryKeys(c, base);
   if (base.publish_hz > base.rate_hz) {
     std::ostringstream os;
     os << "must be <= rate_hz (" << base.rate_hz << "): ODOMETRY is published with a state";
     c.fail("publish_hz", os.str());
   }
-  base.trans_noise = c.get("trans_noise", base.trans_noise, Range::nonNegative());
-  base.rot_noise = c.get("rot_noise", base.rot_noise, Range::nonNegative());
-  base.drift_noise = c.get("drift_noise", base.drift_noise, Range::nonNegative());
-  base.scale_error = c.get("scale_error", base.scale_error, Range::between(-0.5, 0.5));
-  base.turn_scale_error = c.get("turn_scale_error", base.turn_scale_error, Range::between(-0.5, 0.5));
-  base.curvature_error = c.get("curvature_error", base.curvature_error, Range::between(-1, 1));
   return base;
 }
 
@@ -121,6 +134,9 @@ WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
       robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
       end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
       rng_(deriveSeed(s.seed, "odometry")) {
+  // (parseScenario and the tools' --duration keep it so; a longer one would overflow end_utime_)
+  if (!(s.duration_s > 0 && s.duration_s <= bounds::kMaxDurationS))
+    throw std::invalid_argument("WorldCore: duration_s must be in (0, " + std::to_string(bounds::kMaxDurationS) + "] s");
   for (const MoverSpec& m : s.movers)
     movers_.emplace_back(m.path, m.mode, m.speed, std::numeric_limits<double>::infinity(), m.start_delay_s);
   waited_.assign(movers_.size(), 0.0);

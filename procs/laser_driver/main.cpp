@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   std::optional<sim::SimSetup> setup;
   sim::LaserConfig cfg;
   auto configure = [&](const Config& root) {
+    sim::checkSeedOption(seed);
     setup = sim::SimSetup{root, sim::loadScenario(scenario_file)};
     cfg = sim::laserConfigFor(*setup);
     if (seed) setup->scenario.seed = *seed;

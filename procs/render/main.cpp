@@ -24,6 +24,7 @@
 #include "lcmio/eventlog.hpp"
 #include "render/fig8.hpp"
 #include "render/snapshot.hpp"
+#include "sim/same_file.hpp"
 #include "sim/scenario.hpp"
 
 namespace {
@@ -94,6 +95,15 @@ int main(int argc, char** argv) {
   }
   if (time_s && (!std::isfinite(*time_s) || *time_s < 0)) return fail(2, "--time: must be a number >= 0");
   if (every_s && (!std::isfinite(*every_s) || *every_s <= 0)) return fail(2, "--every: must be a number > 0");
+  // A picture written over the log or the scenario would destroy what it was drawn from.
+  auto overwritesInput = [&](const std::string& out) -> std::optional<std::string> {
+    if (sim::sameExistingFile(out, log_path)) return "--out " + out + " is the --log file " + log_path + ": not overwritten";
+    if (!scenario_path.empty() && sim::sameExistingFile(out, scenario_path))
+      return "--out " + out + " is the --scenario file " + scenario_path + ": not overwritten";
+    return std::nullopt;
+  };
+  if (!every_s)
+    if (const auto why = overwritesInput(out_path)) return fail(2, *why);
 
   std::optional<sim::Scenario> scenario;
   if (!scenario_path.empty()) {
@@ -136,6 +146,8 @@ int main(int argc, char** argv) {
       return fail(2, "--every " + std::to_string(*every_s) + " would write " + std::to_string(static_cast<long long>(n)) +
                          " frames (at most " + std::to_string(kMaxFrames) + "): choose a larger step");
     for (int64_t k = 0; k < static_cast<int64_t>(n); ++k) frames.push_back(start + static_cast<double>(k) * *every_s);
+    for (size_t k = 0; k < frames.size(); ++k)
+      if (const auto why = overwritesInput(framePath(out_path, static_cast<int64_t>(k)))) return fail(2, *why);
   } else {
     if (most_sonar) {
       if (info.most_sonar_sectors < 0)

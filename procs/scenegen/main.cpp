@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 
 #include "core/cli.hpp"
 #include "core/config.hpp"
@@ -20,12 +21,26 @@ int main(int argc, char** argv) {
   uint64_t first = 1;
   int count = 10;
   std::string out_dir, pioneer_overlay = "deploy/config/pioneer.yaml";
-  app.add_option("--first", first, "index of the first scene (every draw derives from the index)");
+  app.add_option("--first", first, "index of the first scene, an integer >= 0 (every draw derives from the index)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--count", count, "number of scenes")->check(CLI::Range(1, 10000));
   app.add_option("--out", out_dir, "directory to write the scenes and scenes.list into")->required();
   app.add_option("--pioneer-overlay", pioneer_overlay,
                  "config overlay listed in scenes.list for the Pioneer-type scenes");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
+  // Indices are 64-bit: the last one must not wrap round to 0.
+  if (first > std::numeric_limits<uint64_t>::max() - static_cast<uint64_t>(count - 1)) {
+    std::cerr << "lasonic-scenegen: --first " << first << " --count " << count
+              << ": the last index would pass 2^64 - 1\n";
+    return 2;
+  }
+  // scenes.list names the overlay as given (from where ./run reads the list: the repository's
+  // root); a name that is no file would fail every Pioneer-type scene's run later.
+  if (!std::filesystem::is_regular_file(pioneer_overlay)) {
+    std::cerr << "lasonic-scenegen: --pioneer-overlay " << pioneer_overlay
+              << ": no such file (give its path from the repository's root, where scenes.list is read)\n";
+    return 2;
+  }
 
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
@@ -42,7 +57,8 @@ int main(int argc, char** argv) {
   list << "# lasonic-scenegen --first " << first << " --count " << count
        << ": SCENARIO [CONFIG-OVERLAY...] (README \"Random scenes\")\n";
   int written = 0, skipped = 0;
-  for (uint64_t index = first; index < first + static_cast<uint64_t>(count); ++index) {
+  for (uint64_t k = 0; k < static_cast<uint64_t>(count); ++k) {
+    const uint64_t index = first + k;
     const std::optional<sim::GeneratedScene> scene = sim::generateScene(index);
     if (!scene) {
       std::cerr << "lasonic-scenegen: scene " << index << ": no robot path with clearance fits; skipped\n";

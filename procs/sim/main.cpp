@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -18,7 +19,9 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "sim/drivers.hpp"
+#include "sim/same_file.hpp"
 #include "sim/setup.hpp"
+#include "sim/sim_state_check.hpp"
 
 using namespace lasonic;
 
@@ -34,7 +37,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_file, "scenario YAML")->required();
   app.add_option("--out", out_file, "LCM log file to write")->required();
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
-  app.add_option("--seed", seed, "random seed (default: the scenario's)");
+  sim::addSeedOption(app, seed);
   app.add_option("--robot-speed", robot_speed,
                  "the robot's speed along its path [m/s], overriding the scenario's robot.speed (the same scene "
                  "driven faster or slower)");
@@ -51,6 +54,29 @@ int main(int argc, char** argv) {
                  "or ideal (the method's idealised sensors)")
       ->check(CLI::IsMember({"physical", "ideal"}));
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
+  try {
+    sim::checkSeedOption(seed);
+  } catch (const ConfigError& e) {
+    std::cerr << "lasonic-sim: " << e.what() << "\n";
+    return 2;
+  }
+
+  for (const std::string& input : config_files)
+    if (sim::sameExistingFile(out_file, input)) {
+      std::cerr << "lasonic-sim: --out " << out_file << " is the --config file " << input << ": not overwritten\n";
+      return 2;
+    }
+  if (sim::sameExistingFile(out_file, scenario_file)) {
+    std::cerr << "lasonic-sim: --out " << out_file << " is the --scenario file " << scenario_file << ": not overwritten\n";
+    return 2;
+  }
+  // Sim time is counted in int64 microseconds; a day of it (sim::bounds::kMaxDurationS) is the longest run.
+  const auto duration_ok = [](double d) { return std::isfinite(d) && d > 0 && d <= sim::bounds::kMaxDurationS; };
+  if (duration && !duration_ok(*duration)) {
+    std::cerr << "lasonic-sim: --duration must be in (0, " << sim::bounds::kMaxDurationS
+              << "] sim seconds (at most a day)\n";
+    return 2;
+  }
 
   std::optional<sim::SimSetup> setup;
   sim::OdometryConfig odo_cfg;
@@ -68,12 +94,11 @@ int main(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::cerr << "lasonic-sim: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "lasonic-sim: start-up failed: " << e.what() << "\n";
+    return 1;
   }
-  if (duration && *duration <= 0) {
-    std::cerr << "lasonic-sim: --duration must be > 0\n";
-    return 2;
-  }
-  if (robot_speed && !(*robot_speed > 0 && *robot_speed <= 5)) {
+  if (robot_speed && !(*robot_speed > 0 && *robot_speed <= sim::bounds::kMaxRobotSpeed)) {
     std::cerr << "lasonic-sim: --robot-speed must be in (0, 5] m/s\n";
     return 2;
   }
@@ -82,11 +107,17 @@ int main(int argc, char** argv) {
   if (robot_speed) {
     if (same_path && scenario.robot.speed > 0) scenario.duration_s *= scenario.robot.speed / *robot_speed;
     scenario.robot.speed = *robot_speed;
+    if (!duration_ok(scenario.duration_s)) {  // --same-path with a much slower robot
+      std::cerr << "lasonic-sim: --robot-speed " << *robot_speed << " --same-path would simulate "
+                << scenario.duration_s << " s: more than a day (" << sim::bounds::kMaxDurationS << " s)\n";
+      return 2;
+    }
   }
   if (seed) scenario.seed = *seed;
 
   const auto wall0 = std::chrono::steady_clock::now();
   std::map<std::string, int64_t> counts;
+  int64_t sim_utime = 0;
   try {
     LogWriter log(out_file);
     auto write = [&](const char* channel, int64_t timestamp, auto& msg) {
@@ -97,6 +128,7 @@ int main(int argc, char** argv) {
     sim::LaserDriverCore laser(scenario, laser_cfg, scenario.seed);
     sim::SonarDriverCore sonar(scenario, sonar_cfg, scenario.seed);
     for (int64_t utime = world.startUtime(); !world.finished(utime); utime += world.periodUs()) {
+      sim_utime = utime;
       sim_state_t st = world.stateAt(utime);
       odometry_t od = world.odometry();
       write(channels::SIM_STATE, utime, st);
@@ -116,6 +148,12 @@ int main(int argc, char** argv) {
     }
   } catch (const LogError& e) {
     std::cerr << "lasonic-sim: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    // Nothing a scenario or config can hold should get here (they are bounded when read); if
+    // something does, say where instead of aborting.
+    std::fprintf(stderr, "lasonic-sim: the simulation failed at sim time %.3f s: %s (%s is incomplete)\n",
+                 static_cast<double>(sim_utime - sim::WorldCore::kStartUtime) * 1e-6, e.what(), out_file.c_str());
     return 1;
   }
 

@@ -5,14 +5,24 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
+#include <sstream>
 #include <thread>
 
 #include "lcmio/process.hpp"
 #include "sim/drivers.hpp"
 #include "sim/setup.hpp"
+#include "sim/sim_state_check.hpp"
 
 using namespace lasonic;
+
+namespace {
+// Sim seconds per wall second. At a hundredth of real time a 60 s scenario takes 100 minutes,
+// the slowest a live run is watched; at 100 times a 50 Hz world sends a SIM_STATE every 0.2 ms,
+// faster than the drivers simulate a scan (faster than real time is lasonic-sim's job).
+constexpr double kMinRate = 0.01, kMaxRate = 100;
+}  // namespace
 
 int main(int argc, char** argv) {
   ProcessMain pm("lasonic-sim-world",
@@ -23,18 +33,32 @@ int main(int argc, char** argv) {
   pm.app().add_option("--scenario", scenario_file, "scenario YAML")->required();
   pm.app().add_option("--rate", rate, "sim seconds per wall second (default: sim_world.rate, 1.0)");
   pm.app().add_option("--duration", duration, "sim seconds to run (default: the scenario's duration_s)");
-  pm.app().add_option("--seed", seed, "random seed (default: the scenario's)");
+  sim::addSeedOption(pm.app(), seed);
 
   std::optional<sim::SimSetup> setup;
   sim::OdometryConfig odo;
   auto configure = [&](const Config& root) {
+    sim::checkSeedOption(seed);
     const Config own = root.section("sim_world");
     own.allowOnly({"rate"});
-    if (!rate) rate = own.get("rate", 1.0, Range::positive());
-    if (*rate <= 0) throw ConfigError("--rate must be > 0");
-    if (duration && *duration <= 0) throw ConfigError("--duration must be > 0");
+    if (!rate) rate = own.get("rate", 1.0, Range::between(kMinRate, kMaxRate));
+    if (!(std::isfinite(*rate) && *rate >= kMinRate && *rate <= kMaxRate)) {
+      std::ostringstream os;
+      os << "--rate must be in [" << kMinRate << ", " << kMaxRate << "] sim seconds per wall second";
+      throw ConfigError(os.str());
+    }
+    // Sim time is counted in int64 microseconds; a day of it (sim::bounds::kMaxDurationS) is the longest run.
+    if (duration && !(std::isfinite(*duration) && *duration > 0 && *duration <= sim::bounds::kMaxDurationS)) {
+      std::ostringstream os;
+      os << "--duration must be in (0, " << sim::bounds::kMaxDurationS << "] sim seconds (at most a day)";
+      throw ConfigError(os.str());
+    }
     setup = sim::SimSetup{root, sim::loadScenario(scenario_file)};
     odo = sim::odometryConfigFor(*setup);
+    // The drivers read the laser and sonar sections with this scenario's overrides: refused
+    // here too, so that the world does not run on alone when they exit.
+    sim::laserConfigFor(*setup);
+    sim::sonarConfigFor(*setup);
     if (duration) setup->scenario.duration_s = *duration;
     if (seed) setup->scenario.seed = *seed;
   };

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   std::optional<sim::SimSetup> setup;
   sim::SonarConfig cfg;
   auto configure = [&](const Config& root) {
+    sim::checkSeedOption(seed);
     setup = sim::SimSetup{root, sim::loadScenario(scenario_file)};
     cfg = sim::sonarConfigFor(*setup);
     if (seed) setup->scenario.seed = *seed;

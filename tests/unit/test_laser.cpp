@@ -248,6 +248,9 @@ TEST(Laser, ConfigErrorsNameTheKey) {
   EXPECT_EQ(configMessage("  fov_deg: 400\n"), "cfg.yaml: laser.fov_deg: must be in [1, 360]");
   EXPECT_NE(configMessage("  colour: red\n").find("cfg.yaml: laser.colour: unknown key"), std::string::npos);
   EXPECT_NE(configMessage("  mount: {z: 1}\n").find("laser.mount.z: unknown key"), std::string::npos);
+  // On the robot's body: a mount 1e300 m out was accepted (and refused downstream).
+  EXPECT_NE(configMessage("  mount: {x: 1e300}\n").find("laser.mount.x: must be in [-5, 5]"), std::string::npos);
+  EXPECT_NE(configMessage("  mount: {y: -5.5}\n").find("laser.mount.y: must be in [-5, 5]"), std::string::npos);
   EXPECT_NE(configMessage("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
 }
 

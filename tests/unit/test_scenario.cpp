@@ -1,6 +1,7 @@
 // Scenario files: the format of README "Scenario format", and errors that name the offending key path.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -211,12 +212,12 @@ TEST(Scenario, ErrorsNameTheKeyPath) {
   expectError(minimal("obstacles:\n  - {shape: blob, material: wall}\n"),
               "obstacles[0].shape: must be segment, polyline, circle or box");
   expectError(minimal("", "{path: [[0,0]]}"), "robot.path: needs at least 2 points");
-  expectError(minimal("", "{path: [[0,0],[1,0]], speed: 0}"), "robot.speed: must be > 0");
+  expectError(minimal("", "{path: [[0,0],[1,0]], speed: 0}"), "robot.speed: must be in (0, 5]");
   expectError(minimal("", "{path: [[0,0],[1,0]], mode: sometimes}"), "robot.mode: must be once, loop or pingpong");
-  expectError(minimal("duration_s: 0\n"), "duration_s: must be > 0");
+  expectError(minimal("duration_s: 0\n"), "duration_s: must be in (0, 86400]");
   expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: 1, mode: twice}\n"),
               "movers[0].mode: must be once, loop or pingpong");
-  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: -1}\n"), "movers[0].speed: must be > 0");
+  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: -1}\n"), "movers[0].speed: must be in (0, 10]");
   expectError(minimal("materials:\n  foam: {laser: soak, sonar_echo_angle_deg: 10}\n"),
               "materials.foam.laser: must be reflect, transparent or absorb");
   expectError(minimal("materials:\n  foam: {laser: absorb}\n"), "materials.foam.sonar_echo_angle_deg: is required");
@@ -237,24 +238,65 @@ TEST(Scenario, ErrorsNameTheKeyPath) {
   expectError(minimal("obstacles:\n  - {shape: polyline, closed: true, material: glass, points: [[0,0],[1,0],[1,1]], frame: {material: wall, width: 0.1}}\n"),
               "obstacles[0].frame: only segments and open polylines can have a frame");
   expectError(minimal("emitters:\n  - {position: [1, 2]}\n"), "emitters[0].period_s: is required");
-  expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 0}\n"), "emitters[0].period_s: must be > 0");
+  expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 0}\n"), "emitters[0].period_s: must be >= 0.001");
   expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 0.1, colour: red}\n"), "emitters[0].colour: unknown key");
   expectError("name: t\n", "robot: is required");
 }
 
-TEST(Scenario, SensorOverridesAreCheckedByTheirReaders) {
-  const Scenario s = parse(minimal("laser: {colour: red}\nodometry: {trans_noise: -1}\n"));
-  EXPECT_THROW(
-      {
-        try {
-          laserConfig(s.laser);
-        } catch (const ConfigError& e) {
-          EXPECT_NE(std::string(e.what()).find("test.yaml: laser.colour: unknown key"), std::string::npos) << e.what();
-          throw;
-        }
-      },
-      ConfigError);
+// The override sections are read by the simulator's own readers when the scenario is loaded, so
+// every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
+// that lasonic-sim would refuse.
+TEST(Scenario, SensorOverridesAreCheckedWhenLoaded) {
+  expectError(minimal("laser: {colour: red}\n"), "test.yaml: laser.colour: unknown key");
+  expectError(minimal("laser: {readings: 0}\n"), "test.yaml: laser.readings: must be in [2, 100000]");
+  expectError(minimal("sonar: {zzz_typo: 1}\n"), "test.yaml: sonar.zzz_typo: unknown key");
+  expectError(minimal("sonar: {ring: {count: 0}}\n"), "test.yaml: sonar.ring.count: must be in [1, 1000]");
+  expectError(minimal("odometry: {trans_noise: -1}\n"), "test.yaml: odometry.trans_noise: must be in [0, 1]");
+  expectError(minimal("odometry: {rate: 20}\n"), "test.yaml: odometry.rate: unknown key");
+  // What depends on the configuration beneath is checked with it: 6 m needs a longer
+  // group_period_s than the default, which a --config file may give.
+  const Scenario s = parse(minimal("sonar: {range_max: 6}\nodometry: {publish_hz: 100}\n"));
+  EXPECT_THROW(sonarConfig(s.sonar), ConfigError);
+  EXPECT_EQ(sonarConfig(s.sonar, sonarConfig(Config::fromString("group_period_s: 0.05"))).range_max, 6);
   EXPECT_THROW(odometryConfig(s.odometry), ConfigError);
+  EXPECT_EQ(odometryConfig(s.odometry, odometryConfig(Config::fromString("rate_hz: 200"))).publish_hz, 100);
+}
+
+// Physical bounds (README "Scenario format"): a value beyond them was accepted and made the
+// simulation's state non-finite (a mover of radius 1e300 aborted lasonic-sim), hung it (an
+// emitter pinging every 1e-300 s) or overflowed its microsecond clock (duration_s: 1e300).
+TEST(Scenario, PhysicalBounds) {
+  expectError(minimal("", "{path: [[0,0],[1,0]], radius: 1e300}"), "robot.radius: must be in (0, 5]");
+  expectError(minimal("", "{path: [[0,0],[1,0]], speed: 100}"), "robot.speed: must be in (0, 5]");
+  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], radius: 1e300}\n"), "movers[0].radius: must be in (0, 5]");
+  expectError(minimal("movers:\n  - {path: [[0,0],[1,0]], speed: 1e300}\n"), "movers[0].speed: must be in (0, 10]");
+  expectError(minimal("duration_s: 1e300\n"), "duration_s: must be in (0, 86400]");
+  expectError(minimal("emitters:\n  - {position: [1, 2], period_s: 1e-300}\n"), "emitters[0].period_s: must be >= 0.001");
+  expectError(minimal("emitters:\n  - {position: [1e300, 2], period_s: 0.1}\n"),
+              "emitters[0].position: must lie within 1000 km of the origin");
+  expectError(minimal("", "{path: [[0,0],[1e300,0]]}"), "robot.path[1]: must lie within 1000 km of the origin");
+  expectError(minimal("obstacles:\n  - {shape: box, material: wall, center: [0,0], size: [1e300,1]}\n"),
+              "obstacles[0].size: both sides must be <= 1e6 m");
+  expectError(minimal("obstacles:\n  - {shape: circle, material: wall, center: [0,0], radius: 1e300}\n"),
+              "obstacles[0].radius: must be <= 1e6 m");
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[0,0],[0,-1e300]]}\n"),
+              "obstacles[0].points[1]: must lie within 1000 km of the origin");
+  expectError(minimal("obstacles:\n  - {shape: segment, material: glass, from: [0,0], to: [1,0], frame: {material: wall, width: 0.1, depth: 1e300}}\n"),
+              "obstacles[0].frame.depth: must be <= 1e6 m");
+  // The largest values accepted still simulate: every state finite.
+  Scenario s = parse(minimal("duration_s: 2\nmovers:\n  - {path: [[0,0.5],[1,0.5]], radius: 5, speed: 10}\n",
+                             "{path: [[0,0],[1,0]], radius: 5, speed: 5}"));
+  WorldCore world(s, OdometryConfig{});
+  for (int64_t u = world.startUtime(); !world.finished(u); u += world.periodUs()) {
+    const sim_state_t st = world.stateAt(u);
+    ASSERT_TRUE(std::isfinite(st.robot_pose.x) && std::isfinite(st.movers[0].x) && std::isfinite(st.movers[0].y));
+  }
+}
+
+// The name names a run's files.
+TEST(Scenario, NameIsAFileName) {
+  expectError("name: ''\nrobot: {path: [[0,0],[1,0]]}\n", "name: must not be empty");
+  expectError("name: a/b\nrobot: {path: [[0,0],[1,0]]}\n", "name: must not contain '/'");
 }
 
 TEST(Scenario, FileErrorsNameTheFile) {

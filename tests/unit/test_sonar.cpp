@@ -523,6 +523,17 @@ TEST(SonarConfigErrors, NameTheKey) {
   EXPECT_NE(err("sonar: {range_max: 6}").find("sonar.range_max: group_period_s must be >="), std::string::npos);
   EXPECT_NE(err("sonar: {range_min: 3}").find("sonar.range_min: range_min must be < range_max"), std::string::npos);
   EXPECT_EQ(err("sonar: {range_max: 5, group_period_s: 0.04}"), "");
+  // Physical bounds: transducers on the robot's body, a ring one SONAR_RING can carry, a group
+  // period whose microseconds cannot overflow (1e13 s fired the ring 502 times in 2 s).
+  EXPECT_NE(err("sonar: {ring: {radius: 1e300}}").find("sonar.ring.radius: must be in [0, 5]"), std::string::npos);
+  EXPECT_NE(err("sonar: {sensors: [{x: 1e300, y: 0, theta_deg: 0, group: 0}]}").find("sonar.sensors[0].x: must be in [-5, 5]"),
+            std::string::npos);
+  EXPECT_NE(err("sonar: {sensors: [{x: 0, y: -6, theta_deg: 0, group: 0}]}").find("sonar.sensors[0].y: must be in [-5, 5]"),
+            std::string::npos);
+  EXPECT_NE(err("sonar: {group_period_s: 1e13}").find("sonar.group_period_s: must be in (0, 60]"), std::string::npos);
+  std::string many = "sonar: {sensors: [";
+  for (int i = 0; i < 1025; ++i) many += std::string(i ? ", " : "") + "{x: 0, y: 0, theta_deg: 0, group: 0}";
+  EXPECT_NE(err(many + "]}").find("sonar.sensors: has 1025 sensors: at most 1024"), std::string::npos);
   // A scenario's override is named by its own path.
   const std::string e = errorOf([] { sonarConfig(scenario("sonar: {noise_std: -1}\n").sonar); });
   EXPECT_NE(e.find("t.yaml: sonar.noise_std: must be >= 0"), std::string::npos) << e;

@@ -277,6 +277,22 @@ TEST(WorldCore, OdometryConfigFromYaml) {
   EXPECT_EQ(c.drift_noise, 0.01);
   EXPECT_EQ(c.trans_noise, OdometryConfig{}.trans_noise);
   EXPECT_THROW(odometryConfig(Config::fromString("rate: 20\n")), ConfigError);
+  // An error of a metre per square-root metre is no odometry (1e300 put ODOMETRY at 3e298 m).
+  for (const char* key : {"trans_noise", "rot_noise", "drift_noise"}) {
+    EXPECT_THROW(odometryConfig(Config::fromString(std::string(key) + ": 1e300\n")), ConfigError) << key;
+    EXPECT_EQ(odometryConfig(Config::fromString(std::string(key) + ": 1\n")).rate_hz, 50) << key;
+  }
+}
+
+// The world's end in int64 microseconds: a duration beyond a day is refused, not overflowed.
+TEST(WorldCore, RefusesADurationBeyondADay) {
+  Scenario s = parse(kWorld);
+  s.duration_s = 1e300;
+  EXPECT_THROW(WorldCore(s, OdometryConfig{}), std::invalid_argument);
+  s.duration_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(WorldCore(s, OdometryConfig{}), std::invalid_argument);
+  s.duration_s = 86'400;
+  EXPECT_NO_THROW(WorldCore(s, OdometryConfig{}));
 }
 
 // A base that reports odometry at 10 Hz while the truth runs at 50 Hz: every fifth state
