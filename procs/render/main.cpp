@@ -138,6 +138,9 @@ int main(int argc, char** argv) {
   // ---- the moments to draw
   std::vector<double> frames;
   if (every_s) {
+    // (Message times are microseconds, a display's frames tens of milliseconds apart.)
+    if (!(*every_s >= 1e-3 && *every_s <= 1e6))
+      return fail(2, "--every " + std::to_string(*every_s) + ": must be a step of 0.001 to 1e6 s");
     const double start = time_s.value_or(0.0);
     if (start > duration + 1e-6)
       return fail(2, "--time " + std::to_string(start) + " is after the log's end (" + std::to_string(duration) + " s)");

@@ -59,6 +59,13 @@ for f in "$tmp"/seq/f-0000{0,1,2}.png; do
   "$check" png "$f" $W $H >"$tmp/seq-check.txt" 2>&1 || die "$f: $(cat "$tmp/seq-check.txt")"
 done
 
+for step in 1e-300 1e300; do
+  rc=0
+  "$render" --log "$tmp/out.lcmlog" --out "$tmp/seq/g.png" --every $step >"$tmp/step.txt" 2>&1 || rc=$?
+  [[ $rc -eq 2 ]] && grep -q "must be a step of 0.001 to 1e6 s" "$tmp/step.txt" ||
+    die "--every $step: exit status $rc: $(cat "$tmp/step.txt")"
+done
+
 # ---- 3. the raw simulator log
 "$render" --log "$tmp/sim.lcmlog" --out "$tmp/raw.png" --scenario "$scenario" >"$tmp/raw.txt" 2>&1 ||
   die "lasonic-render failed on the raw simulator log"
