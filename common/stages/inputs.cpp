@@ -31,6 +31,23 @@ std::optional<complement::OdometryInput> acceptOdometry(Node& node, PoseHistory&
   return std::nullopt;
 }
 
+void OdometryOutage::missing(Node& node, const PoseHistory& poses, int64_t utime, const char* what) {
+  ++missed_;
+  if (since_ || poses.empty() || utime - poses.newestTime() <= kLostUs) return;
+  since_ = poses.newestTime();
+  node.reportError("odometry.lost", "no ODOMETRY since utime " + std::to_string(*since_) + " (" +
+                                        std::to_string((utime - *since_) / 1000) + " ms before " +
+                                        std::to_string(utime) + "): no " + what + " until it returns");
+}
+
+void OdometryOutage::present(int64_t utime) {
+  if (since_)
+    spdlog::warn("ODOMETRY back after {:.3f} s without: {} maps not made", static_cast<double>(utime - *since_) * 1e-6,
+                 missed_);
+  since_.reset();
+  missed_ = 0;
+}
+
 bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what) {
   if (last && utime <= *last) {
     node.reportError(std::string("rejected.") + what + "_backwards",

@@ -38,6 +38,24 @@ bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, cons
 enum class ClockCheck { Ok, Restarted, HeldAhead, Bad };
 ClockCheck checkClock(Node& node, TimeReset& clock, int64_t utime, const char* channel);
 
+// OdometryOutage: a map that cannot be made for want of the robot's pose is counted by its
+// stage (sector_map.no_odometry, publish.no_odometry); once odometry that was flowing has been
+// silent for kLostUs, that is an outage, reported once as an error (odometry.lost: "no maps
+// until it returns") and logged when it ends, so a dead odometry driver is not only a counter.
+// Before the first ODOMETRY (start-up in any order) nothing is reported.
+class OdometryOutage {
+ public:
+  static constexpr int64_t kLostUs = 500'000;  // the sector map's staleness limit for its sensors
+  // A map for time `utime` was not made (no pose): `what` names it in the message.
+  void missing(Node& node, const PoseHistory& poses, int64_t utime, const char* what);
+  // A map was made again.
+  void present(int64_t utime);
+
+ private:
+  std::optional<int64_t> since_;  // newest odometry time when the outage was reported
+  int64_t missed_ = 0;
+};
+
 // SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading
 // is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
 // seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's).

@@ -193,6 +193,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   const ClockCheck c = checkClock(node_, clock_, utime, channel);
   if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
   poses_.clear();
+  odometry_outage_ = OdometryOutage{};
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.effectiveAgm());
   lines_ = cfg_.lines;
@@ -542,8 +543,10 @@ void NavigatorStage::publish() {
   const auto pose = poseAt(now_);
   if (!pose) {
     node_.count("publish.no_odometry");
+    odometry_outage_.missing(node_, poses_, now_, "AGM_TACTICAL, AGM_LINES or CURRENT_SENSOR_MAP");
     return;
   }
+  odometry_outage_.present(now_);
   last_publish_ = now_;
   gridMapMessageInto(grid_msg_, agm_, now_, *pose, lines_.gp_threshold, cfg_.published_size);
   node_.publish(channels::AGM_TACTICAL, grid_msg_);

@@ -72,6 +72,7 @@
 #include "operational/agm.hpp"
 #include "operational/echo_placer.hpp"
 #include "operational/sonar_bearing.hpp"
+#include "stages/inputs.hpp"
 #include "tactical/current_sensor_map.hpp"
 #include "tactical/laser_glint.hpp"
 #include "tactical/laser_join.hpp"
@@ -257,6 +258,7 @@ class NavigatorStage {
   std::optional<int64_t> last_complement_utime_, last_rm_utime_, last_publish_;
   int64_t now_ = 0;  // newest SONAR_COMPLEMENT / RADAR_MAP time processed
   TimeReset clock_;
+  OdometryOutage odometry_outage_;  // (reported once per outage)
 };
 
 }  // namespace lasonic

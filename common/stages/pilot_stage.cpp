@@ -256,6 +256,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   const ClockCheck c = checkClock(node_, clock_, utime, channel);
   if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
   poses_.clear();
+  odometry_outage_ = OdometryOutage{};
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
@@ -520,8 +521,10 @@ void PilotStage::publishSectorMap() {
   const auto pose = poses_.at(now_);
   if (!pose) {
     node_.count("sector_map.no_odometry");
+    odometry_outage_.missing(node_, poses_, now_, "SECTOR_MAP");
     return;
   }
+  odometry_outage_.present(now_);
   const SectorMapState& s = sector_map_.update(now_, *pose, agm_);
   sector_map_t& msg = map_msg_;  // (kept: its arrays' storage is reused, map after map)
   msg.utime = s.utime;

@@ -64,6 +64,7 @@
 #include "operational/motion_confirmation.hpp"
 #include "operational/sector_map.hpp"
 #include "operational/sonar_bearing.hpp"
+#include "stages/inputs.hpp"
 
 namespace lasonic {
 
@@ -209,6 +210,7 @@ class PilotStage {
       last_tactical_utime_;
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
+  OdometryOutage odometry_outage_;  // (reported once per outage)
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
   // The newest AGM_TACTICAL's occupied cells and the newest AGM_LINES' segments (the navigator's frame); the

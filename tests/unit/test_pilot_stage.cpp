@@ -258,6 +258,25 @@ TEST_F(PilotFixture, NoOdometryNoSectorMap) {
   EXPECT_EQ(node.counter("agm.cycles"), 1);  // the AGM itself still runs (hits are global)
 }
 
+TEST_F(PilotFixture, AnOdometryOutageIsReportedOnceAndTheMapsComeBack) {
+  odometry();  // poses from 0 to 2 s
+  complement(300'000);
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_EQ(node.counter("odometry.lost"), 0);
+  // The odometry driver dies at 2 s; the sonar goes on.
+  for (int64_t t = 2'600'000; t <= 3'000'000; t += 100'000) complement(t);
+  EXPECT_EQ(maps.size(), 1u);  // no map with a made-up pose
+  EXPECT_GE(node.counter("sector_map.no_odometry"), 5);
+  EXPECT_EQ(node.counter("odometry.lost"), 1);  // once per outage, an error
+  EXPECT_EQ(node.errors(), 1);
+  // It comes back.
+  standStill(node, 3'020'000, 4'000'000);
+  drain();
+  complement(3'500'000);
+  EXPECT_GT(maps.size(), 1u);  // (also on ODOMETRY, every map_max_interval_s)
+  EXPECT_EQ(node.counter("odometry.lost"), 1);
+}
+
 TEST_F(PilotFixture, RotationDoesNotRotateTheGrid) {
   odometry(kPi / 2);  // facing +y: the echo at (2.05, 2.05) is now to the right
   complement(300'000);
