@@ -1,6 +1,7 @@
 #include "core/config.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -10,6 +11,10 @@ Config::Config(YAML::Node node, std::string path, std::string file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
 
 Config Config::loadFile(const std::string& filename) {
+  // std::ifstream opens a directory and reads nothing from it: an empty configuration, silently.
+  // (A pipe, as /dev/fd/N from `--config <(...)`, is read as a file.)
+  if (std::error_code ec; std::filesystem::is_directory(filename, ec))
+    throw ConfigError(filename + ": is a directory, not a YAML file");
   std::ifstream in(filename);
   if (!in) throw ConfigError(filename + ": cannot open file");
   std::stringstream ss;

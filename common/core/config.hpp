@@ -86,7 +86,7 @@ class Config {
   Config() : node_(YAML::NodeType::Map) {}
   Config(YAML::Node node, std::string path, std::string file = {});
 
-  // Reads and parses a YAML file whose root must be a map.
+  // Reads and parses a YAML file whose root must be a map (not a directory; a pipe is fine).
   static Config loadFile(const std::string& filename);
   // Several files layered in order: maps are merged key by key at every depth, a later file's
   // value (scalar or list) replaces an earlier one's. No files: an empty map. So a robot's file

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 
 #include "core/cli.hpp"
@@ -150,4 +152,20 @@ TEST(Logging, LevelNamesAndUnknownOnes) {
   // spdlog itself would read these as "off" and hide every warning.
   EXPECT_EQ(lasonic::parseLogLevel("bogus"), std::nullopt);
   EXPECT_EQ(lasonic::parseLogLevel(""), std::nullopt);
+}
+
+// A directory given as a configuration file is an error (std::ifstream reads it as an empty
+// file); a pipe (`--config <(...)`, /dev/fd/N) is read.
+TEST(Config, ADirectoryIsNotAFileAPipeIs) {
+  const std::string dir = ::testing::TempDir();
+  EXPECT_NE(errorOf([&] { Config::loadFile(dir); }).find(": is a directory, not a YAML file"), std::string::npos);
+  EXPECT_NE(errorOf([&] { Config::loadConfiguration({dir}); }).find("is a directory"), std::string::npos);
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const std::string text = "pilot: {robot_radius: 0.31}\n";
+  ASSERT_EQ(::write(fds[1], text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  ::close(fds[1]);
+  const Config c = Config::loadConfiguration({"/dev/fd/" + std::to_string(fds[0])});
+  ::close(fds[0]);
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.31);
 }
