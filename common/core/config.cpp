@@ -3,12 +3,69 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace lasonic {
 
 Config::Config(YAML::Node node, std::string path, std::string file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+
+namespace {
+// " (line L, column C)" where yaml-cpp knows the place, else "".
+std::string where(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  if (m.is_null()) return "";
+  return " (line " + std::to_string(m.line + 1) + ", column " + std::to_string(m.column + 1) + ")";
+}
+
+std::string childPath(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+// A map's key as the string every reader looks it up by; a key that is a list, a map or empty
+// (`[a, b]: 1`, `? [x]`) cannot be named in the configuration, so it is an error.
+std::string keyName(const YAML::Node& key, const std::string& file, const std::string& map_path) {
+  if (!key.IsScalar())
+    throw ConfigError((file.empty() ? "" : file + ": ") + (map_path.empty() ? std::string("<root>") : map_path) +
+                      ": " + (key.IsNull() ? "an empty key" : "a key that is not a string") + where(key));
+  return key.Scalar();
+}
+
+// Every map of a file, at any depth: its keys are strings, each given once. yaml-cpp keeps both
+// pairs of a repeated key, and one reader takes the first while a layered merge takes the last,
+// so a repeated key is an error rather than a guess. `ancestors` stops an alias that refers to a
+// node containing it (`a: &x {b: *x}`), which every walk of the tree would follow for ever.
+void checkTree(const YAML::Node& n, const std::string& path, const std::string& file,
+               std::vector<YAML::Node>& ancestors) {
+  if (!n.IsMap() && !n.IsSequence()) return;
+  const auto prefix = file.empty() ? std::string() : file + ": ";
+  for (const YAML::Node& a : ancestors)
+    if (a.is(n))
+      throw ConfigError(prefix + (path.empty() ? std::string("<root>") : path) +
+                        ": refers to itself (an alias of a node that contains it)");
+  ancestors.push_back(n);
+  if (n.IsMap()) {
+    std::map<std::string, YAML::Node> seen;
+    for (const auto& kv : n) {
+      const std::string k = keyName(kv.first, file, path);
+      const auto [it, fresh] = seen.emplace(k, kv.first);
+      if (!fresh) {
+        const YAML::Mark a = it->second.Mark(), b = kv.first.Mark();
+        throw ConfigError(prefix + childPath(path, k) + ": given twice in one map" +
+                          (a.is_null() || b.is_null() ? std::string()
+                                                      : " (lines " + std::to_string(a.line + 1) + " and " +
+                                                            std::to_string(b.line + 1) + ")") +
+                          "; give each key once");
+      }
+      checkTree(kv.second, childPath(path, k), file, ancestors);
+    }
+  } else {
+    for (size_t i = 0; i < n.size(); ++i) checkTree(n[i], path + "[" + std::to_string(i) + "]", file, ancestors);
+  }
+  ancestors.pop_back();
+}
+}  // namespace
 
 Config Config::loadFile(const std::string& filename) {
   // std::ifstream opens a directory and reads nothing from it: an empty configuration, silently.
@@ -32,6 +89,8 @@ Config Config::fromString(const std::string& yaml, const std::string& name) {
   }
   if (!n || n.IsNull()) n = YAML::Node(YAML::NodeType::Map);
   if (!n.IsMap()) throw ConfigError(name + ": the top level must be a map of keys");
+  std::vector<YAML::Node> ancestors;
+  checkTree(n, "", name, ancestors);
   return Config(n, "", name);
 }
 
@@ -83,7 +142,7 @@ std::vector<Config> Config::list(const std::string& key) const {
 std::vector<std::string> Config::keys() const {
   std::vector<std::string> out;
   if (!node_ || !node_.IsMap()) return out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) out.push_back(keyName(kv.first, file_, path_));
   return out;
 }
 
@@ -207,13 +266,15 @@ void DefaultsAudit::check(const std::string& key, const std::string& code_defaul
 }
 
 namespace {
-YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over) {
+// `file` and `path` name the later layer's map, for an error.
+YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over, const std::string& file, const std::string& path) {
   if (!base || !base.IsMap() || !over.IsMap()) return YAML::Clone(over);
   YAML::Node out = YAML::Clone(base);
   for (const auto& kv : over) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = keyName(kv.first, file, path);
     const YAML::Node old = out[k];
-    out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second) : YAML::Clone(kv.second);
+    out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second, file, childPath(path, k))
+                                                    : YAML::Clone(kv.second);
   }
   return out;
 }
@@ -230,7 +291,11 @@ Config layerFiles(const std::vector<std::string>& filenames, const std::vector<s
     const Config c = Config::loadFile(f);
     if (top_level) c.allowOnly(*top_level);
     if (filenames.size() == 1) return c;
-    merged = deepMerge(merged, c.node());
+    try {
+      merged = deepMerge(merged, c.node(), f, "");
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(f + ": cannot merge it with the files before it: " + e.what());
+    }
     names += (names.empty() ? "" : " + ") + f;
   }
   return Config(merged, "", names);
@@ -245,8 +310,10 @@ Config Config::loadConfiguration(const std::vector<std::string>& filenames) {
 
 Config Config::mergedWith(const Config& over) const {
   YAML::Node merged(YAML::NodeType::Map);
-  for (const auto& kv : node_) merged[kv.first.as<std::string>()] = kv.second;
-  for (const auto& kv : over.node_) merged[kv.first.as<std::string>()] = kv.second;
+  if (node_.IsMap())
+    for (const auto& kv : node_) merged[keyName(kv.first, file_, path_)] = kv.second;
+  if (over.node_.IsMap())
+    for (const auto& kv : over.node_) merged[keyName(kv.first, over.file_, over.path_)] = kv.second;
   // Errors in the merged map name the override's path when it has one (that is where users edit).
   return Config(merged, over.path_.empty() ? path_ : over.path_, over.file_.empty() ? file_ : over.file_);
 }

@@ -115,7 +115,8 @@ class Config {
   Config requireSection(const std::string& key) const;
   // Elements of a sequence (missing -> empty). Each element gets the path "key[i]".
   std::vector<Config> list(const std::string& key) const;
-  // Keys of this map, in file order.
+  // Keys of this map, in file order. (A file's keys are checked when it is read: each a string,
+  // none repeated in one map; a message names the file and the key path.)
   std::vector<std::string> keys() const;
 
   template <typename T> T get(const std::string& key, const T& def) const;

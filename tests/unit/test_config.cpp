@@ -154,6 +154,62 @@ TEST(Logging, LevelNamesAndUnknownOnes) {
   EXPECT_EQ(lasonic::parseLogLevel(""), std::nullopt);
 }
 
+// A key that is a list or a map (or empty) cannot be named in the configuration: an error naming
+// the file, the map's key path and the line, not a yaml-cpp exception (which ended the processes
+// with exit 1, or an abort).
+TEST(Config, AKeyThatIsNotAStringIsAnError) {
+  EXPECT_EQ(errorOf([] { Config::fromString("[a, b]: 1\n", "my.yaml"); }),
+            "my.yaml: <root>: a key that is not a string (line 1, column 1)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  [a, b]: 1\n", "my.yaml"); }),
+            "my.yaml: pilot: a key that is not a string (line 2, column 3)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  ? [x]\n", "my.yaml"); }),
+            "my.yaml: pilot: a key that is not a string (line 2, column 5)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {agm: {? {x: 1} : 3}}\n", "my.yaml"); }).rfind(
+                "my.yaml: pilot.agm: a key that is not a string", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("obstacles:\n  - {[a]: 1}\n", "my.yaml"); }).rfind(
+                "my.yaml: obstacles[0]: a key that is not a string", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {: 1}\n", "my.yaml"); }).rfind("my.yaml: pilot: an empty key", 0),
+            0u);
+  // Through the --config loader, and for a map that did not come from a file.
+  const std::string f = ::testing::TempDir() + "/list_key.yaml";
+  std::ofstream(f) << "pilot:\n  robot_radius: 0.3\n  [a, b]: 1\n";
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({f}); }).rfind(f + ": pilot: a key that is not a string", 0), 0u);
+  const Config raw(YAML::Load("{[a]: 1}"), "sec", "raw.yaml");
+  EXPECT_EQ(errorOf([&] { raw.keys(); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { raw.allowOnly({"x"}); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { Config{}.mergedWith(raw); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { raw.mergedWith(Config{}); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+}
+
+// yaml-cpp keeps both pairs of a repeated key: one reader took the first, a layered merge the
+// last. A key given twice in one map is an error naming the file, the key path and both lines.
+TEST(Config, AKeyGivenTwiceInOneMapIsAnError) {
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  robot_radius: 0.27\n  robot_radius: 5\n", "my.yaml"); }),
+            "my.yaml: pilot.robot_radius: given twice in one map (lines 2 and 3); give each key once");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {}\npilot: {}\n", "my.yaml"); }).rfind("my.yaml: pilot: given twice", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("obstacles: [{r: 1, 'r': 2}]\n", "my.yaml"); })
+                .rfind("my.yaml: obstacles[0].r: given twice", 0),
+            0u);
+  // The same key in different maps, or in different files, is fine.
+  EXPECT_EQ(errorOf([] { Config::fromString("a: {r: 1}\nb: {r: 2}\n"); }), "");
+  const std::string dir = ::testing::TempDir();
+  const std::string base = dir + "/dup_base.yaml", twice = dir + "/dup_twice.yaml";
+  {
+    std::ofstream(base) << "pilot: {robot_radius: 0.3}\n";
+    std::ofstream(twice) << "pilot:\n  robot_radius: 0.27\n  robot_radius: 5\n";
+  }
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({base, base}); }), "");
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({base, twice}); }).rfind(twice + ": pilot.robot_radius: given twice", 0),
+            0u);
+  // An alias of a map that contains it would be followed for ever by a layered merge.
+  EXPECT_EQ(errorOf([] { Config::fromString("a: &x {b: *x}\n", "my.yaml"); }).rfind("my.yaml: a.b: refers to itself", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("a: &x {p: 1}\nb: *x\n"); }), "");  // a plain alias is fine
+}
+
 // A directory given as a configuration file is an error (std::ifstream reads it as an empty
 // file); a pipe (`--config <(...)`, /dev/fd/N) is read.
 TEST(Config, ADirectoryIsNotAFileAPipeIs) {

@@ -101,6 +101,23 @@ TEST(HostProfile, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("lcm_url: u\nprocesses: []").find("at least one process"), std::string::npos);
 }
 
+// A profile is read as any configuration file: a key given twice in one map, or a key that is a
+// list, is an error naming the key path (which copy counted depended on the reader).
+TEST(HostProfile, AKeyGivenTwiceOrNotAStringIsAnError) {
+  try {
+    load("lcm_url: u\nprocesses:\n  - name: a\n    command: [a]\n    restart: never\n    restart: always\n");
+    ADD_FAILURE() << "a key given twice was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "host.yaml: processes[0].restart: given twice in one map (lines 5 and 6); give each key once");
+  }
+  try {
+    load("lcm_url: u\nprocesses: [{name: a, command: [a], [x]: 1}]\n");
+    ADD_FAILURE() << "a key that is a list was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("host.yaml: processes[0]: a key that is not a string", 0), 0u) << e.what();
+  }
+}
+
 TEST(Backoff, DoublesUpToTheCap) {
   const BackoffParams p{0.5, 10, 30};
   EXPECT_DOUBLE_EQ(restartDelay(p, 1), 0.5);
