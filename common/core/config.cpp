@@ -96,8 +96,15 @@ Config Config::fromString(const std::string& yaml, const std::string& name) {
 
 bool Config::has(const std::string& key) const {
   if (!node_ || !node_.IsMap()) return false;
+  return static_cast<bool>(node_[key]);
+}
+
+bool Config::hasNull(const std::string& key) const { return has(key) && node_[key].IsNull(); }
+
+YAML::Node Config::value(const std::string& key) const {
   const YAML::Node n = node_[key];
-  return n && !n.IsNull();
+  if (n.IsNull()) fail(key, "has no value");
+  return n;
 }
 
 std::string Config::keyPath(const std::string& key) const {
@@ -115,7 +122,8 @@ void Config::fail(const std::string& key, const std::string& message) const {
 void Config::failHere(const std::string& message) const { fail("", message); }
 
 Config Config::section(const std::string& key) const {
-  if (!has(key)) return Config(YAML::Node(YAML::NodeType::Map), keyPath(key), file_);
+  // A section whose keys are all commented out (`pilot:` alone) says nothing: an empty map.
+  if (!has(key) || hasNull(key)) return Config(YAML::Node(YAML::NodeType::Map), keyPath(key), file_);
   const YAML::Node n = node_[key];
   if (!n.IsMap()) fail(key, "must be a map of keys");
   return Config(n, keyPath(key), file_);
@@ -123,12 +131,13 @@ Config Config::section(const std::string& key) const {
 
 Config Config::requireSection(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
+  if (hasNull(key)) fail(key, "has no value (a map of keys is required)");
   return section(key);
 }
 
 std::vector<Config> Config::list(const std::string& key) const {
   std::vector<Config> out;
-  if (!has(key)) return out;
+  if (!has(key) || hasNull(key)) return out;
   const YAML::Node n = node_[key];
   if (!n.IsSequence()) fail(key, "must be a list");
   for (size_t i = 0; i < n.size(); ++i) {
@@ -158,7 +167,7 @@ static std::string describe(const Range& r) {
 
 double Config::get(const std::string& key, double def, const Range& r) const {
   if (!has(key)) return def;
-  const double v = convert<double>(node_[key], key);
+  const double v = convert<double>(value(key), key);
   if (!std::isfinite(v) || v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
   return v;
@@ -166,7 +175,7 @@ double Config::get(const std::string& key, double def, const Range& r) const {
 
 int Config::get(const std::string& key, int def, const Range& r) const {
   if (!has(key)) return def;
-  const int v = convert<int>(node_[key], key);
+  const int v = convert<int>(value(key), key);
   if (v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), def == v);
   return v;
@@ -179,7 +188,7 @@ double Config::requireNum(const std::string& key, const Range& r) const {
 
 std::optional<std::string> Config::getOptionalString(const std::string& key) const {
   if (!has(key)) return std::nullopt;
-  return convert<std::string>(node_[key], key);
+  return convert<std::string>(value(key), key);
 }
 
 static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string& key) {
@@ -195,12 +204,12 @@ static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string
 
 geom::Vec2 Config::requireVec2(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
-  return toVec2(*this, node_[key], key);
+  return toVec2(*this, value(key), key);
 }
 
 geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const {
   if (!has(key)) return def;
-  const geom::Vec2 v = toVec2(*this, node_[key], key);
+  const geom::Vec2 v = toVec2(*this, value(key), key);
   if (DefaultsAudit::active())
     DefaultsAudit::check(keyPath(key), auditText(def.x()) + "," + auditText(def.y()),
                          auditText(v.x()) + "," + auditText(v.y()), auditEqual(def.x(), v.x()) && auditEqual(def.y(), v.y()));
@@ -209,7 +218,7 @@ geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const 
 
 std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min_points) const {
   if (!has(key)) fail(key, "is required");
-  const YAML::Node n = node_[key];
+  const YAML::Node n = value(key);
   if (!n.IsSequence()) fail(key, "must be a list of [x, y] points");
   std::vector<geom::Vec2> pts;
   for (size_t i = 0; i < n.size(); ++i)
@@ -220,7 +229,7 @@ std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min
 
 std::vector<double> Config::getDoubles(const std::string& key, const std::vector<double>& def) const {
   if (!has(key)) return def;
-  const YAML::Node n = node_[key];
+  const YAML::Node n = value(key);
   if (!n.IsSequence()) fail(key, "must be a list of numbers");
   std::vector<double> out;
   for (size_t i = 0; i < n.size(); ++i) {
@@ -273,6 +282,10 @@ YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over, const std::
   for (const auto& kv : over) {
     const std::string k = keyName(kv.first, file, path);
     const YAML::Node old = out[k];
+    // A section whose keys are all commented out in the later file (`pilot:` alone, a null)
+    // says nothing: the earlier file's map stays. A null over anything else stays a null, which
+    // a reader reports as a key with no value.
+    if (old && old.IsMap() && kv.second.IsNull()) continue;
     out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second, file, childPath(path, k))
                                                     : YAML::Clone(kv.second);
   }
@@ -313,7 +326,12 @@ Config Config::mergedWith(const Config& over) const {
   if (node_.IsMap())
     for (const auto& kv : node_) merged[keyName(kv.first, file_, path_)] = kv.second;
   if (over.node_.IsMap())
-    for (const auto& kv : over.node_) merged[keyName(kv.first, over.file_, over.path_)] = kv.second;
+    for (const auto& kv : over.node_) {
+      const std::string k = keyName(kv.first, over.file_, over.path_);
+      // As layered files: a map whose keys are all commented out in the override says nothing.
+      if (const YAML::Node& m = merged; kv.second.IsNull() && m[k] && m[k].IsMap()) continue;
+      merged[k] = kv.second;
+    }
   // Errors in the merged map name the override's path when it has one (that is where users edit).
   return Config(merged, over.path_.empty() ? path_ : over.path_, over.file_.empty() ? file_ : over.file_);
 }

@@ -210,6 +210,53 @@ TEST(Config, AKeyGivenTwiceInOneMapIsAnError) {
   EXPECT_EQ(errorOf([] { Config::fromString("a: &x {p: 1}\nb: *x\n"); }), "");  // a plain alias is fine
 }
 
+// A section whose keys are all commented out (`pilot:` alone: a null) in a later --config layer
+// says nothing: the earlier layer's section stays. A key with no value is an error, not the default.
+TEST(Config, ANullSectionKeepsTheEarlierLayerAndANullKeyIsAnError) {
+  const std::string dir = ::testing::TempDir();
+  const std::string base = dir + "/null_base.yaml", commented = dir + "/null_commented.yaml",
+                    novalue = dir + "/null_novalue.yaml";
+  {
+    std::ofstream(base) << "pilot:\n  robot_radius: 0.3\n  agm: {g_t: 5}\nnavigator: {cell_size: 0.1}\n";
+    std::ofstream(commented) << "pilot:\n  # robot_radius: 0.27\n  agm:\n    # g_t: 6\nnavigator:\n";
+    std::ofstream(novalue) << "navigator:\n  cell_size:\n";
+  }
+  const Config c = Config::loadConfiguration({base, commented});
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.3);
+  EXPECT_EQ(c.section("pilot").section("agm").get("g_t", 0, Range::any()), 5);
+  EXPECT_DOUBLE_EQ(c.section("navigator").get("cell_size", 0.0, Range::positive()), 0.1);
+  // Alone, a commented-out section is an empty one.
+  const Config alone = Config::loadConfiguration({commented});
+  EXPECT_TRUE(alone.section("pilot").section("agm").empty());
+  EXPECT_DOUBLE_EQ(alone.section("pilot").get("robot_radius", 0.25, Range::positive()), 0.25);
+  EXPECT_TRUE(alone.list("navigator").empty());
+  // `cell_size:` alone, over a value or not.
+  for (const auto& files : {std::vector<std::string>{novalue}, std::vector<std::string>{base, novalue}}) {
+    const Config nav = Config::loadConfiguration(files).section("navigator");
+    const std::string e = errorOf([&] { nav.get("cell_size", 0.1, Range::positive()); });
+    EXPECT_NE(e.find("navigator.cell_size: has no value"), std::string::npos) << e;
+    EXPECT_NE(e.find(novalue), std::string::npos) << e;
+  }
+  const Config n = Config::fromString("s: {a: , b: ~, c: null}\n", "n.yaml").section("s");
+  EXPECT_EQ(errorOf([&] { n.get("a", 1.0, Range::any()); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.get("b", 1, Range::any()); }), "n.yaml: s.b: has no value");
+  EXPECT_EQ(errorOf([&] { n.get<bool>("c", true); }), "n.yaml: s.c: has no value");
+  EXPECT_EQ(errorOf([&] { n.get<std::string>("a", "x"); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.require<double>("a"); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.requireNum("a", Range::any()); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getChoice("a", 0, {{"x", 1}}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getVec2("a", {0, 0}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getDoubles("a", {}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.requirePoints("a", 1); }), "n.yaml: s.a: has no value");
+  EXPECT_NE(errorOf([&] { n.requireSection("a"); }).find("s.a: has no value"), std::string::npos);
+  EXPECT_TRUE(n.has("a"));  // present, without a value
+  // The scenario's one-level override (mergedWith): a commented-out map keeps the base's.
+  const Config m = Config::fromString("base: {mount: {x: 1}, r: 2}\nover: {mount: , r: 3}\n");
+  const Config merged = m.section("base").mergedWith(m.section("over"));
+  EXPECT_DOUBLE_EQ(merged.section("mount").get("x", 0.0, Range::any()), 1.0);
+  EXPECT_EQ(merged.get("r", 0, Range::any()), 3);
+}
+
 // A directory given as a configuration file is an error (std::ifstream reads it as an empty
 // file); a pipe (`--config <(...)`, /dev/fd/N) is read.
 TEST(Config, ADirectoryIsNotAFileAPipeIs) {
