@@ -98,12 +98,14 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
 
   const Config r = root.section("restart");
   r.allowOnly({"initial_delay_s", "max_delay_s", "reset_after_s"});
-  p.backoff.initial_delay_s = r.get("initial_delay_s", p.backoff.initial_delay_s, Range::positive());
-  p.backoff.max_delay_s = r.get("max_delay_s", p.backoff.max_delay_s, Range::positive());
-  p.backoff.reset_after_s = r.get("reset_after_s", p.backoff.reset_after_s, Range::nonNegative());
+  // Times at most kMaxSeconds (profile.hpp).
+  const Range positive{0, kMaxSeconds, true}, non_negative = Range::between(0, kMaxSeconds);
+  p.backoff.initial_delay_s = r.get("initial_delay_s", p.backoff.initial_delay_s, positive);
+  p.backoff.max_delay_s = r.get("max_delay_s", p.backoff.max_delay_s, positive);
+  p.backoff.reset_after_s = r.get("reset_after_s", p.backoff.reset_after_s, non_negative);
   if (p.backoff.max_delay_s < p.backoff.initial_delay_s) r.fail("max_delay_s", "must be >= initial_delay_s");
-  p.stop_timeout_s = root.get("stop_timeout_s", p.stop_timeout_s, Range::positive());
-  p.finish_grace_s = root.get("finish_grace_s", p.finish_grace_s, Range::nonNegative());
+  p.stop_timeout_s = root.get("stop_timeout_s", p.stop_timeout_s, positive);
+  p.finish_grace_s = root.get("finish_grace_s", p.finish_grace_s, non_negative);
 
   const std::vector<Config> procs = root.list("processes");
   if (procs.empty()) root.fail("processes", "must list at least one process");
@@ -130,7 +132,7 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
     s.restart = c.getChoice("restart", s.restart,
                             {{"always", RestartPolicy::Always}, {"on-failure", RestartPolicy::OnFailure},
                              {"never", RestartPolicy::Never}});
-    s.start_delay_s = c.get("start_delay_s", s.start_delay_s, Range::nonNegative());
+    s.start_delay_s = c.get("start_delay_s", s.start_delay_s, non_negative);
     s.optional = c.get<bool>("optional", false);
     s.finish = c.get<bool>("finish", false);
     if (c.has("enabled")) {

@@ -30,6 +30,11 @@ namespace lasonic::launch {
 
 enum class RestartPolicy { Always, OnFailure, Never };
 
+// The longest time a profile's delays and timeouts, or --max-time, may give: 1e6 s (11.6 days),
+// far beyond any delay or run a host means, and far inside what the supervisor's clock arithmetic
+// holds (milliseconds in 64 bits): a value such as 1e300 overflowed it and acted at once.
+inline constexpr double kMaxSeconds = 1e6;
+
 struct ProcessSpec {
   std::string name;
   std::vector<std::string> command;  // expanded; command[0] is the executable

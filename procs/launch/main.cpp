@@ -40,8 +40,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "override the profile's lcm_url");
   app.add_option("--bin", bin, "where executables named without a path are looked for first (then $PATH)")
       ->capture_default_str();
-  app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests)")
-      ->check(CLI::NonNegativeNumber);
+  app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests); 0: no limit")
+      ->check(lasonic::FiniteNumberIn(0, launch::kMaxSeconds));
   app.add_flag("--check", check, "check the profile and the executables, print the commands, start nothing");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 

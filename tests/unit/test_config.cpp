@@ -143,6 +143,28 @@ TEST(CommandLine, HelpIsZeroAnyOtherErrorTwo) {
   EXPECT_EQ(parse({"--in", "x", "--n", "99"}), std::optional<int>(2));  // out of range
 }
 
+// CLI::Range and CLI::NonNegativeNumber let "nan" through; lasonic::FiniteNumberIn does not.
+TEST(CommandLine, FiniteNumberInRejectsNanInfAndOutOfRange) {
+  const auto parse = [](const char* value) {
+    CLI::App app{"test"};
+    double s = 0;
+    app.add_option("--s", s, "seconds")->check(lasonic::FiniteNumberIn(0, 1e6));
+    std::vector<const char*> args = {"tool", "--s", value};
+    testing::internal::CaptureStderr();
+    const auto rc = lasonic::parseCommandLine(app, static_cast<int>(args.size()), args.data());
+    const std::string err = testing::internal::GetCapturedStderr();
+    return std::make_pair(rc, err);
+  };
+  EXPECT_EQ(parse("2.5").first, std::nullopt);
+  EXPECT_EQ(parse("0").first, std::nullopt);
+  EXPECT_EQ(parse("1e6").first, std::nullopt);
+  for (const char* bad : {"nan", "NaN", "inf", "-inf", "1e300", "-1", "abc"}) {
+    const auto [rc, err] = parse(bad);
+    EXPECT_EQ(rc, std::optional<int>(2)) << bad;
+    EXPECT_NE(err.find("--s"), std::string::npos) << err;
+  }
+}
+
 TEST(Logging, LevelNamesAndUnknownOnes) {
   EXPECT_EQ(lasonic::parseLogLevel("debug"), spdlog::level::debug);
   EXPECT_EQ(lasonic::parseLogLevel("Info"), spdlog::level::info);

@@ -118,6 +118,23 @@ TEST(HostProfile, AKeyGivenTwiceOrNotAStringIsAnError) {
   }
 }
 
+// A time of 1e300 s overflowed the supervisor's clock arithmetic and acted at once (while its
+// message said 1e300 s): every time is finite and at most kMaxSeconds.
+TEST(HostProfile, TimesAreBounded) {
+  const std::string procs = "processes: [{name: a, command: [a]}]\n";
+  EXPECT_EQ(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a], start_delay_s: 1e300}]\n"),
+            "host.yaml: processes[0].start_delay_s: must be in [0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {initial_delay_s: 1e300, max_delay_s: 1e300}\n" + procs),
+            "host.yaml: restart.initial_delay_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {max_delay_s: 1e7}\n" + procs), "host.yaml: restart.max_delay_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {reset_after_s: .inf}\n" + procs),
+            "host.yaml: restart.reset_after_s: must be in [0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nstop_timeout_s: 1e300\n" + procs), "host.yaml: stop_timeout_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nfinish_grace_s: .nan\n" + procs), "host.yaml: finish_grace_s: must be in [0, 1e+06]");
+  EXPECT_DOUBLE_EQ(load("lcm_url: u\nprocesses: [{name: a, command: [a], start_delay_s: 1e6}]\n").processes[0].start_delay_s,
+                   kMaxSeconds);
+}
+
 TEST(Backoff, DoublesUpToTheCap) {
   const BackoffParams p{0.5, 10, 30};
   EXPECT_DOUBLE_EQ(restartDelay(p, 1), 0.5);
