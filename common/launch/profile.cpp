@@ -42,6 +42,17 @@ std::string expand(const std::string& text, const std::map<std::string, std::str
   return out;
 }
 
+std::vector<std::pair<std::string, std::string>> filesNamed(const ProcessSpec& spec) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto& cmd = spec.command;
+  for (size_t i = 1; i < cmd.size(); ++i)
+    for (const std::string opt : {"--config", "--scenario"}) {
+      if (cmd[i] == opt && i + 1 < cmd.size()) out.emplace_back(opt, cmd[i + 1]);
+      else if (cmd[i].rfind(opt + "=", 0) == 0) out.emplace_back(opt, cmd[i].substr(opt.size() + 1));
+    }
+  return out;
+}
+
 double restartDelay(const BackoffParams& p, int consecutive) {
   const int n = std::max(1, consecutive);
   return std::min(p.max_delay_s, p.initial_delay_s * std::pow(2.0, std::min(n - 1, 30)));
@@ -95,6 +106,11 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
   if (overrides.count("lcm_url")) vars["lcm_url"] = overrides.at("lcm_url");
   if (!vars.count("lcm_url")) root.fail("lcm_url", "is required (the LCM URL every process of the host uses)");
   p.lcm_url = vars["lcm_url"];
+  // Every process would be started with `--lcm-url ""` and fail (or take LCM's default).
+  if (p.lcm_url.empty()) {
+    if (overrides.count("lcm_url")) throw ConfigError("--lcm-url (or --set lcm_url): must not be empty");
+    root.fail("lcm_url", "must not be empty (the LCM URL every process of the host uses)");
+  }
 
   const Config r = root.section("restart");
   r.allowOnly({"initial_delay_s", "max_delay_s", "reset_after_s"});

@@ -135,6 +135,29 @@ TEST(HostProfile, TimesAreBounded) {
                    kMaxSeconds);
 }
 
+// Every process would be started with an empty --lcm-url.
+TEST(HostProfile, AnEmptyLcmUrlIsAnError) {
+  const std::string procs = "processes: [{name: a, command: [a]}]\n";
+  EXPECT_EQ(errorOf("lcm_url: \"\"\n" + procs).rfind("host.yaml: lcm_url: must not be empty", 0), 0u);
+  EXPECT_EQ(errorOf("lcm_url: ${url}\nvars: {url: ''}\n" + procs).rfind("host.yaml: lcm_url: must not be empty", 0), 0u);
+  try {
+    load("lcm_url: u\n" + procs, {{"lcm_url", ""}});
+    ADD_FAILURE() << "an empty --lcm-url was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "--lcm-url (or --set lcm_url): must not be empty");
+  }
+}
+
+// The files lasonic-launch --check looks for: both forms of the options.
+TEST(HostProfile, FilesNamedInBothOptionForms) {
+  ProcessSpec s;
+  s.command = {"lasonic-pilot", "--config", "a.yaml", "--config=b.yaml", "--scenario=c.yaml", "--scenario", "d.yaml",
+               "--lcm-url", "u", "--config"};
+  const std::vector<std::pair<std::string, std::string>> want = {
+      {"--config", "a.yaml"}, {"--config", "b.yaml"}, {"--scenario", "c.yaml"}, {"--scenario", "d.yaml"}};
+  EXPECT_EQ(filesNamed(s), want);
+}
+
 TEST(Backoff, DoublesUpToTheCap) {
   const BackoffParams p{0.5, 10, 30};
   EXPECT_DOUBLE_EQ(restartDelay(p, 1), 0.5);
