@@ -7,13 +7,34 @@
 //   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 namespace lasonic {
 
 inline constexpr int kExitBadCommandLine = 2;
+
+// A number option that must be finite and within [lo, hi]:
+//   app.add_option("--max-time", s, "...")->check(lasonic::FiniteNumberIn(0, 1e6));
+// CLI::Range and CLI::NonNegativeNumber let "nan" through (every comparison with NaN is false),
+// and an unbounded one lets "inf" or 1e300 through, which a conversion to a clock's integer
+// count turns into anything.
+inline CLI::Validator FiniteNumberIn(double lo, double hi) {
+  std::ostringstream range;
+  range << "[" << lo << " - " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, range = range.str()](std::string& input) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(input, v)) return "value " + input + " is not a number";
+        if (!std::isfinite(v)) return "value " + input + " is not a finite number";
+        if (v < lo || v > hi) return "value " + input + " not in range " + range;
+        return {};
+      },
+      "FINITE in " + range.str(), "FiniteNumberIn");
+}
 
 inline std::optional<int> parseCommandLine(CLI::App& app, int argc, const char* const* argv) {
   try {

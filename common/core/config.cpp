@@ -1,7 +1,9 @@
 #include "core/config.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace lasonic {
@@ -9,7 +11,67 @@ namespace lasonic {
 Config::Config(YAML::Node node, std::string path, std::string file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
 
+namespace {
+// " (line L, column C)" where yaml-cpp knows the place, else "".
+std::string where(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  if (m.is_null()) return "";
+  return " (line " + std::to_string(m.line + 1) + ", column " + std::to_string(m.column + 1) + ")";
+}
+
+std::string childPath(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+// A map's key as the string every reader looks it up by; a key that is a list, a map or empty
+// (`[a, b]: 1`, `? [x]`) cannot be named in the configuration, so it is an error.
+std::string keyName(const YAML::Node& key, const std::string& file, const std::string& map_path) {
+  if (!key.IsScalar())
+    throw ConfigError((file.empty() ? "" : file + ": ") + (map_path.empty() ? std::string("<root>") : map_path) +
+                      ": " + (key.IsNull() ? "an empty key" : "a key that is not a string") + where(key));
+  return key.Scalar();
+}
+
+// Every map of a file, at any depth: its keys are strings, each given once. yaml-cpp keeps both
+// pairs of a repeated key, and one reader takes the first while a layered merge takes the last,
+// so a repeated key is an error rather than a guess. `ancestors` stops an alias that refers to a
+// node containing it (`a: &x {b: *x}`), which every walk of the tree would follow for ever.
+void checkTree(const YAML::Node& n, const std::string& path, const std::string& file,
+               std::vector<YAML::Node>& ancestors) {
+  if (!n.IsMap() && !n.IsSequence()) return;
+  const auto prefix = file.empty() ? std::string() : file + ": ";
+  for (const YAML::Node& a : ancestors)
+    if (a.is(n))
+      throw ConfigError(prefix + (path.empty() ? std::string("<root>") : path) +
+                        ": refers to itself (an alias of a node that contains it)");
+  ancestors.push_back(n);
+  if (n.IsMap()) {
+    std::map<std::string, YAML::Node> seen;
+    for (const auto& kv : n) {
+      const std::string k = keyName(kv.first, file, path);
+      const auto [it, fresh] = seen.emplace(k, kv.first);
+      if (!fresh) {
+        const YAML::Mark a = it->second.Mark(), b = kv.first.Mark();
+        throw ConfigError(prefix + childPath(path, k) + ": given twice in one map" +
+                          (a.is_null() || b.is_null() ? std::string()
+                                                      : " (lines " + std::to_string(a.line + 1) + " and " +
+                                                            std::to_string(b.line + 1) + ")") +
+                          "; give each key once");
+      }
+      checkTree(kv.second, childPath(path, k), file, ancestors);
+    }
+  } else {
+    for (size_t i = 0; i < n.size(); ++i) checkTree(n[i], path + "[" + std::to_string(i) + "]", file, ancestors);
+  }
+  ancestors.pop_back();
+}
+}  // namespace
+
 Config Config::loadFile(const std::string& filename) {
+  // std::ifstream opens a directory and reads nothing from it: an empty configuration, silently.
+  // (A pipe, as /dev/fd/N from `--config <(...)`, is read as a file.)
+  if (std::error_code ec; std::filesystem::is_directory(filename, ec))
+    throw ConfigError(filename + ": is a directory, not a YAML file");
   std::ifstream in(filename);
   if (!in) throw ConfigError(filename + ": cannot open file");
   std::stringstream ss;
@@ -27,13 +89,22 @@ Config Config::fromString(const std::string& yaml, const std::string& name) {
   }
   if (!n || n.IsNull()) n = YAML::Node(YAML::NodeType::Map);
   if (!n.IsMap()) throw ConfigError(name + ": the top level must be a map of keys");
+  std::vector<YAML::Node> ancestors;
+  checkTree(n, "", name, ancestors);
   return Config(n, "", name);
 }
 
 bool Config::has(const std::string& key) const {
   if (!node_ || !node_.IsMap()) return false;
+  return static_cast<bool>(node_[key]);
+}
+
+bool Config::hasNull(const std::string& key) const { return has(key) && node_[key].IsNull(); }
+
+YAML::Node Config::value(const std::string& key) const {
   const YAML::Node n = node_[key];
-  return n && !n.IsNull();
+  if (n.IsNull()) fail(key, "has no value");
+  return n;
 }
 
 std::string Config::keyPath(const std::string& key) const {
@@ -51,7 +122,8 @@ void Config::fail(const std::string& key, const std::string& message) const {
 void Config::failHere(const std::string& message) const { fail("", message); }
 
 Config Config::section(const std::string& key) const {
-  if (!has(key)) return Config(YAML::Node(YAML::NodeType::Map), keyPath(key), file_);
+  // A section whose keys are all commented out (`pilot:` alone) says nothing: an empty map.
+  if (!has(key) || hasNull(key)) return Config(YAML::Node(YAML::NodeType::Map), keyPath(key), file_);
   const YAML::Node n = node_[key];
   if (!n.IsMap()) fail(key, "must be a map of keys");
   return Config(n, keyPath(key), file_);
@@ -59,12 +131,13 @@ Config Config::section(const std::string& key) const {
 
 Config Config::requireSection(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
+  if (hasNull(key)) fail(key, "has no value (a map of keys is required)");
   return section(key);
 }
 
 std::vector<Config> Config::list(const std::string& key) const {
   std::vector<Config> out;
-  if (!has(key)) return out;
+  if (!has(key) || hasNull(key)) return out;
   const YAML::Node n = node_[key];
   if (!n.IsSequence()) fail(key, "must be a list");
   for (size_t i = 0; i < n.size(); ++i) {
@@ -78,7 +151,7 @@ std::vector<Config> Config::list(const std::string& key) const {
 std::vector<std::string> Config::keys() const {
   std::vector<std::string> out;
   if (!node_ || !node_.IsMap()) return out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) out.push_back(keyName(kv.first, file_, path_));
   return out;
 }
 
@@ -94,7 +167,7 @@ static std::string describe(const Range& r) {
 
 double Config::get(const std::string& key, double def, const Range& r) const {
   if (!has(key)) return def;
-  const double v = convert<double>(node_[key], key);
+  const double v = convert<double>(value(key), key);
   if (!std::isfinite(v) || v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
   return v;
@@ -102,7 +175,7 @@ double Config::get(const std::string& key, double def, const Range& r) const {
 
 int Config::get(const std::string& key, int def, const Range& r) const {
   if (!has(key)) return def;
-  const int v = convert<int>(node_[key], key);
+  const int v = convert<int>(value(key), key);
   if (v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), def == v);
   return v;
@@ -115,7 +188,7 @@ double Config::requireNum(const std::string& key, const Range& r) const {
 
 std::optional<std::string> Config::getOptionalString(const std::string& key) const {
   if (!has(key)) return std::nullopt;
-  return convert<std::string>(node_[key], key);
+  return convert<std::string>(value(key), key);
 }
 
 static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string& key) {
@@ -131,12 +204,12 @@ static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string
 
 geom::Vec2 Config::requireVec2(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
-  return toVec2(*this, node_[key], key);
+  return toVec2(*this, value(key), key);
 }
 
 geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const {
   if (!has(key)) return def;
-  const geom::Vec2 v = toVec2(*this, node_[key], key);
+  const geom::Vec2 v = toVec2(*this, value(key), key);
   if (DefaultsAudit::active())
     DefaultsAudit::check(keyPath(key), auditText(def.x()) + "," + auditText(def.y()),
                          auditText(v.x()) + "," + auditText(v.y()), auditEqual(def.x(), v.x()) && auditEqual(def.y(), v.y()));
@@ -145,7 +218,7 @@ geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const 
 
 std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min_points) const {
   if (!has(key)) fail(key, "is required");
-  const YAML::Node n = node_[key];
+  const YAML::Node n = value(key);
   if (!n.IsSequence()) fail(key, "must be a list of [x, y] points");
   std::vector<geom::Vec2> pts;
   for (size_t i = 0; i < n.size(); ++i)
@@ -156,7 +229,7 @@ std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min
 
 std::vector<double> Config::getDoubles(const std::string& key, const std::vector<double>& def) const {
   if (!has(key)) return def;
-  const YAML::Node n = node_[key];
+  const YAML::Node n = value(key);
   if (!n.IsSequence()) fail(key, "must be a list of numbers");
   std::vector<double> out;
   for (size_t i = 0; i < n.size(); ++i) {
@@ -202,13 +275,19 @@ void DefaultsAudit::check(const std::string& key, const std::string& code_defaul
 }
 
 namespace {
-YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over) {
+// `file` and `path` name the later layer's map, for an error.
+YAML::Node deepMerge(const YAML::Node& base, const YAML::Node& over, const std::string& file, const std::string& path) {
   if (!base || !base.IsMap() || !over.IsMap()) return YAML::Clone(over);
   YAML::Node out = YAML::Clone(base);
   for (const auto& kv : over) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = keyName(kv.first, file, path);
     const YAML::Node old = out[k];
-    out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second) : YAML::Clone(kv.second);
+    // A section whose keys are all commented out in the later file (`pilot:` alone, a null)
+    // says nothing: the earlier file's map stays. A null over anything else stays a null, which
+    // a reader reports as a key with no value.
+    if (old && old.IsMap() && kv.second.IsNull()) continue;
+    out[k] = old && old.IsMap() && kv.second.IsMap() ? deepMerge(old, kv.second, file, childPath(path, k))
+                                                    : YAML::Clone(kv.second);
   }
   return out;
 }
@@ -225,7 +304,11 @@ Config layerFiles(const std::vector<std::string>& filenames, const std::vector<s
     const Config c = Config::loadFile(f);
     if (top_level) c.allowOnly(*top_level);
     if (filenames.size() == 1) return c;
-    merged = deepMerge(merged, c.node());
+    try {
+      merged = deepMerge(merged, c.node(), f, "");
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(f + ": cannot merge it with the files before it: " + e.what());
+    }
     names += (names.empty() ? "" : " + ") + f;
   }
   return Config(merged, "", names);
@@ -240,8 +323,15 @@ Config Config::loadConfiguration(const std::vector<std::string>& filenames) {
 
 Config Config::mergedWith(const Config& over) const {
   YAML::Node merged(YAML::NodeType::Map);
-  for (const auto& kv : node_) merged[kv.first.as<std::string>()] = kv.second;
-  for (const auto& kv : over.node_) merged[kv.first.as<std::string>()] = kv.second;
+  if (node_.IsMap())
+    for (const auto& kv : node_) merged[keyName(kv.first, file_, path_)] = kv.second;
+  if (over.node_.IsMap())
+    for (const auto& kv : over.node_) {
+      const std::string k = keyName(kv.first, over.file_, over.path_);
+      // As layered files: a map whose keys are all commented out in the override says nothing.
+      if (const YAML::Node& m = merged; kv.second.IsNull() && m[k] && m[k].IsMap()) continue;
+      merged[k] = kv.second;
+    }
   // Errors in the merged map name the override's path when it has one (that is where users edit).
   return Config(merged, over.path_.empty() ? path_ : over.path_, over.file_.empty() ? file_ : over.file_);
 }

@@ -91,10 +91,11 @@ class Config {
   Config() : node_(YAML::NodeType::Map) {}
   Config(YAML::Node node, std::string path, std::string file = {});
 
-  // Reads and parses a YAML file whose root must be a map.
+  // Reads and parses a YAML file whose root must be a map (not a directory; a pipe is fine).
   static Config loadFile(const std::string& filename);
   // Several files layered in order: maps are merged key by key at every depth, a later file's
-  // value (scalar or list) replaces an earlier one's. No files: an empty map. So a robot's file
+  // value (scalar or list) replaces an earlier one's; a section whose keys are all commented out
+  // in a later file (`pilot:` alone) keeps the earlier one's. No files: an empty map. So a robot's file
   // can override a few keys of the shipped configuration:
   //   --config deploy/config/lasonic.yaml --config deploy/config/pioneer.yaml
   static Config loadFiles(const std::vector<std::string>& filenames);
@@ -106,6 +107,9 @@ class Config {
 
   const std::string& path() const { return path_; }
   const YAML::Node& node() const { return node_; }
+  // The key is in this map, with a value or without one (`cell_size:` alone, a null): reading a
+  // key without a value is an error ("has no value"), except as a section or a list, which it
+  // leaves empty (a section whose keys are all commented out).
   bool has(const std::string& key) const;
   bool empty() const { return !node_ || node_.IsNull() || node_.size() == 0; }
 
@@ -118,9 +122,10 @@ class Config {
   Config section(const std::string& key) const;
   // A required sub-map.
   Config requireSection(const std::string& key) const;
-  // Elements of a sequence (missing -> empty). Each element gets the path "key[i]".
+  // Elements of a sequence (missing or null -> empty). Each element gets the path "key[i]".
   std::vector<Config> list(const std::string& key) const;
-  // Keys of this map, in file order.
+  // Keys of this map, in file order. (A file's keys are checked when it is read: each a string,
+  // none repeated in one map; a message names the file and the key path.)
   std::vector<std::string> keys() const;
 
   template <typename T> T get(const std::string& key, const T& def) const;
@@ -150,6 +155,9 @@ class Config {
 
  private:
   template <typename T> T convert(const YAML::Node& n, const std::string& key) const;
+  bool hasNull(const std::string& key) const;
+  // node_[key], which must not be a null ("has no value").
+  YAML::Node value(const std::string& key) const;
   YAML::Node node_;
   std::string path_;
   std::string file_;
@@ -170,7 +178,7 @@ T Config::convert(const YAML::Node& n, const std::string& key) const {
 template <typename T>
 T Config::get(const std::string& key, const T& def) const {
   if (!has(key)) return def;
-  T v = convert<T>(node_[key], key);
+  T v = convert<T>(value(key), key);
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
   return v;
 }
@@ -178,7 +186,7 @@ T Config::get(const std::string& key, const T& def) const {
 template <typename T>
 T Config::require(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
-  return convert<T>(node_[key], key);
+  return convert<T>(value(key), key);
 }
 
 template <typename T>

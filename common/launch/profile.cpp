@@ -42,6 +42,17 @@ std::string expand(const std::string& text, const std::map<std::string, std::str
   return out;
 }
 
+std::vector<std::pair<std::string, std::string>> filesNamed(const ProcessSpec& spec) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto& cmd = spec.command;
+  for (size_t i = 1; i < cmd.size(); ++i)
+    for (const std::string opt : {"--config", "--scenario"}) {
+      if (cmd[i] == opt && i + 1 < cmd.size()) out.emplace_back(opt, cmd[i + 1]);
+      else if (cmd[i].rfind(opt + "=", 0) == 0) out.emplace_back(opt, cmd[i].substr(opt.size() + 1));
+    }
+  return out;
+}
+
 double restartDelay(const BackoffParams& p, int consecutive) {
   const int n = std::max(1, consecutive);
   return std::min(p.max_delay_s, p.initial_delay_s * std::pow(2.0, std::min(n - 1, 30)));
@@ -95,15 +106,22 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
   if (overrides.count("lcm_url")) vars["lcm_url"] = overrides.at("lcm_url");
   if (!vars.count("lcm_url")) root.fail("lcm_url", "is required (the LCM URL every process of the host uses)");
   p.lcm_url = vars["lcm_url"];
+  // Every process would be started with `--lcm-url ""` and fail (or take LCM's default).
+  if (p.lcm_url.empty()) {
+    if (overrides.count("lcm_url")) throw ConfigError("--lcm-url (or --set lcm_url): must not be empty");
+    root.fail("lcm_url", "must not be empty (the LCM URL every process of the host uses)");
+  }
 
   const Config r = root.section("restart");
   r.allowOnly({"initial_delay_s", "max_delay_s", "reset_after_s"});
-  p.backoff.initial_delay_s = r.get("initial_delay_s", p.backoff.initial_delay_s, Range::positive());
-  p.backoff.max_delay_s = r.get("max_delay_s", p.backoff.max_delay_s, Range::positive());
-  p.backoff.reset_after_s = r.get("reset_after_s", p.backoff.reset_after_s, Range::nonNegative());
+  // Times at most kMaxSeconds (profile.hpp).
+  const Range positive{0, kMaxSeconds, true}, non_negative = Range::between(0, kMaxSeconds);
+  p.backoff.initial_delay_s = r.get("initial_delay_s", p.backoff.initial_delay_s, positive);
+  p.backoff.max_delay_s = r.get("max_delay_s", p.backoff.max_delay_s, positive);
+  p.backoff.reset_after_s = r.get("reset_after_s", p.backoff.reset_after_s, non_negative);
   if (p.backoff.max_delay_s < p.backoff.initial_delay_s) r.fail("max_delay_s", "must be >= initial_delay_s");
-  p.stop_timeout_s = root.get("stop_timeout_s", p.stop_timeout_s, Range::positive());
-  p.finish_grace_s = root.get("finish_grace_s", p.finish_grace_s, Range::nonNegative());
+  p.stop_timeout_s = root.get("stop_timeout_s", p.stop_timeout_s, positive);
+  p.finish_grace_s = root.get("finish_grace_s", p.finish_grace_s, non_negative);
 
   const std::vector<Config> procs = root.list("processes");
   if (procs.empty()) root.fail("processes", "must list at least one process");
@@ -130,7 +148,7 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
     s.restart = c.getChoice("restart", s.restart,
                             {{"always", RestartPolicy::Always}, {"on-failure", RestartPolicy::OnFailure},
                              {"never", RestartPolicy::Never}});
-    s.start_delay_s = c.get("start_delay_s", s.start_delay_s, Range::nonNegative());
+    s.start_delay_s = c.get("start_delay_s", s.start_delay_s, non_negative);
     s.optional = c.get<bool>("optional", false);
     s.finish = c.get<bool>("finish", false);
     if (c.has("enabled")) {

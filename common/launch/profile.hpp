@@ -22,6 +22,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/config.hpp"
@@ -29,6 +30,11 @@
 namespace lasonic::launch {
 
 enum class RestartPolicy { Always, OnFailure, Never };
+
+// The longest time a profile's delays and timeouts, or --max-time, may give: 1e6 s (11.6 days),
+// far beyond any delay or run a host means, and far inside what the supervisor's clock arithmetic
+// holds (milliseconds in 64 bits): a value such as 1e300 overflowed it and acted at once.
+inline constexpr double kMaxSeconds = 1e6;
 
 struct ProcessSpec {
   std::string name;
@@ -64,6 +70,11 @@ HostProfile loadProfile(const Config& root, const std::map<std::string, std::str
 // "${a}/x" with a = "b" -> "b/x"; "$$" -> "$". Unknown names call `unknown` (which throws).
 std::string expand(const std::string& text, const std::map<std::string, std::string>& vars,
                    const std::function<void(const std::string&)>& unknown);
+
+// The files a lasonic process reads at start-up that `spec`'s command names, as (option, file):
+// "--config FILE", "--config=FILE", and the same for --scenario. (lasonic-launch --check looks
+// for them.)
+std::vector<std::pair<std::string, std::string>> filesNamed(const ProcessSpec& spec);
 
 // Delay before restart number `consecutive` (1 = the first after a healthy run): initial * 2^(n-1),
 // capped.

@@ -40,8 +40,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "override the profile's lcm_url");
   app.add_option("--bin", bin, "where executables named without a path are looked for first (then $PATH)")
       ->capture_default_str();
-  app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests)")
-      ->check(CLI::NonNegativeNumber);
+  app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests); 0: no limit")
+      ->check(lasonic::FiniteNumberIn(0, launch::kMaxSeconds));
   app.add_flag("--check", check, "check the profile and the executables, print the commands, start nothing");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     }
     overrides[s.substr(0, eq)] = s.substr(eq + 1);
   }
-  if (!lcm_url.empty()) overrides["lcm_url"] = lcm_url;
+  if (app.count("--lcm-url")) overrides["lcm_url"] = lcm_url;
   const std::map<std::string, std::string> builtins = {{"bin", bin}, {"log_dir", log_dir}};
 
   launch::HostProfile profile;
@@ -76,14 +76,17 @@ int main(int argc, char** argv) {
       // The files every lasonic process reads at start-up: a profile names them relative to
       // where it is started (the repository, or PREFIX/share/lasonic), so say so before a run
       // would end in exit 2.
-      for (size_t i = 0; p.enabled && i + 1 < p.command.size(); ++i)
-        if (std::error_code ec; (p.command[i] == "--config" || p.command[i] == "--scenario") &&
-                                !std::filesystem::is_regular_file(p.command[i + 1], ec)) {
-          std::error_code cwd_ec;
-          std::cerr << "lasonic-launch: " << p.name << ": " << p.command[i] << " " << p.command[i + 1]
-                    << ": no such file (from " << std::filesystem::current_path(cwd_ec).string() << ")\n";
-          files_ok = false;
-        }
+      if (!p.enabled) continue;
+      for (const auto& [option, file] : launch::filesNamed(p)) {
+        std::error_code ec;
+        const auto st = std::filesystem::status(file, ec);
+        if (std::filesystem::exists(st) && !std::filesystem::is_directory(st)) continue;
+        std::error_code cwd_ec;
+        std::cerr << "lasonic-launch: " << p.name << ": " << option << " " << file << ": "
+                  << (std::filesystem::is_directory(st) ? "a directory, not a file" : "no such file") << " (from "
+                  << std::filesystem::current_path(cwd_ec).string() << ")\n";
+        files_ok = false;
+      }
     }
     return ready && files_ok ? 0 : 2;
   }

@@ -2,7 +2,8 @@
 # launch.sh: lasonic-launch's process handling, with plain shell processes (no LCM, no network).
 # Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 #  1. a profile naming a missing executable: exit 2, the message names it; optional: started anyway;
-#     --check names a --config file that is not there (exit 2);
+#     --check names a --config file that is not there, also as --config=FILE, and an empty
+#     lcm_url (exit 2); --max-time nan/inf/1e300 and a start_delay_s of 1e300 are errors (exit 2);
 #  2. a process that always fails is restarted with a doubling back-off (0.2, 0.4, 0.8 s);
 #     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
 #     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
@@ -38,6 +39,33 @@ rc=0
 (cd "$tmp" && "$launch" files.yaml --check) >"$tmp/launch1c.txt" 2>&1 || rc=$?
 ((rc == 2)) || die "--check with a missing --config file: exit $rc, expected 2"
 grep -q "p: --config no-such-config.yaml: no such file" "$tmp/launch1c.txt" || die "the missing file is not named"
+# ... in the --config=FILE form too; an empty lcm_url is an error.
+cat >"$tmp/files2.yaml" <<'YAML'
+lcm_url: memq://
+processes:
+  - {name: p, command: [sleep, --config=no-such-config.yaml]}
+YAML
+rc=0
+(cd "$tmp" && "$launch" files2.yaml --check) >"$tmp/launch1d.txt" 2>&1 || rc=$?
+((rc == 2)) || die "--check with a missing --config=FILE: exit $rc, expected 2"
+grep -q "p: --config no-such-config.yaml: no such file" "$tmp/launch1d.txt" || die "the missing --config=FILE is not named"
+sed -i 's|lcm_url: memq://|lcm_url: ""|' "$tmp/files2.yaml"
+rc=0
+"$launch" "$tmp/files2.yaml" --check >"$tmp/launch1e.txt" 2>&1 || rc=$?
+((rc == 2)) || die "--check with lcm_url \"\": exit $rc, expected 2"
+grep -q "lcm_url: must not be empty" "$tmp/launch1e.txt" || die "the empty lcm_url is not named: $(cat "$tmp/launch1e.txt")"
+# --max-time and the profile's times: finite and at most 1e6 s (nan ran for ever, 1e300 stopped at once).
+for t in nan inf 1e300 -1; do
+  rc=0
+  "$launch" "$tmp/missing.yaml" --log-dir "$tmp/logs1" --max-time "$t" >"$tmp/launch1f.txt" 2>&1 || rc=$?
+  ((rc == 2)) || die "--max-time $t: exit $rc, expected 2"
+  grep -q -- "--max-time" "$tmp/launch1f.txt" || die "--max-time $t: the option is not named: $(cat "$tmp/launch1f.txt")"
+done
+printf 'lcm_url: memq://\nprocesses:\n  - {name: p, command: [sleep, "5"], start_delay_s: 1e300}\n' >"$tmp/delay.yaml"
+rc=0
+"$launch" "$tmp/delay.yaml" --log-dir "$tmp/logs1" >"$tmp/launch1g.txt" 2>&1 || rc=$?
+((rc == 2)) || die "start_delay_s: 1e300: exit $rc, expected 2"
+grep -q "processes\[0\].start_delay_s: must be in" "$tmp/launch1g.txt" || die "start_delay_s is not named: $(cat "$tmp/launch1g.txt")"
 echo "$test_name: (1) ok"
 
 # 2. Restarts, back-off, kill -9, finish, stop order, SIGINT ignored.

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 
 #include "core/cli.hpp"
@@ -141,6 +143,28 @@ TEST(CommandLine, HelpIsZeroAnyOtherErrorTwo) {
   EXPECT_EQ(parse({"--in", "x", "--n", "99"}), std::optional<int>(2));  // out of range
 }
 
+// CLI::Range and CLI::NonNegativeNumber let "nan" through; lasonic::FiniteNumberIn does not.
+TEST(CommandLine, FiniteNumberInRejectsNanInfAndOutOfRange) {
+  const auto parse = [](const char* value) {
+    CLI::App app{"test"};
+    double s = 0;
+    app.add_option("--s", s, "seconds")->check(lasonic::FiniteNumberIn(0, 1e6));
+    std::vector<const char*> args = {"tool", "--s", value};
+    testing::internal::CaptureStderr();
+    const auto rc = lasonic::parseCommandLine(app, static_cast<int>(args.size()), args.data());
+    const std::string err = testing::internal::GetCapturedStderr();
+    return std::make_pair(rc, err);
+  };
+  EXPECT_EQ(parse("2.5").first, std::nullopt);
+  EXPECT_EQ(parse("0").first, std::nullopt);
+  EXPECT_EQ(parse("1e6").first, std::nullopt);
+  for (const char* bad : {"nan", "NaN", "inf", "-inf", "1e300", "-1", "abc"}) {
+    const auto [rc, err] = parse(bad);
+    EXPECT_EQ(rc, std::optional<int>(2)) << bad;
+    EXPECT_NE(err.find("--s"), std::string::npos) << err;
+  }
+}
+
 TEST(Logging, LevelNamesAndUnknownOnes) {
   EXPECT_EQ(lasonic::parseLogLevel("debug"), spdlog::level::debug);
   EXPECT_EQ(lasonic::parseLogLevel("Info"), spdlog::level::info);
@@ -150,4 +174,123 @@ TEST(Logging, LevelNamesAndUnknownOnes) {
   // spdlog itself would read these as "off" and hide every warning.
   EXPECT_EQ(lasonic::parseLogLevel("bogus"), std::nullopt);
   EXPECT_EQ(lasonic::parseLogLevel(""), std::nullopt);
+}
+
+// A key that is a list or a map (or empty) cannot be named in the configuration: an error naming
+// the file, the map's key path and the line, not a yaml-cpp exception (which ended the processes
+// with exit 1, or an abort).
+TEST(Config, AKeyThatIsNotAStringIsAnError) {
+  EXPECT_EQ(errorOf([] { Config::fromString("[a, b]: 1\n", "my.yaml"); }),
+            "my.yaml: <root>: a key that is not a string (line 1, column 1)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  [a, b]: 1\n", "my.yaml"); }),
+            "my.yaml: pilot: a key that is not a string (line 2, column 3)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  ? [x]\n", "my.yaml"); }),
+            "my.yaml: pilot: a key that is not a string (line 2, column 5)");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {agm: {? {x: 1} : 3}}\n", "my.yaml"); }).rfind(
+                "my.yaml: pilot.agm: a key that is not a string", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("obstacles:\n  - {[a]: 1}\n", "my.yaml"); }).rfind(
+                "my.yaml: obstacles[0]: a key that is not a string", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {: 1}\n", "my.yaml"); }).rfind("my.yaml: pilot: an empty key", 0),
+            0u);
+  // Through the --config loader, and for a map that did not come from a file.
+  const std::string f = ::testing::TempDir() + "/list_key.yaml";
+  std::ofstream(f) << "pilot:\n  robot_radius: 0.3\n  [a, b]: 1\n";
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({f}); }).rfind(f + ": pilot: a key that is not a string", 0), 0u);
+  const Config raw(YAML::Load("{[a]: 1}"), "sec", "raw.yaml");
+  EXPECT_EQ(errorOf([&] { raw.keys(); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { raw.allowOnly({"x"}); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { Config{}.mergedWith(raw); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+  EXPECT_EQ(errorOf([&] { raw.mergedWith(Config{}); }).rfind("raw.yaml: sec: a key that is not a string", 0), 0u);
+}
+
+// yaml-cpp keeps both pairs of a repeated key: one reader took the first, a layered merge the
+// last. A key given twice in one map is an error naming the file, the key path and both lines.
+TEST(Config, AKeyGivenTwiceInOneMapIsAnError) {
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot:\n  robot_radius: 0.27\n  robot_radius: 5\n", "my.yaml"); }),
+            "my.yaml: pilot.robot_radius: given twice in one map (lines 2 and 3); give each key once");
+  EXPECT_EQ(errorOf([] { Config::fromString("pilot: {}\npilot: {}\n", "my.yaml"); }).rfind("my.yaml: pilot: given twice", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("obstacles: [{r: 1, 'r': 2}]\n", "my.yaml"); })
+                .rfind("my.yaml: obstacles[0].r: given twice", 0),
+            0u);
+  // The same key in different maps, or in different files, is fine.
+  EXPECT_EQ(errorOf([] { Config::fromString("a: {r: 1}\nb: {r: 2}\n"); }), "");
+  const std::string dir = ::testing::TempDir();
+  const std::string base = dir + "/dup_base.yaml", twice = dir + "/dup_twice.yaml";
+  {
+    std::ofstream(base) << "pilot: {robot_radius: 0.3}\n";
+    std::ofstream(twice) << "pilot:\n  robot_radius: 0.27\n  robot_radius: 5\n";
+  }
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({base, base}); }), "");
+  EXPECT_EQ(errorOf([&] { Config::loadConfiguration({base, twice}); }).rfind(twice + ": pilot.robot_radius: given twice", 0),
+            0u);
+  // An alias of a map that contains it would be followed for ever by a layered merge.
+  EXPECT_EQ(errorOf([] { Config::fromString("a: &x {b: *x}\n", "my.yaml"); }).rfind("my.yaml: a.b: refers to itself", 0),
+            0u);
+  EXPECT_EQ(errorOf([] { Config::fromString("a: &x {p: 1}\nb: *x\n"); }), "");  // a plain alias is fine
+}
+
+// A section whose keys are all commented out (`pilot:` alone: a null) in a later --config layer
+// says nothing: the earlier layer's section stays. A key with no value is an error, not the default.
+TEST(Config, ANullSectionKeepsTheEarlierLayerAndANullKeyIsAnError) {
+  const std::string dir = ::testing::TempDir();
+  const std::string base = dir + "/null_base.yaml", commented = dir + "/null_commented.yaml",
+                    novalue = dir + "/null_novalue.yaml";
+  {
+    std::ofstream(base) << "pilot:\n  robot_radius: 0.3\n  agm: {g_t: 5}\nnavigator: {cell_size: 0.1}\n";
+    std::ofstream(commented) << "pilot:\n  # robot_radius: 0.27\n  agm:\n    # g_t: 6\nnavigator:\n";
+    std::ofstream(novalue) << "navigator:\n  cell_size:\n";
+  }
+  const Config c = Config::loadConfiguration({base, commented});
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.3);
+  EXPECT_EQ(c.section("pilot").section("agm").get("g_t", 0, Range::any()), 5);
+  EXPECT_DOUBLE_EQ(c.section("navigator").get("cell_size", 0.0, Range::positive()), 0.1);
+  // Alone, a commented-out section is an empty one.
+  const Config alone = Config::loadConfiguration({commented});
+  EXPECT_TRUE(alone.section("pilot").section("agm").empty());
+  EXPECT_DOUBLE_EQ(alone.section("pilot").get("robot_radius", 0.25, Range::positive()), 0.25);
+  EXPECT_TRUE(alone.list("navigator").empty());
+  // `cell_size:` alone, over a value or not.
+  for (const auto& files : {std::vector<std::string>{novalue}, std::vector<std::string>{base, novalue}}) {
+    const Config nav = Config::loadConfiguration(files).section("navigator");
+    const std::string e = errorOf([&] { nav.get("cell_size", 0.1, Range::positive()); });
+    EXPECT_NE(e.find("navigator.cell_size: has no value"), std::string::npos) << e;
+    EXPECT_NE(e.find(novalue), std::string::npos) << e;
+  }
+  const Config n = Config::fromString("s: {a: , b: ~, c: null}\n", "n.yaml").section("s");
+  EXPECT_EQ(errorOf([&] { n.get("a", 1.0, Range::any()); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.get("b", 1, Range::any()); }), "n.yaml: s.b: has no value");
+  EXPECT_EQ(errorOf([&] { n.get<bool>("c", true); }), "n.yaml: s.c: has no value");
+  EXPECT_EQ(errorOf([&] { n.get<std::string>("a", "x"); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.require<double>("a"); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.requireNum("a", Range::any()); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getChoice("a", 0, {{"x", 1}}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getVec2("a", {0, 0}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.getDoubles("a", {}); }), "n.yaml: s.a: has no value");
+  EXPECT_EQ(errorOf([&] { n.requirePoints("a", 1); }), "n.yaml: s.a: has no value");
+  EXPECT_NE(errorOf([&] { n.requireSection("a"); }).find("s.a: has no value"), std::string::npos);
+  EXPECT_TRUE(n.has("a"));  // present, without a value
+  // The scenario's one-level override (mergedWith): a commented-out map keeps the base's.
+  const Config m = Config::fromString("base: {mount: {x: 1}, r: 2}\nover: {mount: , r: 3}\n");
+  const Config merged = m.section("base").mergedWith(m.section("over"));
+  EXPECT_DOUBLE_EQ(merged.section("mount").get("x", 0.0, Range::any()), 1.0);
+  EXPECT_EQ(merged.get("r", 0, Range::any()), 3);
+}
+
+// A directory given as a configuration file is an error (std::ifstream reads it as an empty
+// file); a pipe (`--config <(...)`, /dev/fd/N) is read.
+TEST(Config, ADirectoryIsNotAFileAPipeIs) {
+  const std::string dir = ::testing::TempDir();
+  EXPECT_NE(errorOf([&] { Config::loadFile(dir); }).find(": is a directory, not a YAML file"), std::string::npos);
+  EXPECT_NE(errorOf([&] { Config::loadConfiguration({dir}); }).find("is a directory"), std::string::npos);
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const std::string text = "pilot: {robot_radius: 0.31}\n";
+  ASSERT_EQ(::write(fds[1], text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  ::close(fds[1]);
+  const Config c = Config::loadConfiguration({"/dev/fd/" + std::to_string(fds[0])});
+  ::close(fds[0]);
+  EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.31);
 }

@@ -101,6 +101,63 @@ TEST(HostProfile, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("lcm_url: u\nprocesses: []").find("at least one process"), std::string::npos);
 }
 
+// A profile is read as any configuration file: a key given twice in one map, or a key that is a
+// list, is an error naming the key path (which copy counted depended on the reader).
+TEST(HostProfile, AKeyGivenTwiceOrNotAStringIsAnError) {
+  try {
+    load("lcm_url: u\nprocesses:\n  - name: a\n    command: [a]\n    restart: never\n    restart: always\n");
+    ADD_FAILURE() << "a key given twice was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "host.yaml: processes[0].restart: given twice in one map (lines 5 and 6); give each key once");
+  }
+  try {
+    load("lcm_url: u\nprocesses: [{name: a, command: [a], [x]: 1}]\n");
+    ADD_FAILURE() << "a key that is a list was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("host.yaml: processes[0]: a key that is not a string", 0), 0u) << e.what();
+  }
+}
+
+// A time of 1e300 s overflowed the supervisor's clock arithmetic and acted at once (while its
+// message said 1e300 s): every time is finite and at most kMaxSeconds.
+TEST(HostProfile, TimesAreBounded) {
+  const std::string procs = "processes: [{name: a, command: [a]}]\n";
+  EXPECT_EQ(errorOf("lcm_url: u\nprocesses: [{name: a, command: [a], start_delay_s: 1e300}]\n"),
+            "host.yaml: processes[0].start_delay_s: must be in [0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {initial_delay_s: 1e300, max_delay_s: 1e300}\n" + procs),
+            "host.yaml: restart.initial_delay_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {max_delay_s: 1e7}\n" + procs), "host.yaml: restart.max_delay_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nrestart: {reset_after_s: .inf}\n" + procs),
+            "host.yaml: restart.reset_after_s: must be in [0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nstop_timeout_s: 1e300\n" + procs), "host.yaml: stop_timeout_s: must be in (0, 1e+06]");
+  EXPECT_EQ(errorOf("lcm_url: u\nfinish_grace_s: .nan\n" + procs), "host.yaml: finish_grace_s: must be in [0, 1e+06]");
+  EXPECT_DOUBLE_EQ(load("lcm_url: u\nprocesses: [{name: a, command: [a], start_delay_s: 1e6}]\n").processes[0].start_delay_s,
+                   kMaxSeconds);
+}
+
+// Every process would be started with an empty --lcm-url.
+TEST(HostProfile, AnEmptyLcmUrlIsAnError) {
+  const std::string procs = "processes: [{name: a, command: [a]}]\n";
+  EXPECT_EQ(errorOf("lcm_url: \"\"\n" + procs).rfind("host.yaml: lcm_url: must not be empty", 0), 0u);
+  EXPECT_EQ(errorOf("lcm_url: ${url}\nvars: {url: ''}\n" + procs).rfind("host.yaml: lcm_url: must not be empty", 0), 0u);
+  try {
+    load("lcm_url: u\n" + procs, {{"lcm_url", ""}});
+    ADD_FAILURE() << "an empty --lcm-url was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "--lcm-url (or --set lcm_url): must not be empty");
+  }
+}
+
+// The files lasonic-launch --check looks for: both forms of the options.
+TEST(HostProfile, FilesNamedInBothOptionForms) {
+  ProcessSpec s;
+  s.command = {"lasonic-pilot", "--config", "a.yaml", "--config=b.yaml", "--scenario=c.yaml", "--scenario", "d.yaml",
+               "--lcm-url", "u", "--config"};
+  const std::vector<std::pair<std::string, std::string>> want = {
+      {"--config", "a.yaml"}, {"--config", "b.yaml"}, {"--scenario", "c.yaml"}, {"--scenario", "d.yaml"}};
+  EXPECT_EQ(filesNamed(s), want);
+}
+
 TEST(Backoff, DoublesUpToTheCap) {
   const BackoffParams p{0.5, 10, 30};
   EXPECT_DOUBLE_EQ(restartDelay(p, 1), 0.5);
