@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
   app.add_option("--to", to, "LCM URL to publish on (live); must differ from --from");
   app.add_option("--in-log", in_log, "input log (offline)");
   app.add_option("--out-log", out_log, "output log (offline)");
-  app.add_option("--loss", d.loss, "share of the lossy channels' messages to drop")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--loss", d.loss, "share of the lossy channels' messages to drop")->check(lasonic::FiniteNumberIn(0.0, 1.0));
   app.add_option("--seed", d.seed, "seed of the drops")->capture_default_str();
   app.add_option("--lossy", lossy, "regex of the channels that lose messages (default: all but the truth)")
       ->capture_default_str();

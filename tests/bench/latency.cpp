@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   app.add_option("--lcm-url", url, "LCM URL");
-  app.add_option("--speed", speed, "play at this multiple of real time")->check(CLI::PositiveNumber);
+  app.add_option("--speed", speed, "play at this multiple of real time")->check(lasonic::FiniteNumberIn(1e-3, 1e3));
   app.add_option("--settle", settle_s, "seconds to wait for the last maps after the last group");
   app.add_option("--min-groups", min_groups, "exit 1 unless at least this many groups were matched");
   app.add_option("--samples", samples_path, "write each matched group's latency [ms] to this file");
