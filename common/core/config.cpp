@@ -82,7 +82,12 @@ Config Config::loadFile(const std::string& filename) {
 Config Config::fromString(const std::string& yaml, const std::string& name) {
   YAML::Node n;
   try {
-    n = YAML::Load(yaml);
+    // (Every document: a second one after "---" would be ignored without a word by Load.)
+    std::vector<YAML::Node> docs = YAML::LoadAll(yaml);
+    if (docs.size() > 1)
+      throw ConfigError(name + ": " + std::to_string(docs.size()) +
+                        " YAML documents (separated by ---): give one; the later ones would be ignored");
+    if (!docs.empty()) n = docs.front();
   } catch (const YAML::Exception& e) {
     throw ConfigError(name + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
                       ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);

@@ -64,6 +64,11 @@ TEST(Config, SyntaxAndFileErrors) {
             std::string::npos);
   EXPECT_NE(errorOf([] { Config::fromString("- 1\n- 2\n", "l.yaml"); }).find("top level must be a map"),
             std::string::npos);
+  // Two documents: the second was ignored.
+  EXPECT_NE(errorOf([] { Config::fromString("a: 1\n---\nb: 2\n", "two.yaml"); }).find("two.yaml: 2 YAML documents"),
+            std::string::npos);
+  EXPECT_EQ(Config::fromString("---\na: 1\n", "one.yaml").get("a", 0), 1);  // one, marked as such
+  EXPECT_FALSE(Config::fromString("", "empty.yaml").has("a"));
 }
 
 TEST(Config, PointsAndMerge) {
