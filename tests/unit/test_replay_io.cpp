@@ -338,6 +338,11 @@ TEST(ReplayIo, MeterPrintsAtMostEveryTenthAndSecond) {
   EXPECT_NEAR(slow.logSeconds(), 99.0, 1e-9);
   EXPECT_NE(slow.summary(t0 + std::chrono::seconds(100)).find("real-time factor 1,"), std::string::npos)
       << slow.summary(t0 + std::chrono::seconds(100));
+  // A log looped twice (lcm-logger recording lcm-logplayer -l): two passes of 9 s, not one of 9.
+  ReplayMeter looped(1000, t0);
+  for (int pass = 0; pass < 2; ++pass)
+    for (int i = 1; i <= 10; ++i) looped.update(i * 1'000'000 - (i == 5 ? 1'300'000 : 0), 1, t0);  // one 0.3 s late
+  EXPECT_NEAR(looped.logSeconds(), 18.0, 1e-9);
 }
 
 // The writer thread's failures reach the caller: a full device makes flush() throw, naming the
