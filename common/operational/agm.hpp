@@ -42,6 +42,12 @@ struct AgmParams {
   int h_max = 12;                     // revision once H > h_max [update cycles]
   int t = 1;                          // propagation neighbourhood (2t+1) x (2t+1)
   int g_threshold = 2;                // G_T
+  // The largest Gp can be: G summed over the (2t+1)^2 cluster, each at most g_max (a Gp
+  // threshold above it is never reached).
+  double maxGp() const { return (2.0 * t + 1) * (2.0 * t + 1) * g_max; }
+  // [m] How far around the robot the window reaches wherever re-centring lets the robot be:
+  // (size/2 - recenter_max_cells - 1) * cell_size.
+  double guaranteedView() const { return (size / 2 - recenter_max_cells - 1) * cell_size; }
   int recenter_max_cells = 5;         // k at standstill
   int recenter_min_cells = 1;         // k is never below this
   double recenter_lookahead_s = 1.0;  // k shrinks by the whole cells driven in this time

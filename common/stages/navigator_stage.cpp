@@ -43,7 +43,7 @@ NavigatorConfig navigatorConfigFromRoot(const Config& root) {
   // The window must hold every complementary echo wherever re-centring lets the robot be (as the
   // pilot's holds the sector map's reach): else the tactical map stays empty without a word.
   const double reach = cfg.robot_radius + complement::complementConfig(root.section("complement")).params.model.range_limit;
-  const double view = (cfg.agm.size / 2 - cfg.agm.recenter_max_cells - 1) * cfg.agm.cell_size;
+  const double view = cfg.agm.guaranteedView();
   if (view < reach) {
     std::ostringstream msg;
     msg << (cfg.agm.size / 2 - cfg.agm.recenter_max_cells - 1) << " cells of " << cfg.agm.cell_size
@@ -70,8 +70,7 @@ NavigatorConfig navigatorConfig(const Config& c) {
   lines.neighbourhood = p.agm.t;  // the sums Gp is made of (one source: the AGM's t)
   p.lines = lineGenerationParams(c.section("lines"), lines);
   p.lines_follow_g_threshold = !c.section("lines").has("gp_threshold");
-  // (Gp sums G over (2t+1)^2 cells, each at most g_max: a higher threshold is never reached.)
-  if (const double most = (2.0 * p.agm.t + 1) * (2.0 * p.agm.t + 1) * p.agm.g_max; p.lines.gp_threshold > most)
+  if (const double most = p.agm.maxGp(); p.lines.gp_threshold > most)
     c.section("lines").fail("gp_threshold", std::to_string(p.lines.gp_threshold) + " is never reached: Gp is at most " +
                                                 std::to_string(most) + " ((2 agm.t + 1)^2 * agm.g_max)");
   p.g_threshold_fixed = c.section("agm").has("g_threshold");

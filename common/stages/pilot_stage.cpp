@@ -83,9 +83,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.robot_radius = c.get("robot_radius", s.robot_radius, Range::nonNegative());
   // (A reach below 10 cm reports nothing a robot could act on.)
   s.max_range = c.get("max_range", s.max_range, Range::between(0.1, 1e3));
-  // (Gp sums G over (2t+1)^2 cells, each at most g_max: a higher threshold is never reached.)
-  const int cluster = (2 * p.agm.t + 1) * (2 * p.agm.t + 1);
-  s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, static_cast<double>(cluster) * p.agm.g_max));
+  s.gp_threshold = c.get("gp_threshold", p.agm.g_threshold, Range::between(1, p.agm.maxGp()));
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positiveDuration());
   p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positiveDuration());
@@ -141,7 +139,7 @@ PilotConfig pilotConfig(const Config& c) {
     if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
   }
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
-  const double view = (p.agm.size / 2 - p.agm.recenter_max_cells - 1) * p.agm.cell_size;
+  const double view = p.agm.guaranteedView();
   if (view < s.robot_radius + s.max_range) {
     std::ostringstream msg;
     msg << "robot_radius + max_range = " << s.robot_radius + s.max_range << " m exceeds the AGM's guaranteed view of "

@@ -24,7 +24,7 @@
 #include "lcmio/eventlog.hpp"
 #include "render/fig8.hpp"
 #include "render/snapshot.hpp"
-#include "sim/same_file.hpp"
+#include "core/same_file.hpp"
 #include "sim/scenario.hpp"
 
 namespace {
@@ -97,8 +97,8 @@ int main(int argc, char** argv) {
   if (every_s && (!std::isfinite(*every_s) || *every_s <= 0)) return fail(2, "--every: must be a number > 0");
   // A picture written over the log or the scenario would destroy what it was drawn from.
   auto overwritesInput = [&](const std::string& out) -> std::optional<std::string> {
-    if (sim::sameExistingFile(out, log_path)) return "--out " + out + " is the --log file " + log_path + ": not overwritten";
-    if (!scenario_path.empty() && sim::sameExistingFile(out, scenario_path))
+    if (lasonic::sameExistingFile(out, log_path)) return "--out " + out + " is the --log file " + log_path + ": not overwritten";
+    if (!scenario_path.empty() && lasonic::sameExistingFile(out, scenario_path))
       return "--out " + out + " is the --scenario file " + scenario_path + ": not overwritten";
     return std::nullopt;
   };

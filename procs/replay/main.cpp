@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -32,6 +31,7 @@
 #include <vector>
 
 #include "core/cli.hpp"
+#include "core/same_file.hpp"
 #include "core/config.hpp"
 #include "core/logging.hpp"
 #include "lcmio/eventlog.hpp"
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
     a = b + 1;
   }
   // The output is opened (truncated) before the input is read: the same file would be lost.
-  if (std::error_code ec; std::filesystem::equivalent(in_path, out_path, ec)) {
+  if (lasonic::sameExistingFile(out_path, in_path)) {
     std::cerr << "lasonic-replay: --out " << out_path << " is the input log (--in " << in_path
               << "): writing it would destroy it\n";
     return 2;

@@ -19,7 +19,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "sim/drivers.hpp"
-#include "sim/same_file.hpp"
+#include "core/same_file.hpp"
 #include "sim/setup.hpp"
 #include "sim/sim_state_check.hpp"
 
@@ -62,11 +62,11 @@ int main(int argc, char** argv) {
   }
 
   for (const std::string& input : config_files)
-    if (sim::sameExistingFile(out_file, input)) {
+    if (lasonic::sameExistingFile(out_file, input)) {
       std::cerr << "lasonic-sim: --out " << out_file << " is the --config file " << input << ": not overwritten\n";
       return 2;
     }
-  if (sim::sameExistingFile(out_file, scenario_file)) {
+  if (lasonic::sameExistingFile(out_file, scenario_file)) {
     std::cerr << "lasonic-sim: --out " << out_file << " is the --scenario file " << scenario_file << ": not overwritten\n";
     return 2;
   }

@@ -1,11 +1,12 @@
 #pragma once
 // Whether a tool's output file would overwrite one of its inputs (README "Processes: start-up,
-// exit codes, status"): lasonic-sim --out naming its scenario, lasonic-render --out its log.
+// exit codes, status"): lasonic-sim --out naming its scenario, lasonic-render --out its log,
+// lasonic-replay --out its --in.
 #include <filesystem>
 #include <string>
 #include <system_error>
 
-namespace lasonic::sim {
+namespace lasonic {
 
 // True if `out` and `input` both exist and are the same file (however spelt: relative, through
 // a link). An output that does not exist yet overwrites nothing.
@@ -15,4 +16,4 @@ inline bool sameExistingFile(const std::string& out, const std::string& input) {
   return !ec && same;
 }
 
-}  // namespace lasonic::sim
+}  // namespace lasonic
