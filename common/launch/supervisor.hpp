@@ -25,6 +25,11 @@ namespace lasonic::launch {
 // of `dirs`, then in $PATH. Empty if not found.
 std::string resolveExecutable(const std::string& name, const std::vector<std::string>& dirs);
 
+// Runs `exe` with `args` (argv[0] = exe) to its end, stdin /dev/null, and returns its exit
+// status (128 + signal if killed, -1 if it could not be started); its stdout and stderr together
+// in `output`. For short checks (lasonic-launch --check), not for the supervised processes.
+int runToEnd(const std::string& exe, const std::vector<std::string>& args, std::string& output);
+
 class Supervisor {
  public:
   Supervisor(HostProfile profile, std::string log_dir, std::vector<std::string> search_dirs);

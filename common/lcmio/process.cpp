@@ -14,6 +14,8 @@ ProcessMain::ProcessMain(std::string name, const std::string& description)
   app_.add_option("--config", config_files_,
                   "lasonic YAML configuration (deploy/config/lasonic.yaml); repeat to layer a robot's overrides on it");
   app_.add_option("--lcm-url", lcm_url_, "LCM URL")->capture_default_str();
+  app_.add_flag("--check-config", check_config_,
+                "load and check the configuration (and scenario), then exit: 0 usable, 2 not; joins no LCM group");
 }
 
 int ProcessMain::run(int argc, char** argv, const std::function<void(const Config& root)>& configure,
@@ -30,6 +32,13 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   } catch (const std::exception& e) {
     std::cerr << name_ << ": start-up failed: " << e.what() << "\n";
     return exit_code::kFailure;
+  }
+  if (check_config_) {
+    std::cout << name_ << ": configuration usable";
+    for (const std::string& f : config_files_) std::cout << " " << f;
+    if (config_files_.empty()) std::cout << " (the built-in defaults)";
+    std::cout << "\n";
+    return exit_code::kOk;
   }
   try {
     Node node(name_, lcm_url_, node_options);

@@ -5,7 +5,8 @@
 //     --lcm-url URL, --help, plus the process's own options;
 //   - logging (spdlog, named after the process; LASONIC_LOG_LEVEL);
 //   - configuration: the --config file loaded, then the process's configure step; a ConfigError
-//     (a message naming file and key) exits 2;
+//     (a message naming file and key) exits 2; --check-config stops there (exit 0 when usable,
+//     joining no LCM group: what `lasonic-launch --check` runs for each process);
 //   - the Node on --lcm-url: an unusable URL exits 1 with a clear message (LCM 1.3.1 reports a
 //     bad URL by !good(), never by aborting);
 //   - SIGINT / SIGTERM: the Node's loop ends, a last PROCESS_STATUS goes out, exit 0;
@@ -58,6 +59,7 @@ class ProcessMain {
   CLI::App app_;
   std::vector<std::string> config_files_;
   std::string lcm_url_ = kDefaultLcmUrl;
+  bool check_config_ = false;
 };
 
 }  // namespace lasonic

@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests); 0: no limit")
       ->check(lasonic::FiniteNumberIn(0, launch::kMaxSeconds));
-  app.add_flag("--check", check, "check the profile and the executables, print the commands, start nothing");
+  app.add_flag("--check", check, "check the profile, the executables and each process's configuration; print the commands, start nothing");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   std::map<std::string, std::string> overrides;
@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
       // where it is started (the repository, or PREFIX/share/lasonic), so say so before a run
       // would end in exit 2.
       if (!p.enabled) continue;
+      bool files_there = true;
       for (const auto& [option, file] : launch::filesNamed(p)) {
         std::error_code ec;
         const auto st = std::filesystem::status(file, ec);
@@ -86,7 +87,24 @@ int main(int argc, char** argv) {
                   << (std::filesystem::is_directory(st) ? "a directory, not a file" : "no such file") << " (from "
                   << std::filesystem::current_path(cwd_ec).string() << ")\n";
         files_ok = false;
+        files_there = false;
       }
+      // And what is in them: a process that offers --check-config (every lasonic process,
+      // lcmio/process.hpp) loads its configuration and scenario as it would at start-up and
+      // exits, so a bad key is found now, not as an exit 2 on the robot.
+      const std::string exe = launch::resolveExecutable(p.command[0], {bin});
+      std::string help, out;
+      if (!files_there || exe.empty() || launch::runToEnd(exe, {"--help"}, help) != 0 ||
+          help.find("--check-config") == std::string::npos)
+        continue;
+      std::vector<std::string> args(p.command.begin() + 1, p.command.end());
+      args.push_back("--check-config");
+      const int rc = launch::runToEnd(exe, args, out);
+      if (rc == 0) continue;
+      while (!out.empty() && out.back() == '\n') out.pop_back();
+      std::cerr << "lasonic-launch: " << p.name << ": configuration not usable (--check-config: exit " << rc
+                << "):\n  " << out << "\n";
+      files_ok = false;
     }
     return ready && files_ok ? 0 : 2;
   }

@@ -2,8 +2,8 @@
 # launch.sh: lasonic-launch's process handling, with plain shell processes (no LCM, no network).
 # Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 #  1. a profile naming a missing executable: exit 2, the message names it; optional: started anyway;
-#     --check names a --config file that is not there, also as --config=FILE, and an empty
-#     lcm_url (exit 2); --max-time nan/inf/1e300 and a start_delay_s of 1e300 are errors (exit 2);
+#     --check names a --config file that is not there, also as --config=FILE, an empty lcm_url,
+#     and a bad key in a process's configuration (exit 2); --max-time nan/inf/1e300 and a start_delay_s of 1e300 are errors (exit 2);
 #  2. a process that always fails is restarted with a doubling back-off (0.2, 0.4, 0.8 s);
 #     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
 #     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
@@ -54,6 +54,21 @@ rc=0
 "$launch" "$tmp/files2.yaml" --check >"$tmp/launch1e.txt" 2>&1 || rc=$?
 ((rc == 2)) || die "--check with lcm_url \"\": exit $rc, expected 2"
 grep -q "lcm_url: must not be empty" "$tmp/launch1e.txt" || die "the empty lcm_url is not named: $(cat "$tmp/launch1e.txt")"
+# --check loads each lasonic process's configuration as the process would (--check-config): a
+# bad key in a robot overlay is an exit 2 naming it, before anything starts; the shipped one passes.
+printf 'pilot:\n  max_range: 0.01\n' >"$tmp/bad_robot.yaml"
+"$launch" "$src/deploy/hosts/pilot.yaml" --bin "$bin" --set "config=$src/deploy/config/lasonic.yaml" \
+  --set "robot=$src/deploy/config/mobot4.yaml" --set "scenario=$src/deploy/scenarios/fig4_room.yaml" \
+  --check >"$tmp/launch1h.txt" 2>&1 || die "--check of the shipped pilot profile: exit $?: $(cat "$tmp/launch1h.txt")"
+rc=0
+"$launch" "$src/deploy/hosts/pilot.yaml" --bin "$bin" --set "config=$src/deploy/config/lasonic.yaml" \
+  --set "robot=$tmp/bad_robot.yaml" --set "scenario=$src/deploy/scenarios/fig4_room.yaml" \
+  --check >"$tmp/launch1h.txt" 2>&1 || rc=$?
+((rc == 2)) || die "--check with pilot.max_range 0.01: exit $rc, expected 2"
+grep -q "lasonic-pilot: configuration not usable" "$tmp/launch1h.txt" &&
+  grep -q "pilot.max_range" "$tmp/launch1h.txt" || die "the bad key is not named: $(cat "$tmp/launch1h.txt")"
+! grep -q "lasonic-complement: configuration not usable" "$tmp/launch1h.txt" ||
+  die "the complement blamed for the pilot's key: $(cat "$tmp/launch1h.txt")"
 # --max-time and the profile's times: finite and at most 1e6 s (nan ran for ever, 1e300 stopped at once).
 for t in nan inf 1e300 -1; do
   rc=0

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdlib>
 
 #include "launch/profile.hpp"
@@ -172,4 +173,17 @@ TEST(ResolveExecutable, SearchesDirsThenPath) {
   EXPECT_EQ(resolveExecutable("/bin/sh", {}), "/bin/sh");
   EXPECT_EQ(resolveExecutable("no-such-program-lasonic", {"/usr/bin"}), "");
   EXPECT_EQ(resolveExecutable("/etc/passwd", {}), "");  // not executable
+}
+
+// runToEnd (lasonic-launch --check runs each process's --check-config through it): the exit
+// status, a signal, and stdout and stderr together.
+TEST(RunToEnd, ExitStatusSignalAndOutput) {
+  std::string out;
+  EXPECT_EQ(launch::runToEnd("/bin/sh", {"-c", "echo to-out; echo to-err >&2; exit 3"}, out), 3);
+  EXPECT_NE(out.find("to-out"), std::string::npos);
+  EXPECT_NE(out.find("to-err"), std::string::npos);
+  EXPECT_EQ(launch::runToEnd("/bin/sh", {"-c", "kill -TERM $$"}, out), 128 + SIGTERM);
+  EXPECT_EQ(launch::runToEnd("/bin/sh", {"-c", "read x; echo \"got:$x\""}, out), 0);
+  EXPECT_EQ(out, "got:\n");  // stdin is /dev/null: nothing waits for input
+  EXPECT_EQ(launch::runToEnd("/no/such/program", {}, out), 127);
 }
