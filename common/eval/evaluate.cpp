@@ -45,7 +45,11 @@ RunLog loadRunLog(const std::string& path) {
   LogReader reader(path);
   while (auto r = reader.next()) {
     const std::string& ch = r->channel;
-    if (ch == channels::SIM_STATE) decodeInto(*r, log.sim_states, log.undecodable);
+    if (ch == channels::SIM_STATE) {
+      const size_t before = log.sim_states.size();
+      decodeInto(*r, log.sim_states, log.undecodable);
+      if (log.sim_states.size() > before) log.sim_time.add(log.sim_states.back().utime);
+    }
     else if (ch == channels::ODOMETRY) decodeInto(*r, log.odometry, log.undecodable);
     else if (ch == channels::LASER_SCAN) decodeInto(*r, log.laser_scans, log.undecodable);
     else if (ch == channels::LASER_TRUTH) decodeInto(*r, log.laser_truths, log.undecodable);
@@ -469,10 +473,7 @@ EvalOptions evalOptions(const Config& config) {
 Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& o, const BaselinesConfig* baselines) {
   Metrics m;
   m.set("scenario", sc.name);
-  double duration = 0;
-  if (log.sim_states.size() >= 2)
-    duration = static_cast<double>(log.sim_states.back().utime - log.sim_states.front().utime) * 1e-6;
-  m.set("duration_s", duration);
+  m.set("duration_s", log.sim_time.seconds());
   evalSensors(log, sc, m);
   const LaserSeen seen(log, o.seen_radius);
   evalLaserTruth(seen, m);

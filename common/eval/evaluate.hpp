@@ -21,6 +21,7 @@
 #include <lasonic/sonar_truth_t.hpp>
 
 #include "eval/metrics.hpp"
+#include "lcmio/time_reset.hpp"
 #include "eval/sparse_grid_map.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
@@ -45,6 +46,9 @@ struct RunLog {
   std::vector<SparseGridMap> agm_tactical;
   std::vector<line_map_t> current_sensor_maps;
   int64_t undecodable = 0;  // events on known channels that did not decode
+  // SIM_STATE's time in the order logged, summed over the passes of a looped or concatenated
+  // log (the vectors above are sorted by time, which interleaves the passes).
+  PassSpan sim_time;
   // No message on any channel the evaluation reads (an empty log, or another project's).
   bool empty() const {
     return sim_states.empty() && odometry.empty() && laser_scans.empty() && laser_truths.empty() &&

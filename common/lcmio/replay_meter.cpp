@@ -12,16 +12,8 @@ double seconds(ReplayMeter::Clock::duration d) { return std::chrono::duration<do
 }  // namespace
 
 void ReplayMeter::note(int64_t event_utime) {
-  if (events_ == 0) {
-    first_utime_ = last_utime_ = event_utime;
-  } else if (event_utime < last_utime_ - TimeReset::kJumpUs) {  // the log starts again
-    passes_us_ += last_utime_ - first_utime_;
-    first_utime_ = last_utime_ = event_utime;
-  }
   ++events_;
-  // Log time as the span of event times seen (a log need not be sorted).
-  first_utime_ = std::min(first_utime_, event_utime);
-  last_utime_ = std::max(last_utime_, event_utime);
+  span_.add(event_utime);  // a log need not be sorted: each pass spans its earliest to its latest
 }
 
 bool ReplayMeter::tenthDue(int64_t bytes_read) const {

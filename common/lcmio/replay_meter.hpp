@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <string>
 
+#include "lcmio/time_reset.hpp"
+
 namespace lasonic {
 
 class ReplayMeter {
@@ -26,11 +28,9 @@ class ReplayMeter {
   std::string summary(Clock::time_point now = Clock::now()) const;
 
   int64_t events() const { return events_; }
-  // Log time replayed: the span of event times, summed over the passes of a looped log (a jump
-  // back of more than TimeReset::kJumpUs starts a new pass, as for the stages).
-  double logSeconds() const {
-    return events_ > 0 ? static_cast<double>(passes_us_ + last_utime_ - first_utime_) * 1e-6 : 0.0;
-  }
+  // Log time replayed: the span of event times, summed over the passes of a looped log
+  // (PassSpan: a jump back of more than TimeReset::kJumpUs starts a new pass, as for the stages).
+  double logSeconds() const { return span_.seconds(); }
   static double realTimeFactor(double log_s, double wall_s) { return wall_s > 0 ? log_s / wall_s : 0.0; }
 
  private:
@@ -40,8 +40,8 @@ class ReplayMeter {
 
   int64_t total_bytes_;
   Clock::time_point start_, last_line_;
-  int64_t events_ = 0, first_utime_ = 0, last_utime_ = 0;  // (of this pass)
-  int64_t passes_us_ = 0;                                  // the spans of the passes before it
+  int64_t events_ = 0;
+  PassSpan span_;
   int next_tenth_ = 1;
 };
 

@@ -100,4 +100,35 @@ class TimeReset {
   std::map<std::string, Held, std::less<>> held_;
 };
 
+// PassSpan: the time a log covers, summed over its passes. A jump back of more than
+// TimeReset::kJumpUs starts a new pass (a log played with lcm-logplayer -l and recorded, or two
+// runs concatenated), whose span adds to the earlier ones'; within a pass, times may arrive a
+// little out of order (several publishers): the pass spans its earliest to its latest.
+class PassSpan {
+ public:
+  void add(int64_t utime) {
+    if (passes_ == 0) {
+      first_ = last_ = utime;
+      passes_ = 1;
+      return;
+    }
+    if (utime < last_ - TimeReset::kJumpUs) {  // the log starts again
+      done_us_ += last_ - first_;
+      first_ = last_ = utime;
+      ++passes_;
+      return;
+    }
+    if (utime < first_) first_ = utime;
+    if (utime > last_) last_ = utime;
+  }
+  int passes() const { return passes_; }
+  int64_t totalUs() const { return passes_ > 0 ? done_us_ + last_ - first_ : 0; }
+  double seconds() const { return static_cast<double>(totalUs()) * 1e-6; }
+
+ private:
+  int passes_ = 0;
+  int64_t first_ = 0, last_ = 0;  // (of this pass)
+  int64_t done_us_ = 0;           // the spans of the passes before it
+};
+
 }  // namespace lasonic

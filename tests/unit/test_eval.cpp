@@ -5,7 +5,12 @@
 #include <sstream>
 #include <string>
 
+#include <lasonic/channels.hpp>
+
+#include <filesystem>
+
 #include "eval/evaluate.hpp"
+#include "lcmio/eventlog.hpp"
 #include "sim_state_fixture.hpp"
 
 using namespace lasonic;
@@ -372,4 +377,30 @@ TEST(EvalSensors, CausesReflectorsAndLaserReturnsByMaterial) {
   EXPECT_DOUBLE_EQ(m.number("sensors.laser_returns_by_material.glass"), 0.0);
   EXPECT_DOUBLE_EQ(m.number("sensors.laser_mixed_pixels"), 0.2);
   EXPECT_DOUBLE_EQ(m.number("sensors.laser_no_return"), 0.2);
+}
+
+// duration_s is the simulated time the log covers: for a log looped and recorded (lcm-logplayer -l
+// under lcm-logger) the passes' spans add up (it was the span of the sorted times: 9 s for two
+// passes of 9 s, or 10 s when the second pass started a second later).
+TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
+  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_eval_looped.lcmlog").string();
+  {
+    LogWriter w(path);
+    int64_t event = 0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (int i = 0; i <= 9; ++i) {
+        auto st = state((i + pass) * 1'000'000, 2, 2, 0);
+        w.write(channels::SIM_STATE, ++event, st);
+      }
+  }
+  const RunLog log = loadRunLog(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(log.sim_states.size(), 20u);
+  EXPECT_EQ(log.sim_time.passes(), 2);
+  EXPECT_DOUBLE_EQ(evaluate(log, boxRoom()).number("duration_s"), 18.0);
+
+  RunLog once;  // one pass, times slightly out of order (several publishers): earliest to latest
+  for (int64_t t : {1'000'000, 1'800'000, 900'000, 3'000'000, 2'500'000}) once.sim_time.add(t);
+  EXPECT_EQ(once.sim_time.passes(), 1);
+  EXPECT_NEAR(once.sim_time.seconds(), 2.1, 1e-12);
 }
