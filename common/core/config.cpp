@@ -160,6 +160,12 @@ std::vector<std::string> Config::keys() const {
   return out;
 }
 
+std::string showNumber(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
 static std::string describe(const Range& r) {
   std::ostringstream os;
   const bool has_lo = std::isfinite(r.lo), has_hi = std::isfinite(r.hi);

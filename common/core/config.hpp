@@ -35,6 +35,9 @@ class ConfigError : public std::runtime_error {
 };
 
 // Inclusive numeric bounds with a readable description for the error message.
+// A number as a configuration message shows it: shortest form, 6 significant digits (8, 0.35, 1e+300).
+std::string showNumber(double v);
+
 struct Range {
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();

@@ -55,7 +55,8 @@ void checkLaserKeys(const Config& c) { laserKeys(c, {}); }
 LaserConfig laserConfig(const Config& c, LaserConfig base) {
   base = laserKeys(c, base);
   if (base.range_max <= base.range_min)
-    c.fail(c.has("range_max") ? "range_max" : "range_min", "range_max must be > range_min");
+    c.fail(c.has("range_max") ? "range_max" : "range_min",
+           "range_max (" + showNumber(base.range_max) + ") must be > range_min (" + showNumber(base.range_min) + ")");
   return base;
 }
 

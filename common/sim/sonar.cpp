@@ -149,18 +149,24 @@ void checkSonarKeys(const Config& c) { sonarKeys(c, {}); }
 
 SonarConfig sonarConfig(const Config& c, SonarConfig base) {
   SonarConfig o = sonarKeys(c, base);
-  // Cross-key checks name the key this layer set (the one the user just edited).
+  // Cross-key checks name a key this section sets and give both values: with layered files the
+  // merged section holds both keys, and the values show which one was changed.
   auto key = [&c](const char* a, const char* b) { return c.has(a) ? a : b; };
   if (o.range_min >= o.range_max)
-    c.fail(key("range_min", "range_max"), "range_min must be < range_max");
+    c.fail(key("range_min", "range_max"),
+           "range_min (" + showNumber(o.range_min) + ") must be < range_max (" + showNumber(o.range_max) + ")");
   if (o.group_period_s < timeOfFlight(o.range_max))
     c.fail(key("group_period_s", "range_max"),
-           "group_period_s must be >= the echo time of flight 2*range_max/343 m/s = " +
+           "group_period_s (" + showNumber(o.group_period_s) +
+               ") must be >= the echo time of flight 2*range_max/343 m/s = " +
                std::to_string(timeOfFlight(o.range_max)) + " s, else a group's echoes reach the next");
   if (o.crosstalk_prob + o.foreign_prob > 1.0)
-    c.fail(key("crosstalk_prob", "foreign_prob"), "crosstalk_prob + foreign_prob must be <= 1");
+    c.fail(key("crosstalk_prob", "foreign_prob"), "crosstalk_prob (" + showNumber(o.crosstalk_prob) +
+                                                      ") + foreign_prob (" + showNumber(o.foreign_prob) + ") must be <= 1");
   if (o.plane_range <= o.range_max)
-    c.fail(key("plane_range_m", "range_max"), "plane_range_m (the range a flat wall is still heard at) must be > range_max");
+    c.fail(key("plane_range_m", "range_max"), "plane_range_m (" + showNumber(o.plane_range) +
+                                                  ", the range a flat wall is still heard at) must be > range_max (" +
+                                                  showNumber(o.range_max) + ")");
   return o;
 }
 

@@ -136,7 +136,9 @@ PilotConfig pilotConfig(const Config& c) {
     mp.agree_speed = m.get("agree_speed", mp.agree_speed, Range::between(0.01, 10));
     mp.flat_face_rms = m.get("flat_face_rms", mp.flat_face_rms, Range::between(0, 1));
     mp.flat_face_min = m.get("flat_face_min", mp.flat_face_min, Range::between(0, 10));
-    if (!(mp.max_speed > mp.min_speed)) m.fail("max_speed", "must be greater than min_speed");
+    if (!(mp.max_speed > mp.min_speed))
+      m.fail("max_speed", "(" + showNumber(mp.max_speed) + ") must be greater than min_speed (" +
+                              showNumber(mp.min_speed) + ")");
   }
   // The window must hold the whole sector map's reach wherever re-centring lets the robot be.
   const double view = p.agm.guaranteedView();

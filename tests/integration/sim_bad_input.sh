@@ -44,7 +44,7 @@ declare -A bad_file=(
   [lasonic-laser-driver]=bad_laser [lasonic-sonar-driver]=bad_sonar
 )
 declare -A bad_value=(
-  [bad_sonar]='sonar.range_min: range_min must be < range_max'
+  [bad_sonar]='sonar.range_min: range_min (5) must be < range_max ('
   [bad_odometry]='odometry.rate_hz: must be in [1, 1000]'
   [bad_laser]='laser.readings: must be in [2, 100000]'
 )

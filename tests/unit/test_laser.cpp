@@ -251,7 +251,7 @@ TEST(Laser, ConfigErrorsNameTheKey) {
   // On the robot's body: a mount 1e300 m out was accepted (and refused downstream).
   EXPECT_NE(configMessage("  mount: {x: 1e300}\n").find("laser.mount.x: must be in [-5, 5]"), std::string::npos);
   EXPECT_NE(configMessage("  mount: {y: -5.5}\n").find("laser.mount.y: must be in [-5, 5]"), std::string::npos);
-  EXPECT_NE(configMessage("  range_max: 0.01\n").find("laser.range_max: range_max must be > range_min"), std::string::npos);
+  EXPECT_NE(configMessage("  range_max: 0.01\n").find("laser.range_max: range_max (0.01) must be > range_min ("), std::string::npos);
 }
 
 TEST(Laser, RefusesBadStatesAndCarriesOn) {

@@ -312,7 +312,8 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
   expectError("pilot: {mover_prediction: {horizon_s: -1}}", "pilot.mover_prediction.horizon_s");
   expectError("pilot: {mover_prediction: {horizon_scans: -1}}", "pilot.mover_prediction.horizon_scans");
   expectError("pilot: {laser_stale_scans: .nan}", "pilot.laser_stale_scans");
-  expectError("pilot: {mover_prediction: {min_speed: 3, max_speed: 2}}", "pilot.mover_prediction.max_speed");
+  expectError("pilot: {mover_prediction: {min_speed: 3, max_speed: 2}}",
+              "pilot.mover_prediction.max_speed: (2) must be greater than min_speed (3)");
   expectError("pilot: {mover_prediction: {speed: 2}}", "pilot.mover_prediction.speed");
   const PilotConfig m = pilotConfig(
       Config::fromString("pilot: {predict_movers: false, mover_prediction: {min_speed: 0.5, horizon_s: 0.2}}").section("pilot"));
