@@ -167,13 +167,17 @@ void parseMaterials(const Config& root, std::map<std::string, Material>& materia
     for (const std::string& k : kPhysicalSonar) physical = physical || m.has(k);
     // A new material must say how both sensors see it: `laser`, and the sonar by either the ideal
     // echo angle or the physical roughness (the other profile's parameters are derived).
+    const LaserBehaviour laser_before = mat.laser;
     if (is_new || m.has("laser")) mat.laser = parseLaserBehaviour(m, "laser");
     if (is_new && !m.has("sonar_echo_angle_deg") && !m.has("sonar_roughness_mm"))
       m.fail("sonar_echo_angle_deg", "is required (or give the physical sonar_roughness_mm)");
     if (m.has("sonar_echo_angle_deg"))
       mat.sonar_echo_angle = geom::deg2rad(m.requireNum("sonar_echo_angle_deg", Range::between(0, 90)));
     mat.sonar_echo_prob = m.get("sonar_echo_prob", mat.sonar_echo_prob, Range::probability());
-    if (is_new && !physical) physicalFromIdeal(mat);
+    // The physical profile (the default) follows ideal keys given without physical ones, for a
+    // built-in material too: `wall: {sonar_echo_prob: 0}` must silence the wall in either profile.
+    if (!physical && (is_new || m.has("sonar_echo_angle_deg"))) physicalFromIdeal(mat);
+    else if (!physical && m.has("sonar_echo_prob")) mat.sonar_hear_prob = mat.sonar_echo_prob;
     if (m.has("sonar_roughness_mm"))
       mat.sonar_roughness = 1e-3 * m.requireNum("sonar_roughness_mm", Range::between(0, 1000));
     mat.sonar_reflect_db = m.get("sonar_reflect_db", mat.sonar_reflect_db, Range::between(-100, 0));
@@ -185,7 +189,9 @@ void parseMaterials(const Config& root, std::map<std::string, Material>& materia
     mat.sonar_fluct_s = m.get("sonar_fluct_s", mat.sonar_fluct_s, Range::positive());
     mat.sonar_aspect_db = m.get("sonar_aspect_db", mat.sonar_aspect_db, Range::between(0, 40));
     if (is_new && physical && !m.has("sonar_echo_angle_deg")) idealFromPhysical(mat);
-    if (is_new && !m.has("laser_remission")) mat.laser_remission = defaultRemission(mat.laser);
+    // Likewise the remission follows a changed `laser` (glass made `reflect` must return the beam).
+    if (!m.has("laser_remission") && (is_new || mat.laser != laser_before))
+      mat.laser_remission = defaultRemission(mat.laser);
     mat.laser_remission = m.get("laser_remission", mat.laser_remission, Range::probability());
     mat.laser_specular =
         geom::deg2rad(m.get("laser_specular_deg", geom::rad2deg(mat.laser_specular), Range::between(0, 90)));

@@ -139,6 +139,34 @@ TEST(Scenario, PhysicalMaterialParameters) {
   EXPECT_NEAR(s.material("wall").sonar_lobe, geom::deg2rad(5), 1e-12);
 }
 
+// An override of a built-in acts in the physical default as in the ideal profile: a changed
+// `laser` brings that behaviour's remission, ideal sonar keys given alone their physical twins.
+// (The physical profile ignored them: a wall made `absorb` still returned 0.64 of the laser's
+// beams, glass made `reflect` none, and `wall: {sonar_echo_prob: 0}` was heard as before.)
+TEST(Scenario, OverridingABuiltinActsInThePhysicalProfile) {
+  const Scenario s = parse(minimal(
+      "materials:\n"
+      "  wall: {laser: absorb, sonar_echo_prob: 0}\n"
+      "  glass: {laser: reflect}\n"
+      "  metal: {laser: reflect, sonar_echo_angle_deg: 80}\n"
+      "  plastic: {sonar_echo_angle_deg: 80, sonar_roughness_mm: 0.02}\n"
+      "  person: {laser: absorb, laser_remission: 0.2}\n"));
+  EXPECT_NEAR(s.material("wall").laser_remission, 0.03, 1e-12);  // as black cardboard
+  EXPECT_DOUBLE_EQ(s.material("wall").sonar_hear_prob, 0.0);
+  EXPECT_NEAR(s.material("wall").sonar_roughness, 0.2e-3, 1e-12);  // the echo angle was not given
+  EXPECT_NEAR(s.material("glass").laser_remission, 0.5, 1e-12);
+  EXPECT_NEAR(s.material("glass").sonar_roughness, 0.001e-3, 1e-12);  // no sonar key given
+  // `laser: reflect` on metal changes nothing; its new echo angle makes it rough (above 30°).
+  EXPECT_NEAR(s.material("metal").laser_remission, 0.40, 1e-12);
+  EXPECT_NEAR(s.material("metal").sonar_roughness, 3e-3, 1e-12);
+  EXPECT_NEAR(s.material("metal").sonar_lobe, geom::deg2rad(40), 1e-12);
+  // Physical keys in the override are taken as they are: only the roughness changes.
+  EXPECT_NEAR(s.material("plastic").sonar_roughness, 0.02e-3, 1e-12);
+  EXPECT_NEAR(s.material("plastic").sonar_lobe, geom::deg2rad(1), 1e-12);
+  EXPECT_NEAR(s.material("plastic").sonar_echo_angle, geom::deg2rad(80), 1e-12);
+  EXPECT_NEAR(s.material("person").laser_remission, 0.2, 1e-12);
+}
+
 TEST(Scenario, FramesAndEmitters) {
   const Scenario s = parse(minimal(
       "obstacles:\n"
