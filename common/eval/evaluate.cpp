@@ -245,7 +245,8 @@ void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m) {
   evalComplement(log, LaserSeen(log, o.seen_radius), o, m);
 }
 
-void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m) {
+void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m,
+                    const sim::Scenario* sc) {
   if (log.complements.empty() || log.sonar_truths.empty()) return;
   using Key = std::pair<int64_t, int>;
   std::map<Key, const sonar_cause_t*> truth;
@@ -297,7 +298,9 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
       // laser-reflecting one, SONAR_TRUTH); none: the limit.
       double visible = c.nearest_laser_visible < 0 ? limit : c.nearest_laser_visible;
       if (per_scan && direct && !no_scan) {
-        laser_saw = seen.saw(scan, c.obstacle, {c.hit_x, c.hit_y}, o.seen_radius, cm.utime);
+        const geom::Vec2 hit{c.hit_x, c.hit_y};
+        const auto saw = [&](int obstacle) { return seen.saw(scan, obstacle, hit, o.seen_radius, cm.utime); };
+        laser_saw = sc ? sc->eitherSeen(c.obstacle, hit, saw) : saw(c.obstacle);
         const geom::Pose2 sensor = track.robotAt(cm.utime).compose(toPose(r->second.mount));
         visible = seen.nearestInSector(scan, geom::Sector{sensor.position(), sensor.theta, beam, limit}).value_or(limit);
       }
@@ -477,7 +480,7 @@ Metrics evaluate(const RunLog& log, const sim::Scenario& sc, const EvalOptions& 
   evalSensors(log, sc, m);
   const LaserSeen seen(log, o.seen_radius);
   evalLaserTruth(seen, m);
-  evalComplement(log, seen, o, m);
+  evalComplement(log, seen, o, m, &sc);
   if (!log.sector_maps.empty() && log.sim_states.size() >= 2) {
     const SectorTruthTable truth = sectorTruthTable(log, sc, seen, o);
     evalSectorMap(log, truth, o, m);

@@ -145,7 +145,10 @@ void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m);
 // sensors.laser_truth (1: per scan, 0: by material) and sensors.laser_scans_without_truth.
 void evalLaserTruth(const LaserSeen& seen, Metrics& m);
 void evalComplement(const RunLog& log, const EvalOptions& o, Metrics& m);
-void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m);
+// With the scenario, an echo from a surface drawn on another's counts as from the one the laser
+// sees best (sim::Scenario::canonicalObstacle).
+void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions& o, Metrics& m,
+                    const sim::Scenario* sc = nullptr);
 // True free distance per sector (from the robot's boundary; +inf when nothing within
 // max_range), for the robot at `robot` with the world's movers already placed.
 std::vector<double> trueSectorDistances(const sim::WorldGeometry& world, const geom::Pose2& robot,

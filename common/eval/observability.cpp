@@ -172,14 +172,22 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
       SectorSample s;
       s.truth = static_cast<float>(h.distance);
       if (h.primitive) {
-        const sim::Material& mat = *h.primitive->material;
+        // A surface drawn on another's (a pane on a wall's line) counts as the one the laser
+        // sees best, whichever of the two the nearest-point search met first.
+        const int obstacle = sc.canonicalObstacle(h.primitive->obstacle, h.point);
+        const sim::Material& mat = obstacle == h.primitive->obstacle
+                                       ? *h.primitive->material
+                                       : sc.material(sc.obstacles[static_cast<size_t>(obstacle)].material);
         auto [it, fresh] = material_index.emplace(mat.name, static_cast<int16_t>(table.materials.size()));
         if (fresh) table.materials.push_back(mat.name);
         s.material = it->second;
         // The laser saw the point (the newest scan returned from its obstacle near it; without
         // LASER_TRUTH: its material reflects the laser), or an echo located it.
-        const int obstacle = h.primitive->obstacle;
-        const bool laser = seen.available() ? seen.saw(scan, obstacle, h.point, o.seen_radius, sm.utime)
+        const bool laser = seen.available() ? sc.eitherSeen(h.primitive->obstacle, h.point,
+                                                            [&](int ob) {
+                                                              return seen.saw(scan, ob, h.point, o.seen_radius,
+                                                                              sm.utime);
+                                                            })
                                             : mat.laser == sim::LaserBehaviour::Reflect;
         if (h.distance <= o.sector_range) {
           if (laser) {

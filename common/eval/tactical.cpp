@@ -110,8 +110,13 @@ std::vector<BoundaryPoint> boundary(const sim::Scenario& sc, double spacing, boo
     const int surface = static_cast<int>(k);
     if (p.kind == sim::Primitive::Kind::Segment) {
       const int n = std::max(1, static_cast<int>(std::ceil(p.segment.length() / spacing)));
-      for (int i = 0; i <= n; ++i)
-        out.push_back({p.segment.a + (p.segment.b - p.segment.a) * (double(i) / n), p.obstacle, surface});
+      for (int i = 0; i <= n; ++i) {
+        const geom::Vec2 q = p.segment.a + (p.segment.b - p.segment.a) * (double(i) / n);
+        // A stretch drawn on another obstacle's surface is that obstacle's (counted once, as
+        // the one the laser sees best: a pane on a wall's line is wall).
+        if (sc.canonicalObstacle(p.obstacle, q) != p.obstacle) continue;
+        out.push_back({q, p.obstacle, surface});
+      }
     } else {
       const int n = std::max(8, static_cast<int>(std::ceil(2 * geom::kPi * p.circle.radius / spacing)));
       for (int i = 0; i < n; ++i)
@@ -175,7 +180,9 @@ void forEachLocating(const RunLog& log, const sim::Scenario& sc, const std::vect
       const geom::Vec2 hit(c.hit_x, c.hit_y);
       // An echo from a surface the laser saw (its hit point) is redundant: the Radar Map has that
       // surface, and the echo is no evidence of anything only the sonar knows.
-      if (per_scan && seen->saw(scan, c.obstacle, hit, seen_radius)) continue;
+      if (per_scan &&
+          sc.eitherSeen(c.obstacle, hit, [&](int obstacle) { return seen->saw(scan, obstacle, hit, seen_radius); }))
+        continue;
       const auto reading = readings.find({t.utime, c.sensor_id});
       // Only what the complement can keep reaches a grid: echoes within the hypothetical scan's limit.
       const double range = reading != readings.end() ? double(reading->second.range) : double(c.true_range);

@@ -421,7 +421,62 @@ Scenario parseScenario(const Config& root) {
   checkLaserKeys(s.laser);
   checkSonarKeys(s.sonar);
   checkOdometryKeys(s.odometry);
+  findCoincidentObstacles(s);
   return s;
+}
+
+namespace {
+// The laser's view of a material, best first: what the evaluation counts a shared surface as.
+int laserRank(const Material& m) {
+  switch (m.laser) {
+    case LaserBehaviour::Reflect: return 2;
+    case LaserBehaviour::Absorb: return 1;
+    case LaserBehaviour::Transparent: return 0;
+  }
+  return 0;
+}
+
+// Length along `a` that `b` lies on (both ends of the shared stretch within tol of the other's line).
+double collinearOverlap(const geom::Segment& a, const geom::Segment& b, double tol) {
+  const double len = a.length();
+  if (len < 1e-9 || b.length() < 1e-9) return 0;
+  const geom::Vec2 u = (a.b - a.a) / len;
+  const auto off = [&](const geom::Vec2& p) { return std::abs(u.x() * (p.y() - a.a.y()) - u.y() * (p.x() - a.a.x())); };
+  if (off(b.a) > tol || off(b.b) > tol) return 0;
+  const double t0 = u.dot(b.a - a.a), t1 = u.dot(b.b - a.a);
+  return std::max(0.0, std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1)));
+}
+}  // namespace
+
+void findCoincidentObstacles(Scenario& s) {
+  constexpr double kMinOverlapM = 0.05;  // a touching end or corner is no shared surface
+  s.coincident.assign(s.obstacles.size(), {});
+  for (size_t i = 0; i < s.statics.size(); ++i)
+    for (size_t j = i + 1; j < s.statics.size(); ++j) {
+      const Primitive &a = s.statics[i], &b = s.statics[j];
+      if (a.obstacle == b.obstacle || a.obstacle < 0 || b.obstacle < 0 || a.kind != Primitive::Kind::Segment ||
+          b.kind != Primitive::Kind::Segment)
+        continue;
+      if (collinearOverlap(a.segment, b.segment, Scenario::kCoincidentM) < kMinOverlapM) continue;
+      auto& pa = s.coincident[static_cast<size_t>(a.obstacle)];
+      auto& pb = s.coincident[static_cast<size_t>(b.obstacle)];
+      if (std::find(pa.begin(), pa.end(), b.obstacle) == pa.end()) pa.push_back(b.obstacle);
+      if (std::find(pb.begin(), pb.end(), a.obstacle) == pb.end()) pb.push_back(a.obstacle);
+    }
+}
+
+int Scenario::canonicalObstacle(int obstacle, const geom::Vec2& p) const {
+  if (obstacle < 0 || static_cast<size_t>(obstacle) >= coincident.size() || coincident[obstacle].empty())
+    return obstacle;
+  const auto rank = [this](int o) { return std::make_pair(laserRank(material(obstacles[o].material)), -o); };
+  int best = obstacle;
+  for (const Primitive& q : statics) {
+    if (q.obstacle == best || q.kind != Primitive::Kind::Segment) continue;
+    const auto& partners = coincident[static_cast<size_t>(obstacle)];
+    if (std::find(partners.begin(), partners.end(), q.obstacle) == partners.end()) continue;
+    if (rank(q.obstacle) > rank(best) && geom::distance(q.segment, p) <= kCoincidentM) best = q.obstacle;
+  }
+  return best;
 }
 
 std::string simStateMoversMismatch(const Scenario& scenario, const std::vector<int>& mover_ids) {

@@ -150,10 +150,34 @@ struct Scenario {
   Config sonar;     // overrides of the sonar driver's config keys
   Config odometry;  // overrides of the odometry (drift) config keys
 
+  // Static obstacles drawn on top of each other: per obstacle, the others with a straight side
+  // lying on one of its own (within kCoincidentM, overlapping by 5 cm or more), e.g. a glass
+  // pane drawn on a wall's line. Neither sensor can tell such surfaces apart (the laser returns
+  // from the wall, an echo from either), so the evaluation counts a shared stretch once, as the
+  // obstacle the laser sees best (canonicalObstacle; README "Evaluation").
+  static constexpr double kCoincidentM = 0.01;
+  std::vector<std::vector<int>> coincident;
+
   const Material& material(const std::string& name) const;
   // True for static obstacles whose material reflects the laser.
   bool laserVisible(int obstacle) const;
+  // The obstacle a point of `obstacle`'s surface is counted as: the coincident obstacle whose
+  // surface passes within kCoincidentM of p and that the laser sees best (reflect, then absorb,
+  // then transparent; then the lower index), else `obstacle` itself (movers too).
+  int canonicalObstacle(int obstacle, const geom::Vec2& p) const;
+  // Calls seen(o) for `obstacle` and, where its surface at p is drawn on another's, for that one:
+  // whether a sensor that tells obstacles apart saw the point as either (the laser returns from
+  // the wall behind a pane, or from the pane near its normal).
+  template <typename Seen>
+  bool eitherSeen(int obstacle, const geom::Vec2& p, const Seen& seen) const {
+    if (seen(obstacle)) return true;
+    const int c = canonicalObstacle(obstacle, p);
+    return c != obstacle && seen(c);
+  }
 };
+
+// Fills Scenario::coincident from its statics.
+void findCoincidentObstacles(Scenario& s);
 
 // Throws ConfigError naming the file and key path.
 Scenario loadScenario(const std::string& file);

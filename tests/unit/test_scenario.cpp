@@ -412,3 +412,33 @@ INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
                                            "experiments/shop_front_arcade", "experiments/glass_meeting_rooms",
                                            "experiments/long_glass_hall", "experiments/glass_loop",
                                            "experiments/office_glass_hour"));
+
+// Obstacles drawn on each other (a pane on a wall's line, as the format's own example draws one)
+// are found, and a point of the shared stretch counts as the obstacle the laser sees best; a pane
+// in a gap of the wall (touching it at its ends) or a box touching a wall at a corner is no
+// shared surface.
+TEST(Scenario, CoincidentObstacles) {
+  const Scenario s = parse(minimal(
+      "obstacles:\n"
+      "  - {shape: polyline, material: metal, closed: true, points: [[0,0],[6,0],[6,4],[0,4]]}\n"
+      "  - {shape: segment, material: glass, from: [2,4], to: [3,4]}\n"
+      "  - {shape: segment, material: glass, from: [6,1], to: [6.5,1]}\n"
+      "  - {shape: box, material: black_cardboard, center: [0.25,2], size: [0.5,0.4]}\n"
+      "  - {shape: segment, material: wall, from: [8,0], to: [9,0]}\n"
+      "  - {shape: segment, material: glass, from: [9,0], to: [10,0]}\n"));
+  ASSERT_EQ(s.coincident.size(), 6u);
+  EXPECT_EQ(s.coincident[0], (std::vector<int>{1, 3}));  // the pane, and the box's side on x = 0
+  EXPECT_EQ(s.coincident[1], (std::vector<int>{0}));
+  EXPECT_TRUE(s.coincident[2].empty());  // meets the wall end-on
+  EXPECT_TRUE(s.coincident[4].empty());  // two segments meeting end to end
+  EXPECT_TRUE(s.coincident[5].empty());
+  EXPECT_EQ(s.canonicalObstacle(1, {2.5, 4.0}), 0);   // the pane's point is the wall's
+  EXPECT_EQ(s.canonicalObstacle(0, {2.5, 4.0}), 0);
+  EXPECT_EQ(s.canonicalObstacle(3, {0.0, 2.1}), 0);   // the box's side on the wall: the wall
+  EXPECT_EQ(s.canonicalObstacle(3, {0.5, 2.1}), 3);   // its free side
+  EXPECT_EQ(s.canonicalObstacle(-2, {2.5, 4.0}), -2);  // movers as they are
+  int asked = 0;
+  EXPECT_TRUE(s.eitherSeen(1, {2.5, 4.0}, [&](int o) { ++asked; return o == 0; }));
+  EXPECT_EQ(asked, 2);
+  EXPECT_FALSE(s.eitherSeen(2, {6.2, 1.0}, [&](int o) { return o == 0; }));
+}
