@@ -9,3 +9,4 @@ lasonic_add_gtest(test_radar_map_memory SOURCES test_radar_map_memory.cpp LIBS l
 lasonic_add_gtest(test_replay SOURCES test_replay.cpp LIBS lasonic_lcmio)
 add_dependencies(test_replay lasonic-replay)
 target_compile_definitions(test_replay PRIVATE LASONIC_REPLAY_BIN="$<TARGET_FILE:lasonic-replay>")
+lasonic_add_gtest(test_boundaries SOURCES test_boundaries.cpp LIBS lasonic_complement lasonic_tactical lasonic_lcmio)

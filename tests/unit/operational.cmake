@@ -9,3 +9,4 @@ lasonic_add_gtest(test_mover_prediction SOURCES test_mover_prediction.cpp LIBS l
 lasonic_add_gtest(test_laser_memory SOURCES test_laser_memory.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_remembered_on_lines SOURCES test_remembered_on_lines.cpp LIBS lasonic_operational)
 lasonic_add_gtest(test_motion_confirmation SOURCES test_motion_confirmation.cpp LIBS lasonic_stages)
+lasonic_add_gtest(test_boundaries_operational SOURCES test_boundaries_operational.cpp LIBS lasonic_operational)
