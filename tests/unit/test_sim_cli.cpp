@@ -119,8 +119,8 @@ TEST(SimCli, OverrideSectionsAreCheckedByEveryTool) {
   // 0.03 s between groups): lasonic-sim-world refuses it as the sonar driver does, instead of
   // running on alone.
   const std::string far = roomWith("far.yaml", "sonar: {range_max: 6}\n");
-  expectBad("lasonic-sim-world", "--scenario " + far, "far.yaml: sonar.range_max: group_period_s must be >=");
-  expectBad("lasonic-sonar-driver", "--scenario " + far, "far.yaml: sonar.range_max: group_period_s must be >=");
+  expectBad("lasonic-sim-world", "--scenario " + far, "far.yaml: sonar.range_max: group_period_s (0.03) must be >=");
+  expectBad("lasonic-sonar-driver", "--scenario " + far, "far.yaml: sonar.range_max: group_period_s (0.03) must be >=");
 }
 
 TEST(SimCli, OutputNeverOverwritesAnInput) {
