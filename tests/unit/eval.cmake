@@ -3,4 +3,3 @@ lasonic_add_gtest(test_observability SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_obse
 lasonic_add_gtest(test_laser_seen SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_laser_seen.cpp LIBS lasonic_eval)
 lasonic_add_gtest(test_shipped_config SOURCES test_shipped_config.cpp LIBS lasonic_eval)
 target_compile_definitions(test_shipped_config PRIVATE LASONIC_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-lasonic_add_gtest(test_boundaries_eval SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_boundaries_eval.cpp LIBS lasonic_eval)

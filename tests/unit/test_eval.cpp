@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "eval/evaluate.hpp"
+#include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "sim_state_fixture.hpp"
 
@@ -86,16 +87,16 @@ TEST(SectorTruth, RoomWallsAndCircle) {
 
 namespace {
 // A SECTOR_MAP of the robot at (2, 2), heading 0, in boxRoom() at 0.5 s whose laser reports every
-// sector's truth exactly (and nothing else).
-sector_map_t exactLaserMap(const sim::Scenario& sc, std::vector<double>& truth) {
+// sector's truth exactly (and nothing else); n sectors.
+sector_map_t exactLaserMap(const sim::Scenario& sc, std::vector<double>& truth, int n = 48) {
   sector_map_t sm{};
   sm.utime = 500'000;
   sm.robot_radius = 0.35f;
   sm.max_range = 3.0f;
-  sm.nsectors = 48;
+  sm.nsectors = n;
   sim::WorldGeometry world(sc);
-  truth = trueSectorDistances(world, {2, 2, 0}, 0.35, 48, 3.0);
-  for (int k = 0; k < 48; ++k) {
+  truth = trueSectorDistances(world, {2, 2, 0}, 0.35, n, 3.0);
+  for (int k = 0; k < n; ++k) {
     sm.distance.push_back(static_cast<float>(truth[k]));
     sm.laser_distance.push_back(static_cast<float>(truth[k]));
     sm.sonar_distance.push_back(-1);
@@ -403,4 +404,44 @@ TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
   for (int64_t t : {1'000'000, 1'800'000, 900'000, 3'000'000, 2'500'000}) once.sim_time.add(t);
   EXPECT_EQ(once.sim_time.passes(), 1);
   EXPECT_NEAR(once.sim_time.seconds(), 2.1, 1e-12);
+}
+
+// Boundaries of the sector-map scoring that no other test pinned down: each test was written
+// against a changed rule (the tolerance or the range left out, a guard dropped) that every other
+// unit test still passed, and fails with that change.
+// a report within the tolerance short of the truth is no false alarm.
+TEST(EvalBoundaries, ReportWithinToleranceShortIsNoFalseAlarm) {
+  EvalOptions o; SectorSample s; s.truth = 1.0f;
+  EXPECT_FALSE(sectorFalseAlarm(1.0 - 0.5 * o.sector_tolerance, s, o));
+  EXPECT_TRUE(sectorFalseAlarm(1.0 - 2.0 * o.sector_tolerance, s, o));
+}
+// a report beyond sector_range is no false alarm.
+TEST(EvalBoundaries, ReportBeyondSectorRangeIsNoFalseAlarm) {
+  EvalOptions o; SectorSample s; s.truth = 3.0f;
+  EXPECT_FALSE(sectorFalseAlarm(o.sector_range + 0.3, s, o));
+}
+// a map from before the first sonar group is counted, not scored.
+TEST(EvalBoundaries, MapBeforeFirstSonarIsWarmup) {
+  const auto sc = boxRoom();
+  RunLog log;
+  std::vector<double> truth;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  sector_map_t sm = exactLaserMap(sc, truth);
+  sm.sonar_age_s = -1;
+  log.sector_maps.push_back(sm);
+  Metrics m;
+  evalSectorMap(log, sc, EvalOptions{}, m);
+  EXPECT_EQ(m.number("sector_map.maps_before_first_data"), 1.0);
+  EXPECT_EQ(m.number("sector_map.maps"), 0.0);
+}
+// a map of fewer than 3 sectors is malformed: not scored.
+TEST(EvalBoundaries, TwoSectorMapIsNotScored) {
+  const auto sc = boxRoom();
+  RunLog log;
+  std::vector<double> truth;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2, 2, 0)};
+  log.sector_maps.push_back(exactLaserMap(sc, truth, 2));
+  Metrics m;
+  evalSectorMap(log, sc, EvalOptions{}, m);
+  EXPECT_EQ(m.number("sector_map.maps"), 0.0);
 }
