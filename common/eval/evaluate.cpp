@@ -1,5 +1,6 @@
 #include "eval/evaluate.hpp"
 
+#include <sstream>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -107,6 +108,18 @@ ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& sc
                   ") is " + std::to_string(d) + " m from the scenario's first waypoint";
   }
   return m;
+}
+
+std::string robotRadiusWarning(const RunLog& log, const sim::Scenario& scenario) {
+  for (const sector_map_t& sm : log.sector_maps) {
+    if (!std::isfinite(sm.robot_radius) || std::abs(sm.robot_radius - scenario.robot.radius) <= 0.01) continue;
+    std::ostringstream os;
+    os << "SECTOR_MAP's robot_radius " << sm.robot_radius << " m (the pilot's pilot.robot_radius) is not the "
+       << "scenario's robot.radius " << scenario.robot.radius << " m: the sector map is measured and scored from the "
+       << "pilot's boundary (was the robot's configuration overlay layered?)";
+    return os.str();
+  }
+  return {};
 }
 
 // ------------------------------------------------------------------------------ truth

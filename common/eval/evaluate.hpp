@@ -69,6 +69,10 @@ struct ScenarioMatch {
   std::string error, warning;
 };
 ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& scenario);
+// Empty, or a warning that the pilot's robot_radius (SECTOR_MAP) is not the scenario's
+// robot.radius by more than 1 cm: the sector map is then measured, and scored, from the pilot's
+// boundary, not the simulated body's (a robot overlay not layered: README "Another robot").
+std::string robotRadiusWarning(const RunLog& log, const sim::Scenario& scenario);
 
 struct EvalOptions {
   double range_limit = 2.20;       // [m] the ideal sonar's limit (overridden by SONAR_HYPOTHESIS)

@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
       std::cerr << "lasonic-eval: warning: " << log_path << " against " << scenario_path << ": " << match.warning
                 << " (was it simulated from this scenario?)\n";
     }
+    if (const std::string w = lasonic::eval::robotRadiusWarning(log, scenario); !w.empty())
+      std::cerr << "lasonic-eval: warning: " << log_path << ": " << w << "\n";
     if (log.undecodable > 0)
       std::cerr << "lasonic-eval: warning: " << log.undecodable << " events did not decode and were skipped\n";
     opts.breakdown = breakdown || !tactical_samples_path.empty();

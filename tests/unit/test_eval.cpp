@@ -445,3 +445,20 @@ TEST(EvalBoundaries, TwoSectorMapIsNotScored) {
   evalSectorMap(log, sc, EvalOptions{}, m);
   EXPECT_EQ(m.number("sector_map.maps"), 0.0);
 }
+
+// A sector map measured from another boundary than the simulated body's is said so (a Pioneer scene
+// scored without the Pioneer overlay: the pilot's 0.35 m against the body's 0.27 m).
+TEST(EvalRunLog, RobotRadiusWarning) {
+  const auto sc = boxRoom();  // robot.radius 0.35
+  RunLog log;
+  EXPECT_EQ(robotRadiusWarning(log, sc), "");
+  sector_map_t sm{};
+  sm.robot_radius = 0.355f;  // within 1 cm
+  log.sector_maps.push_back(sm);
+  EXPECT_EQ(robotRadiusWarning(log, sc), "");
+  sm.robot_radius = 0.27f;
+  log.sector_maps.push_back(sm);
+  const std::string w = robotRadiusWarning(log, sc);
+  EXPECT_NE(w.find("robot_radius 0.27 m"), std::string::npos) << w;
+  EXPECT_NE(w.find("robot.radius 0.35 m"), std::string::npos) << w;
+}
