@@ -421,6 +421,7 @@ Scenario parseScenario(const Config& root) {
   checkLaserKeys(s.laser);
   checkSonarKeys(s.sonar);
   checkOdometryKeys(s.odometry);
+  cutPanesIntoWalls(s);
   findCoincidentObstacles(s);
   return s;
 }
@@ -447,6 +448,49 @@ double collinearOverlap(const geom::Segment& a, const geom::Segment& b, double t
   return std::max(0.0, std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1)));
 }
 }  // namespace
+
+void cutPanesIntoWalls(Scenario& s) {
+  constexpr double kMinOverlapM = 0.05;
+  std::vector<Primitive> out;
+  out.reserve(s.statics.size());
+  for (const Primitive& w : s.statics) {
+    if (w.kind != Primitive::Kind::Segment || w.obstacle < 0 || w.material->laser == LaserBehaviour::Transparent) {
+      out.push_back(w);
+      continue;
+    }
+    // The stretches of w that transparent obstacles are drawn on, as [t0, t1] along it.
+    const double len = w.segment.length();
+    std::vector<std::pair<double, double>> cuts;
+    for (const Primitive& t : s.statics) {
+      if (t.kind != Primitive::Kind::Segment || t.obstacle == w.obstacle ||
+          t.material->laser != LaserBehaviour::Transparent ||
+          collinearOverlap(w.segment, t.segment, Scenario::kCoincidentM) < kMinOverlapM)
+        continue;
+      const geom::Vec2 u = (w.segment.b - w.segment.a) / len;
+      const double a = u.dot(t.segment.a - w.segment.a), b = u.dot(t.segment.b - w.segment.a);
+      cuts.emplace_back(std::clamp(std::min(a, b), 0.0, len), std::clamp(std::max(a, b), 0.0, len));
+    }
+    if (cuts.empty()) {
+      out.push_back(w);
+      continue;
+    }
+    std::sort(cuts.begin(), cuts.end());
+    double from = 0;
+    const auto piece = [&](double t0, double t1) {
+      if (t1 - t0 < 1e-6) return;
+      Primitive p = w;
+      const geom::Vec2 d = w.segment.b - w.segment.a;
+      p.segment = geom::Segment{w.segment.a + d * (t0 / len), w.segment.a + d * (t1 / len)};
+      out.push_back(p);
+    };
+    for (const auto& [t0, t1] : cuts) {
+      piece(from, t0);
+      from = std::max(from, t1);
+    }
+    piece(from, len);
+  }
+  s.statics = std::move(out);
+}
 
 void findCoincidentObstacles(Scenario& s) {
   constexpr double kMinOverlapM = 0.05;  // a touching end or corner is no shared surface

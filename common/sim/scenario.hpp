@@ -176,6 +176,12 @@ struct Scenario {
   }
 };
 
+// A transparent obstacle drawn on an opaque one's line (a glass door or a mesh panel drawn on the
+// wall it sits in, as the format's example draws one) replaces it there: the opaque side is cut
+// where the pane lies, so the laser passes through the door and the sonar meets the pane, as in
+// a real doorway. (Drawn exactly on each other, the ray casts decided by rounding which surface
+// was met: the laser returned from the wall on most rays and lost it on some.)
+void cutPanesIntoWalls(Scenario& s);
 // Fills Scenario::coincident from its statics.
 void findCoincidentObstacles(Scenario& s);
 

@@ -64,15 +64,18 @@ TEST(Scenario, LoadsTheDesignExample) {
   EXPECT_DOUBLE_EQ(s.duration_s, 60);
   EXPECT_EQ(s.seed, 7u);
   ASSERT_EQ(s.obstacles.size(), 4u);
-  // Closed polyline: 4 edges; segment: 1; circle: 1; box: 4 edges.
-  ASSERT_EQ(s.statics.size(), 10u);
-  EXPECT_EQ(s.statics[3].segment.b, geom::Vec2(0, 0));  // closing edge back to the start
-  EXPECT_EQ(s.statics[5].kind, Primitive::Kind::Circle);
-  EXPECT_EQ(s.statics[9].obstacle, 3);
+  // Closed polyline: 4 edges, the top one cut in two by the glass door drawn on it (a pane in
+  // the wall); segment: 1; circle: 1; box: 4 edges.
+  ASSERT_EQ(s.statics.size(), 11u);
+  EXPECT_EQ(s.statics[2].segment.b, geom::Vec2(3, 4));  // the top wall, from (6, 4) to the door
+  EXPECT_EQ(s.statics[3].segment.a, geom::Vec2(2, 4));  // and on from the door
+  EXPECT_EQ(s.statics[4].segment.b, geom::Vec2(0, 0));  // closing edge back to the start
+  EXPECT_EQ(s.statics[6].kind, Primitive::Kind::Circle);
+  EXPECT_EQ(s.statics[10].obstacle, 3);
   // The box is rotated by yaw_deg about its centre.
-  const geom::Vec2 corner = s.statics[6].segment.a;
+  const geom::Vec2 corner = s.statics[7].segment.a;
   EXPECT_NEAR((corner - geom::Vec2(4, 1)).norm(), std::hypot(0.25, 0.15), 1e-12);
-  EXPECT_NEAR(std::atan2(s.statics[6].segment.b.y() - corner.y(), s.statics[6].segment.b.x() - corner.x()),
+  EXPECT_NEAR(std::atan2(s.statics[7].segment.b.y() - corner.y(), s.statics[7].segment.b.x() - corner.x()),
               geom::deg2rad(20), 1e-12);
 
   EXPECT_EQ(s.material("frosted_glass").laser, LaserBehaviour::Transparent);
@@ -413,11 +416,11 @@ INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
                                            "experiments/long_glass_hall", "experiments/glass_loop",
                                            "experiments/office_glass_hour"));
 
-// Obstacles drawn on each other (a pane on a wall's line, as the format's own example draws one)
-// are found, and a point of the shared stretch counts as the obstacle the laser sees best; a pane
-// in a gap of the wall (touching it at its ends) or a box touching a wall at a corner is no
-// shared surface.
-TEST(Scenario, CoincidentObstacles) {
+// A pane drawn on a wall's line (as the format's own example draws a glass door) is a pane in the
+// wall: the wall is cut there. Other obstacles drawn on each other (a box's side on a wall) are
+// found, and a point of the shared stretch counts as the obstacle the laser sees best; a pane
+// meeting a wall end-on or two segments meeting end to end share no surface.
+TEST(Scenario, PanesCutWallsAndCoincidentObstacles) {
   const Scenario s = parse(minimal(
       "obstacles:\n"
       "  - {shape: polyline, material: metal, closed: true, points: [[0,0],[6,0],[6,4],[0,4]]}\n"
@@ -425,20 +428,37 @@ TEST(Scenario, CoincidentObstacles) {
       "  - {shape: segment, material: glass, from: [6,1], to: [6.5,1]}\n"
       "  - {shape: box, material: black_cardboard, center: [0.25,2], size: [0.5,0.4]}\n"
       "  - {shape: segment, material: wall, from: [8,0], to: [9,0]}\n"
-      "  - {shape: segment, material: glass, from: [9,0], to: [10,0]}\n"));
-  ASSERT_EQ(s.coincident.size(), 6u);
-  EXPECT_EQ(s.coincident[0], (std::vector<int>{1, 3}));  // the pane, and the box's side on x = 0
-  EXPECT_EQ(s.coincident[1], (std::vector<int>{0}));
+      "  - {shape: segment, material: glass, from: [9,0], to: [10,0]}\n"
+      "  - {shape: segment, material: mesh, from: [-1,0], to: [1,0]}\n"));
+  // The metal room: 4 sides, the top one cut by the door into two, the bottom one shortened by
+  // the mesh drawn over its first metre (and beyond the room).
+  double top = 0, bottom = 0;
+  int pieces = 0;
+  for (const Primitive& p : s.statics) {
+    if (p.obstacle != 0) continue;
+    ++pieces;
+    EXPECT_FALSE(std::abs(p.segment.a.y() - 4) < 1e-9 && std::abs(p.segment.b.y() - 4) < 1e-9 &&
+                 std::max(p.segment.a.x(), p.segment.b.x()) > 2 + 1e-9 && std::min(p.segment.a.x(), p.segment.b.x()) < 3 - 1e-9)
+        << "the wall still runs through the door";
+    if (std::abs(p.segment.a.y() - 4) < 1e-9 && std::abs(p.segment.b.y() - 4) < 1e-9) top += p.segment.length();
+    if (std::abs(p.segment.a.y()) < 1e-9 && std::abs(p.segment.b.y()) < 1e-9) bottom += p.segment.length();
+  }
+  EXPECT_EQ(pieces, 5);
+  EXPECT_NEAR(top, 5.0, 1e-9);
+  EXPECT_NEAR(bottom, 5.0, 1e-9);
+  ASSERT_EQ(s.coincident.size(), 7u);
+  EXPECT_EQ(s.coincident[0], (std::vector<int>{3}));  // the box's side on x = 0; no pane any more
+  EXPECT_TRUE(s.coincident[1].empty());
   EXPECT_TRUE(s.coincident[2].empty());  // meets the wall end-on
   EXPECT_TRUE(s.coincident[4].empty());  // two segments meeting end to end
   EXPECT_TRUE(s.coincident[5].empty());
-  EXPECT_EQ(s.canonicalObstacle(1, {2.5, 4.0}), 0);   // the pane's point is the wall's
-  EXPECT_EQ(s.canonicalObstacle(0, {2.5, 4.0}), 0);
+  EXPECT_EQ(s.canonicalObstacle(1, {2.5, 4.0}), 1);   // the door is the door's
   EXPECT_EQ(s.canonicalObstacle(3, {0.0, 2.1}), 0);   // the box's side on the wall: the wall
+  EXPECT_EQ(s.canonicalObstacle(0, {0.0, 2.1}), 0);
   EXPECT_EQ(s.canonicalObstacle(3, {0.5, 2.1}), 3);   // its free side
   EXPECT_EQ(s.canonicalObstacle(-2, {2.5, 4.0}), -2);  // movers as they are
   int asked = 0;
-  EXPECT_TRUE(s.eitherSeen(1, {2.5, 4.0}, [&](int o) { ++asked; return o == 0; }));
+  EXPECT_TRUE(s.eitherSeen(3, {0.0, 2.1}, [&](int o) { ++asked; return o == 0; }));
   EXPECT_EQ(asked, 2);
   EXPECT_FALSE(s.eitherSeen(2, {6.2, 1.0}, [&](int o) { return o == 0; }));
 }
