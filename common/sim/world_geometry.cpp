@@ -1,6 +1,33 @@
 #include "sim/world_geometry.hpp"
 
+#include <algorithm>
+
 namespace lasonic::sim {
+
+namespace {
+
+double cross(const geom::Vec2& a, const geom::Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Distance between two segments: 0 where they cross, else the nearest of an end to the other.
+double distance(const geom::Segment& s, const geom::Segment& w) {
+  const geom::Vec2 ds = s.b - s.a, dw = w.b - w.a;
+  const double o1 = cross(ds, w.a - s.a), o2 = cross(ds, w.b - s.a);
+  const double o3 = cross(dw, s.a - w.a), o4 = cross(dw, s.b - w.a);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
+  return std::min({geom::distance(s, w.a), geom::distance(s, w.b), geom::distance(w, s.a), geom::distance(w, s.b)});
+}
+
+}  // namespace
+
+double clearance(const Primitive& p, const geom::Vec2& q) {
+  if (p.kind == Primitive::Kind::Segment) return geom::distance(p.segment, q);
+  return (q - p.circle.center).norm() - p.circle.radius;
+}
+
+double clearance(const Primitive& p, const geom::Segment& s) {
+  if (p.kind == Primitive::Kind::Segment) return distance(p.segment, s);
+  return geom::distance(s, p.circle.center) - p.circle.radius;
+}
 
 WorldGeometry::WorldGeometry(const Scenario& scenario)
     : scenario_(&scenario), n_static_(scenario.statics.size()), prims_(scenario.statics) {}

@@ -24,6 +24,13 @@ struct MoverPose {
   double radius = 0;
 };
 
+// Clearance of a point from one static primitive [m]: its distance from a segment, or from a
+// circle's rim (negative inside the circle, which is solid). A body of radius r at q overlaps
+// the primitive when this is below r.
+double clearance(const Primitive& p, const geom::Vec2& q);
+// The least clearance of any point of the segment s: a body's centre travelling along it.
+double clearance(const Primitive& p, const geom::Segment& s);
+
 class WorldGeometry {
  public:
   explicit WorldGeometry(const Scenario& scenario);
