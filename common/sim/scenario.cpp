@@ -391,9 +391,14 @@ Scenario parseScenario(const Config& root) {
   if (s.name.empty()) root.fail("name", "must not be empty (it names the run's files)");
   if (s.name.find('/') != std::string::npos) root.fail("name", "must not contain '/' (it names the run's files)");
   s.duration_s = root.get("duration_s", s.duration_s, Range{0, bounds::kMaxDurationS, true});
-  const int64_t seed = root.get<int64_t>("seed", static_cast<int64_t>(s.seed));
-  if (seed < 0) root.fail("seed", "must be >= 0");
-  s.seed = static_cast<uint64_t>(seed);
+  // A seed is an int64 >= 0 (as --seed): one message for a number beyond it, a negative or a
+  // fractional one, which says what is allowed.
+  if (root.has("seed") && root.node()["seed"].IsScalar()) {
+    int64_t v = 0;
+    if (!YAML::convert<int64_t>::decode(root.node()["seed"], v) || v < 0)
+      root.fail("seed", "must be an integer in [0, 9223372036854775807] (got " + root.node()["seed"].Scalar() + ")");
+  }
+  s.seed = static_cast<uint64_t>(root.get<int64_t>("seed", static_cast<int64_t>(s.seed)));
 
   s.materials = builtinMaterials();
   parseMaterials(root, s.materials);

@@ -271,6 +271,17 @@ TEST(Scenario, ErrorsNameTheKeyPath) {
   expectError("name: t\n", "robot: is required");
 }
 
+// A seed is an integer in [0, 2^63 - 1], as --seed: a number beyond it (2^64 - 1 is an integer
+// too), a negative or a fractional one is refused with that range, not as "not an integer".
+TEST(Scenario, SeedMessagesSayTheRange) {
+  for (const char* seed : {"18446744073709551615", "9223372036854775808", "-5", "7.0", "1e3"})
+    expectError(minimal(std::string("seed: ") + seed + "\n"),
+                std::string("test.yaml: seed: must be an integer in [0, 9223372036854775807] (got ") + seed + ")");
+  EXPECT_EQ(parse(minimal("seed: 9223372036854775807\n")).seed, 9223372036854775807u);
+  EXPECT_EQ(parse(minimal("seed: 0\n")).seed, 0u);
+  expectError(minimal("seed: [1]\n"), "test.yaml: seed: must be an integer");
+}
+
 // The override sections are read by the simulator's own readers when the scenario is loaded, so
 // every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
 // that lasonic-sim would refuse.
