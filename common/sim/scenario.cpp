@@ -322,11 +322,12 @@ void expand(const ObstacleSpec& spec, int index, const std::map<std::string, Mat
 }
 
 MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Material>& materials) {
+  // The shape first: a box's keys (size) are unknown to a mover because it must be a circle.
+  const std::string shape = m.get<std::string>("shape", "circle");
+  if (shape != "circle") m.fail("shape", "movers must be circles (got \"" + shape + "\")");
   m.allowOnly({"shape", "radius", "material", "speed", "path", "mode", "start_delay_s", "avoid_robot", "keep_clear_m"});
   MoverSpec spec;
   spec.id = id;
-  const std::string shape = m.get<std::string>("shape", "circle");
-  if (shape != "circle") m.fail("shape", "movers must be circles (got \"" + shape + "\")");
   spec.radius = m.get("radius", spec.radius, Range{0, bounds::kMaxBodyRadius, true});
   spec.material = requireMaterial(m, "material", materials, spec.material);
   spec.speed = m.get("speed", spec.speed, Range{0, bounds::kMaxMoverSpeed, true});

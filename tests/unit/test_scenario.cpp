@@ -282,6 +282,14 @@ TEST(Scenario, SeedMessagesSayTheRange) {
   expectError(minimal("seed: [1]\n"), "test.yaml: seed: must be an integer");
 }
 
+// A mover is a circle: a box's keys are not "unknown", the shape is what is wrong.
+TEST(Scenario, AMoverIsACircleBeforeItsKeysAreChecked) {
+  expectError(minimal("movers:\n  - {shape: box, size: [0.5, 0.5], path: [[1,1],[5,1]]}\n"),
+              "test.yaml: movers[0].shape: movers must be circles (got \"box\")");
+  expectError(minimal("movers:\n  - {shape: circle, size: [0.5, 0.5], path: [[1,1],[5,1]]}\n"),
+              "test.yaml: movers[0].size: unknown key");
+}
+
 // The override sections are read by the simulator's own readers when the scenario is loaded, so
 // every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
 // that lasonic-sim would refuse.
