@@ -111,6 +111,22 @@ geom::Vec2 requirePlace(const Config& c, const std::string& key) {
   return p;
 }
 
+// Whether all points lie on one line (within 1e-9 m): a closed polyline through them encloses
+// nothing. (Not a zero signed area: a figure of eight that crosses itself has one too.)
+bool collinear(const std::vector<geom::Vec2>& pts) {
+  size_t far = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if ((pts[i] - pts[0]).norm() > (pts[far] - pts[0]).norm()) far = i;
+  const geom::Vec2 u = pts[far] - pts[0];
+  const double len = u.norm();
+  if (len < 1e-9) return true;
+  for (const geom::Vec2& p : pts) {
+    const geom::Vec2 v = p - pts[0];
+    if (std::abs(u.x() * v.y() - u.y() * v.x()) / len > 1e-9) return false;
+  }
+  return true;
+}
+
 // Waypoints of a path (robot or mover): at least two, no two consecutive ones equal, since a
 // zero-length leg has no direction of travel.
 std::vector<geom::Vec2> requirePath(const Config& c, const std::string& key) {
@@ -271,6 +287,8 @@ ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material
     if (spec.closed && spec.points.size() < 3) o.fail("points", "a closed polyline needs at least 3 points");
     if (spec.closed && (spec.points.back() - spec.points.front()).norm() < 1e-9)
       o.fail("closed", "the last point already equals the first (leave out closed: true or the last point)");
+    if (spec.closed && collinear(spec.points))
+      o.fail("points", "a closed polyline must enclose an area (its points are collinear)");
   } else if (spec.shape == "circle") {
     o.allowOnly({"shape", "material", "center", "radius"});
     spec.circle.center = requirePlace(o, "center");

@@ -290,6 +290,21 @@ TEST(Scenario, AMoverIsACircleBeforeItsKeysAreChecked) {
               "test.yaml: movers[0].size: unknown key");
 }
 
+// A degenerate shape is an error: a closed polyline must enclose an area. One that crosses
+// itself (a figure of eight, zero signed area) does.
+TEST(Scenario, AClosedPolylineMustEncloseAnArea) {
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[1,1],[2,1],[3,1]]}\n"),
+              "test.yaml: obstacles[0].points: a closed polyline must enclose an area (its points are collinear)");
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[0,0],[1,1],[3,3],[2,2]]}\n"),
+              "obstacles[0].points: a closed polyline must enclose an area");
+  EXPECT_EQ(parse(minimal("obstacles:\n  - {shape: polyline, material: metal, closed: true, "
+                          "points: [[4,3.5],[5,4.5],[5,3.5],[4,4.5]]}\n")).statics.size(), 4u);
+  // An open polyline along a line is a wall; a repeated point is still an error.
+  EXPECT_EQ(parse(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[1,1],[2,1],[3,1]]}\n")).statics.size(), 2u);
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[1,1],[2,1],[2,1]]}\n"),
+              "obstacles[0].points[2]: repeats the previous point");
+}
+
 // The override sections are read by the simulator's own readers when the scenario is loaded, so
 // every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
 // that lasonic-sim would refuse.
