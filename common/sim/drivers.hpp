@@ -58,7 +58,7 @@ class WorldCore {
 
   // The odometry noise is drawn from deriveSeed(s.seed, "odometry").
   WorldCore(const Scenario& s, const OdometryConfig& c);
-  WorldCore(const WorldCore&) = delete;  // (statics_ points into scenario_)
+  WorldCore(const WorldCore&) = delete;
   WorldCore& operator=(const WorldCore&) = delete;
   // True state at utime (robot path following, movers); utime must not go backwards
   // (std::invalid_argument). Also advances the odometry to utime.
@@ -77,13 +77,17 @@ class WorldCore {
   OdometryConfig cfg_;
   // A mover's place at sim time t: on its path at t - waited, plus where it stepped aside to.
   geom::Vec2 moverAt(size_t i, double t) const;
-  // People keep out of the robot's way (MoverSpec::avoid_robot): wait, or step aside.
+  // People keep out of the robot's way (MoverSpec::avoid_robot): wait, or step aside, never
+  // into a static obstacle.
   void keepClear(size_t i, double t, double dt, const geom::Pose2& robot);
-  // True if a body of `radius` at p overlaps no static obstacle.
-  bool bodyFree(const geom::Vec2& p, double radius) const;
+  // keepClear's choice of waiting, stepping aside or back towards the path; `before` is where
+  // the mover stood at t - dt.
+  void giveWay(size_t i, double t, double dt, const geom::Pose2& robot, const geom::Vec2& before);
+  // True if a body of `radius` moving straight from `from` to `to` comes no nearer any static
+  // obstacle than its radius (or, already that near, no nearer than it was).
+  bool moveFree(const geom::Vec2& from, const geom::Vec2& to, double radius) const;
 
-  Scenario scenario_;      // (a copy: statics_ points into it)
-  WorldGeometry statics_;  // the static obstacles, which a mover stepping back cannot pass
+  Scenario scenario_;
   PathFollower robot_;
   std::vector<PathFollower> movers_;     // (their radii: scenario_.movers)
   // [s] how long a person waits for a robot in the way before walking round it: long enough

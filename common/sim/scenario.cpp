@@ -111,6 +111,22 @@ geom::Vec2 requirePlace(const Config& c, const std::string& key) {
   return p;
 }
 
+// Whether all points lie on one line (within 1e-9 m): a closed polyline through them encloses
+// nothing. (Not a zero signed area: a figure of eight that crosses itself has one too.)
+bool collinear(const std::vector<geom::Vec2>& pts) {
+  size_t far = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if ((pts[i] - pts[0]).norm() > (pts[far] - pts[0]).norm()) far = i;
+  const geom::Vec2 u = pts[far] - pts[0];
+  const double len = u.norm();
+  if (len < 1e-9) return true;
+  for (const geom::Vec2& p : pts) {
+    const geom::Vec2 v = p - pts[0];
+    if (std::abs(u.x() * v.y() - u.y() * v.x()) / len > 1e-9) return false;
+  }
+  return true;
+}
+
 // Waypoints of a path (robot or mover): at least two, no two consecutive ones equal, since a
 // zero-length leg has no direction of travel.
 std::vector<geom::Vec2> requirePath(const Config& c, const std::string& key) {
@@ -271,6 +287,8 @@ ObstacleSpec parseObstacle(const Config& o, const std::map<std::string, Material
     if (spec.closed && spec.points.size() < 3) o.fail("points", "a closed polyline needs at least 3 points");
     if (spec.closed && (spec.points.back() - spec.points.front()).norm() < 1e-9)
       o.fail("closed", "the last point already equals the first (leave out closed: true or the last point)");
+    if (spec.closed && collinear(spec.points))
+      o.fail("points", "a closed polyline must enclose an area (its points are collinear)");
   } else if (spec.shape == "circle") {
     o.allowOnly({"shape", "material", "center", "radius"});
     spec.circle.center = requirePlace(o, "center");
@@ -322,11 +340,12 @@ void expand(const ObstacleSpec& spec, int index, const std::map<std::string, Mat
 }
 
 MoverSpec parseMover(const Config& m, int id, const std::map<std::string, Material>& materials) {
+  // The shape first: a box's keys (size) are unknown to a mover because it must be a circle.
+  const std::string shape = m.get<std::string>("shape", "circle");
+  if (shape != "circle") m.fail("shape", "movers must be circles (got \"" + shape + "\")");
   m.allowOnly({"shape", "radius", "material", "speed", "path", "mode", "start_delay_s", "avoid_robot", "keep_clear_m"});
   MoverSpec spec;
   spec.id = id;
-  const std::string shape = m.get<std::string>("shape", "circle");
-  if (shape != "circle") m.fail("shape", "movers must be circles (got \"" + shape + "\")");
   spec.radius = m.get("radius", spec.radius, Range{0, bounds::kMaxBodyRadius, true});
   spec.material = requireMaterial(m, "material", materials, spec.material);
   spec.speed = m.get("speed", spec.speed, Range{0, bounds::kMaxMoverSpeed, true});
@@ -391,9 +410,14 @@ Scenario parseScenario(const Config& root) {
   if (s.name.empty()) root.fail("name", "must not be empty (it names the run's files)");
   if (s.name.find('/') != std::string::npos) root.fail("name", "must not contain '/' (it names the run's files)");
   s.duration_s = root.get("duration_s", s.duration_s, Range{0, bounds::kMaxDurationS, true});
-  const int64_t seed = root.get<int64_t>("seed", static_cast<int64_t>(s.seed));
-  if (seed < 0) root.fail("seed", "must be >= 0");
-  s.seed = static_cast<uint64_t>(seed);
+  // A seed is an int64 >= 0 (as --seed): one message for a number beyond it, a negative or a
+  // fractional one, which says what is allowed.
+  if (root.has("seed") && root.node()["seed"].IsScalar()) {
+    int64_t v = 0;
+    if (!YAML::convert<int64_t>::decode(root.node()["seed"], v) || v < 0)
+      root.fail("seed", "must be an integer in [0, 9223372036854775807] (got " + root.node()["seed"].Scalar() + ")");
+  }
+  s.seed = static_cast<uint64_t>(root.get<int64_t>("seed", static_cast<int64_t>(s.seed)));
 
   s.materials = builtinMaterials();
   parseMaterials(root, s.materials);

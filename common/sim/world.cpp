@@ -130,7 +130,6 @@ OdometryConfig odometryConfig(const Config& c, OdometryConfig base) {
 WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
     : cfg_(c),
       scenario_(s),
-      statics_(scenario_),
       robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
       end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
       rng_(deriveSeed(s.seed, "odometry")) {
@@ -148,11 +147,12 @@ geom::Vec2 WorldCore::moverAt(size_t i, double t) const {
   return movers_[i].at(t - waited_[i]).pose.position() + stepped_[i];
 }
 
-bool WorldCore::bodyFree(const geom::Vec2& p, double radius) const {
-  // 16 spokes: a wall that cut into the body deeper than 2 % of its radius crosses one of them.
-  for (int k = 0; k < 16; ++k) {
-    const double a = 2.0 * geom::kPi * k / 16;
-    if (statics_.castRay({p, {std::cos(a), std::sin(a)}}, radius)) return false;
+bool WorldCore::moveFree(const geom::Vec2& from, const geom::Vec2& to, double radius) const {
+  const geom::Segment way{from, to};
+  for (const Primitive& p : scenario_.statics) {
+    const double along = clearance(p, way);
+    // (1e-9 m: rounding, for a body that already stood that near and walks along the wall)
+    if (along < radius && along < clearance(p, from) - 1e-9) return false;
   }
   return true;
 }
@@ -164,11 +164,27 @@ bool WorldCore::bodyFree(const geom::Vec2& p, double radius) const {
 // that distance — straight back, else half or fully aside (to the side it is on), where no
 // static obstacle stands (if none is free it stays: nowhere to go); with the robot gone, it
 // walks back to its path. A mover that never comes near the robot keeps exactly its path.
+//
+// Off its path, the mover's place is its path's point plus the offset it stepped aside by, and
+// the path's point walks on: that place, and the way to it, must be free of static obstacles
+// too, or the body is carried into a wall. Where they are not, the mover stands where it was,
+// its path time standing still as when it waits (README "Simulator": a body never overlaps a
+// static obstacle). On its path it is where the scenario puts it.
 void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robot) {
+  const geom::Vec2 from = moverAt(i, t - dt);
+  const double waited = waited_[i];
+  const geom::Vec2 stepped = stepped_[i];
+  giveWay(i, t, dt, robot, from);
+  if (stepped.isZero() && stepped_[i].isZero()) return;
+  if (moveFree(from, moverAt(i, t), scenario_.movers[i].radius)) return;
+  waited_[i] = waited + dt;
+  stepped_[i] = stepped;
+}
+
+void WorldCore::giveWay(size_t i, double t, double dt, const geom::Pose2& robot, const geom::Vec2& before) {
   const MoverSpec& spec = scenario_.movers[i];
   const geom::Vec2 r = robot.position();
   const double keep = scenario_.robot.radius + spec.radius + spec.keep_clear_m;
-  const geom::Vec2 before = moverAt(i, t - dt);
   const geom::Vec2 walked = moverAt(i, t);
   const double d_walked = (walked - r).norm();
   const bool blocked = d_walked < keep && d_walked < (before - r).norm();
@@ -187,7 +203,7 @@ void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robo
       // How far along u until the keep distance: |rel + k u| = keep.
       const double b = u.dot(rel);
       const double k = -b + std::sqrt(std::max(0.0, b * b - (d * d - keep * keep)));
-      if (bodyFree(p + u * k, spec.radius)) {
+      if (moveFree(before, p + u * k, spec.radius)) {
         stepped_[i] += u * k;
         return;
       }
@@ -200,7 +216,7 @@ void WorldCore::keepClear(size_t i, double t, double dt, const geom::Pose2& robo
     const double step = std::min(off, spec.speed * dt);
     const geom::Vec2 back_on = stepped_[i] * ((off - step) / off);
     const geom::Vec2 q = p - stepped_[i] + back_on;
-    if ((q - r).norm() >= keep && bodyFree(q, spec.radius)) stepped_[i] = back_on;
+    if ((q - r).norm() >= keep && moveFree(before, q, spec.radius)) stepped_[i] = back_on;
   }
 }
 

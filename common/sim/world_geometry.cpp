@@ -1,6 +1,89 @@
 #include "sim/world_geometry.hpp"
 
+#include <algorithm>
+#include <cstdio>
+
+#include "sim/path_follower.hpp"
+
 namespace lasonic::sim {
+
+namespace {
+
+double cross(const geom::Vec2& a, const geom::Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Distance between two segments: 0 where they cross, else the nearest of an end to the other.
+double distance(const geom::Segment& s, const geom::Segment& w) {
+  const geom::Vec2 ds = s.b - s.a, dw = w.b - w.a;
+  const double o1 = cross(ds, w.a - s.a), o2 = cross(ds, w.b - s.a);
+  const double o3 = cross(dw, s.a - w.a), o4 = cross(dw, s.b - w.a);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
+  return std::min({geom::distance(s, w.a), geom::distance(s, w.b), geom::distance(w, s.a), geom::distance(w, s.b)});
+}
+
+}  // namespace
+
+double clearance(const Primitive& p, const geom::Vec2& q) {
+  if (p.kind == Primitive::Kind::Segment) return geom::distance(p.segment, q);
+  return (q - p.circle.center).norm() - p.circle.radius;
+}
+
+double clearance(const Primitive& p, const geom::Segment& s) {
+  if (p.kind == Primitive::Kind::Segment) return distance(p.segment, s);
+  return geom::distance(s, p.circle.center) - p.circle.radius;
+}
+
+namespace {
+
+// Whether q lies inside the polygon (even-odd rule).
+bool inside(const std::vector<geom::Vec2>& poly, const geom::Vec2& q) {
+  bool in = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const geom::Vec2 &a = poly[i], &b = poly[j];
+    if ((a.y() > q.y()) != (b.y() > q.y()) && q.x() < a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m) {
+  const PathFollower robot(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate);
+  // One cycle of a repeating path is all of it; at most 200 000 samples of an absurdly long one.
+  const double end = std::min(s.duration_s, robot.cycleDuration());
+  const double dt = std::max(step_m / s.robot.speed, end / 200'000);
+  std::vector<bool> met(s.obstacles.size(), false);
+  std::vector<RobotOverlap> out;
+  const double r = s.robot.radius - 1e-9;  // (touching is not overlapping)
+  geom::Vec2 prev = robot.at(0).pose.position();
+  for (double t = 0;; t = std::min(t + dt, end)) {
+    const geom::Vec2 q = robot.at(t).pose.position();
+    const geom::Segment way{prev, q};
+    for (const Primitive& p : s.statics) {
+      if (met[p.obstacle] || !(clearance(p, way) < r)) continue;
+      met[p.obstacle] = true;
+      out.push_back({p.obstacle, q, t});
+    }
+    for (size_t i = 0; i < s.obstacles.size(); ++i)
+      if (!met[i] && s.obstacles[i].shape == "box" && inside(s.obstacles[i].points, q)) {
+        met[i] = true;
+        out.push_back({static_cast<int>(i), q, t});
+      }
+    if (t >= end) break;
+    prev = q;
+  }
+  return out;
+}
+
+std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o) {
+  const ObstacleSpec& spec = s.obstacles.at(static_cast<size_t>(o.obstacle));
+  std::string what = "obstacles[" + std::to_string(o.obstacle) + "]";
+  if (spec.frame_of >= 0) what += " (a jamb of obstacles[" + std::to_string(spec.frame_of) + "]'s frame)";
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "the robot (radius %.2f) overlaps %s at (%.2f, %.2f) (t \u2248 %.1f s%s)",
+                s.robot.radius, what.c_str(), o.at.x(), o.at.y(), o.t, o.t == 0 ? ", where it starts" : "");
+  return "robot.path: " + std::string(buf);
+}
 
 WorldGeometry::WorldGeometry(const Scenario& scenario)
     : scenario_(&scenario), n_static_(scenario.statics.size()), prims_(scenario.statics) {}

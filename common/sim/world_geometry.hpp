@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "sim/scenario.hpp"
@@ -23,6 +24,28 @@ struct MoverPose {
   geom::Vec2 position;
   double radius = 0;
 };
+
+// Clearance of a point from one static primitive [m]: its distance from a segment, or from a
+// circle's rim (negative inside the circle, which is solid). A body of radius r at q overlaps
+// the primitive when this is below r.
+double clearance(const Primitive& p, const geom::Vec2& q);
+// The least clearance of any point of the segment s: a body's centre travelling along it.
+double clearance(const Primitive& p, const geom::Segment& s);
+
+// Where the robot's disc (robot.radius), driven along its path for duration_s, first overlaps a
+// static obstacle: one per obstacle, in the order they are met. Boxes and circles are solid (a
+// robot standing inside one overlaps it); a polyline is its walls, as a room's are. The path is
+// sampled every step_m (its stretch between samples is checked whole, so nothing thin is
+// missed); `at` and `t` are the first sample found overlapping.
+struct RobotOverlap {
+  int obstacle = -1;  // index into Scenario::obstacles
+  geom::Vec2 at;      // the robot's centre [m]
+  double t = 0;       // sim time [s]
+};
+std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m = 0.02);
+// The warning for one: "robot.path: the robot (radius 0.35) overlaps obstacles[3] at (2.10, 1.00)
+// (t ≈ 4.2 s)" (README "Scenario format").
+std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o);
 
 class WorldGeometry {
  public:

@@ -114,6 +114,10 @@ int main(int argc, char** argv) {
     }
   }
   if (seed) scenario.seed = *seed;
+  // A path through an obstacle is driven through it (the robot follows its path blind): said,
+  // not refused, since a robot may be meant to pass close (README "Scenario format").
+  for (const sim::RobotOverlap& o : sim::robotOverlaps(scenario))
+    std::cerr << "lasonic-sim: warning: " << scenario_file << ": " << sim::describeRobotOverlap(scenario, o) << "\n";
 
   const auto wall0 = std::chrono::steady_clock::now();
   std::map<std::string, int64_t> counts;

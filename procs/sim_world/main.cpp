@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
     sim::sonarConfigFor(*setup);
     if (duration) setup->scenario.duration_s = *duration;
     if (seed) setup->scenario.seed = *seed;
+    // Said, not refused: the robot may be meant to pass close (README "Scenario format").
+    for (const sim::RobotOverlap& o : sim::robotOverlaps(setup->scenario))
+      spdlog::warn("{}: {}", scenario_file, sim::describeRobotOverlap(setup->scenario, o));
   };
   return pm.run(argc, argv, configure, [&](Node& node) {
     const sim::Scenario& scenario = setup->scenario;

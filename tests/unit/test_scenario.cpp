@@ -8,6 +8,7 @@
 
 #include "sim/drivers.hpp"
 #include "sim/scenario.hpp"
+#include "sim/world_geometry.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -274,6 +275,99 @@ TEST(Scenario, ErrorsNameTheKeyPath) {
   expectError("name: t\n", "robot: is required");
 }
 
+// A seed is an integer in [0, 2^63 - 1], as --seed: a number beyond it (2^64 - 1 is an integer
+// too), a negative or a fractional one is refused with that range, not as "not an integer".
+TEST(Scenario, SeedMessagesSayTheRange) {
+  for (const char* seed : {"18446744073709551615", "9223372036854775808", "-5", "7.0", "1e3"})
+    expectError(minimal(std::string("seed: ") + seed + "\n"),
+                std::string("test.yaml: seed: must be an integer in [0, 9223372036854775807] (got ") + seed + ")");
+  EXPECT_EQ(parse(minimal("seed: 9223372036854775807\n")).seed, 9223372036854775807u);
+  EXPECT_EQ(parse(minimal("seed: 0\n")).seed, 0u);
+  expectError(minimal("seed: [1]\n"), "test.yaml: seed: must be an integer");
+}
+
+// A mover is a circle: a box's keys are not "unknown", the shape is what is wrong.
+TEST(Scenario, AMoverIsACircleBeforeItsKeysAreChecked) {
+  expectError(minimal("movers:\n  - {shape: box, size: [0.5, 0.5], path: [[1,1],[5,1]]}\n"),
+              "test.yaml: movers[0].shape: movers must be circles (got \"box\")");
+  expectError(minimal("movers:\n  - {shape: circle, size: [0.5, 0.5], path: [[1,1],[5,1]]}\n"),
+              "test.yaml: movers[0].size: unknown key");
+}
+
+// A degenerate shape is an error: a closed polyline must enclose an area. One that crosses
+// itself (a figure of eight, zero signed area) does.
+TEST(Scenario, AClosedPolylineMustEncloseAnArea) {
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[1,1],[2,1],[3,1]]}\n"),
+              "test.yaml: obstacles[0].points: a closed polyline must enclose an area (its points are collinear)");
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[0,0],[1,1],[3,3],[2,2]]}\n"),
+              "obstacles[0].points: a closed polyline must enclose an area");
+  EXPECT_EQ(parse(minimal("obstacles:\n  - {shape: polyline, material: metal, closed: true, "
+                          "points: [[4,3.5],[5,4.5],[5,3.5],[4,4.5]]}\n")).statics.size(), 4u);
+  // An open polyline along a line is a wall; a repeated point is still an error.
+  EXPECT_EQ(parse(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[1,1],[2,1],[3,1]]}\n")).statics.size(), 2u);
+  expectError(minimal("obstacles:\n  - {shape: polyline, material: wall, points: [[1,1],[2,1],[2,1]]}\n"),
+              "obstacles[0].points[2]: repeats the previous point");
+}
+
+// The robot follows its path blind, through an obstacle if the path runs through one: where its
+// disc first overlaps each obstacle is found (and lasonic-sim warns of it).
+TEST(Scenario, WhereTheRobotsPathOverlapsAnObstacle) {
+  const Scenario s = parse(R"(
+name: t
+duration_s: 30
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[8,0],[8,4],[0,4]]}
+  - {shape: circle, material: plastic, center: [2.5,2.39], radius: 0.05}
+  - {shape: box, material: metal, center: [5,2], size: [0.5,0.5]}
+  - {shape: segment, material: glass, from: [6.5,1], to: [6.5,3]}
+  - {shape: circle, material: plastic, center: [2.5,1.55], radius: 0.05}
+robot: {radius: 0.35, path: [[1,2],[7.5,2]], speed: 0.3}
+)");
+  const std::vector<RobotOverlap> o = robotOverlaps(s);
+  ASSERT_EQ(o.size(), 3u);
+  // Each at the first sample (2 cm apart) past where the disc reaches it: the pipe 0.34 m from
+  // the path (1 cm into the disc) once the centre is within 0.40 m of the pipe's, the box's face
+  // at 4.75 - 0.35, the pane at 6.5 - 0.35; the pipe 0.40 m from the path is clear.
+  EXPECT_EQ(o[0].obstacle, 1);
+  EXPECT_NEAR(o[0].at.x(), 2.5 - std::sqrt(0.40 * 0.40 - 0.39 * 0.39) + 0.01, 0.011);
+  EXPECT_EQ(o[1].obstacle, 2);
+  EXPECT_NEAR(o[1].at.x(), 4.4 + 0.01, 0.011);
+  EXPECT_NEAR(o[1].t, (o[1].at.x() - 1) / 0.3, 1e-9);
+  EXPECT_EQ(o[2].obstacle, 3);
+  EXPECT_NEAR(o[2].at.x(), 6.15 + 0.01, 0.011);
+  EXPECT_EQ(describeRobotOverlap(s, o[1]).rfind("robot.path: the robot (radius 0.35) overlaps obstacles[2] at (4.", 0), 0u);
+
+  // Starting inside a box (solid), never touching its sides at first: found where it starts.
+  const Scenario in = parse(R"(
+name: t
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[7,0],[7,5],[0,5]]}
+  - {shape: box, material: wall, center: [2,2], size: [1.4,1.4]}
+robot: {radius: 0.35, path: [[2,2],[6,2]], speed: 0.3}
+)");
+  const std::vector<RobotOverlap> o2 = robotOverlaps(in);
+  ASSERT_EQ(o2.size(), 1u);
+  EXPECT_EQ(o2[0].obstacle, 1);
+  EXPECT_EQ(o2[0].t, 0.0);
+  EXPECT_EQ(describeRobotOverlap(in, o2[0]),
+            "robot.path: the robot (radius 0.35) overlaps obstacles[1] at (2.00, 2.00) (t \u2248 0.0 s, where it starts)");
+
+  // A thin pane across the path is found whatever the sampling, and a path that passes close
+  // (touching is not overlapping) gives nothing.
+  EXPECT_EQ(robotOverlaps(s, 1.0).size(), 3u);
+  const std::vector<RobotOverlap> good = robotOverlaps(parse(kGood));  // (its path runs through the pipe)
+  ASSERT_EQ(good.size(), 1u);
+  EXPECT_EQ(good[0].obstacle, 2);
+  EXPECT_TRUE(robotOverlaps(parse(minimal("obstacles:\n  - {shape: segment, material: wall, from: [0,0.35], to: [1,0.35]}\n"))).empty());
+  // A jamb is named by the obstacle it frames.
+  const Scenario door = parse(minimal("obstacles:\n  - {shape: segment, material: glass, from: [0.5,-1], to: [0.5,0.3], "
+                                      "frame: {material: wall, width: 0.1}}\n"));
+  const std::vector<RobotOverlap> o3 = robotOverlaps(door);
+  ASSERT_EQ(o3.size(), 2u);
+  EXPECT_NE(describeRobotOverlap(door, o3[0]).find("obstacles[0] at"), std::string::npos);
+  EXPECT_NE(describeRobotOverlap(door, o3[1]).find("obstacles[2] (a jamb of obstacles[0]'s frame)"), std::string::npos);
+}
+
 // The override sections are read by the simulator's own readers when the scenario is loaded, so
 // every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
 // that lasonic-sim would refuse.
@@ -405,8 +499,9 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                                            "holdout/turning_in_place", "holdout/slow_corridor",
                                            "holdout/pioneer_sick180", "holdout/mesh_partition",
                                            "holdout/glass_office_row", "holdout/window_wall"));
-// (holdout/angled_glass_doors is left out: its robot passes 0.13 m from the black box, below
-// this check's 0.15 m; the scene is kept as it was measured.)
+// (holdout/angled_glass_doors is left out: its robot's disc overlaps the black box by 0.03 m
+// on the leg back (its centre passes 0.32 m from the box's corner), which lasonic-sim warns of;
+// the scene is kept as it was measured.)
 // Scenes outside the suite (README "Simulator"): the same checks; in people_in_the_way the
 // people's paths cross the robot's, and they keep clear of it.
 INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,

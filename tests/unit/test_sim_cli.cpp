@@ -95,6 +95,28 @@ TEST(SimCli, SeedsAgreeWithTheScenario) {
   expectBad("lasonic-sonar-driver", "--scenario " + kRoom + " --seed -1", "--seed");
 }
 
+// A path through an obstacle is driven through, with a warning that names the obstacle and
+// where the robot's disc first overlaps it (README "Scenario format"); the log is written.
+TEST(SimCli, ARobotPathThroughAnObstacleIsAWarning) {
+  const std::string log = (tmpDir() / "through.lcmlog").string();
+  const std::string scene = write("through.yaml",
+                                  "name: t\nduration_s: 2\n"
+                                  "obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[-3,-3],[3,-3],[3,3],[-3,3]]}\n"
+                                  "  - {shape: box, material: metal, center: [1.5,0], size: [0.5,0.5]}\n"
+                                  "robot: {path: [[0,0],[2,0]], speed: 1}\n");
+  const ToolRun r = run("lasonic-sim", "--scenario " + scene + " --out " + log);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("lasonic-sim: warning: " + scene +
+                          ": robot.path: the robot (radius 0.35) overlaps obstacles[1] at (0.9"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(log));
+  // Past where it stops (--duration), nothing is said.
+  const ToolRun short_run = run("lasonic-sim", "--scenario " + scene + " --out " + log + " --duration 0.5");
+  EXPECT_EQ(short_run.status, 0) << short_run.output;
+  EXPECT_EQ(short_run.output.find("warning"), std::string::npos) << short_run.output;
+}
+
 // A mover or robot of radius 1e300 made SIM_STATE non-finite and lasonic-sim abort (SIGABRT).
 TEST(SimCli, HugeBodiesAreRefusedNotAborted) {
   const std::string out = "--out " + (tmpDir() / "x.lcmlog").string();

@@ -189,6 +189,76 @@ TEST(WorldCore, PeopleKeepClearOfTheRobot) {
   EXPECT_LT(through[1], 0.0);
 }
 
+namespace {
+
+// The deepest any mover's body reached into a static obstacle over the states (0: never), and
+// how many states had a body in a wall or had crossed one since the state before.
+struct WallOverlap {
+  double deepest = 0;
+  int states = 0;
+};
+WallOverlap wallOverlap(const Scenario& s, const std::vector<sim_state_t>& states) {
+  WallOverlap o;
+  for (size_t k = 0; k < states.size(); ++k) {
+    bool in = false;
+    for (const mover_state_t& m : states[k].movers) {
+      const Vec2 p(m.x, m.y);
+      const Vec2 prev = k > 0 ? Vec2(states[k - 1].movers[m.id].x, states[k - 1].movers[m.id].y) : p;
+      for (const Primitive& w : s.statics) {
+        const double depth = m.radius - clearance(w, p);
+        o.deepest = std::max(o.deepest, depth);
+        in = in || depth > 1e-9 || (clearance(w, geom::Segment{prev, p}) == 0 && clearance(w, prev) > 0);
+      }
+    }
+    o.states += in;
+  }
+  return o;
+}
+
+// A dead-end corridor 1.4 m wide, a person walking to and fro near its end, and the robot
+// driving in until it stands 0.45 m from the end wall: the person cannot pass the robot (0.35 m
+// each side of it, 0.5 m across), nor stand between it and the wall while keeping clear.
+const char* kDeadEnd = R"(
+name: dead_end
+duration_s: 30
+seed: 38
+obstacles:
+  - {shape: polyline, material: wall, points: [[0,0],[6,0],[6,1.4],[0,1.4]]}
+movers:
+  - {shape: circle, radius: 0.25, material: person, speed: 0.6, path: [[5.6,0.7],[4,0.7]], mode: pingpong}
+robot: {radius: 0.35, path: [[0.5,0.7],[5.2,0.7]], speed: 0.3}
+)";
+
+}  // namespace
+
+// Stepping back from the robot offsets the person from its path, and its path walks on: the
+// body must still never enter or cross a wall (it had reached x = 6.29, beyond the end wall at
+// x = 6, in a third of the states).
+TEST(WorldCore, APersonSteppingAsideNeverWalksIntoAWall) {
+  const Scenario s = parse(kDeadEnd);
+  std::vector<sim_state_t> states;
+  closestGaps(s, &states);
+  const WallOverlap o = wallOverlap(s, states);
+  EXPECT_EQ(o.states, 0);
+  EXPECT_LE(o.deepest, 1e-9);
+  double furthest = 0;
+  for (const sim_state_t& st : states) furthest = std::max(furthest, st.movers[0].x);
+  EXPECT_LE(furthest, 6.0 - 0.25 + 1e-9);
+  // Until the robot comes near, the person walks its path exactly.
+  const PathFollower f(s.movers[0].path, s.movers[0].mode, s.movers[0].speed);
+  for (size_t k = 0; k < 250; ++k) {  // 5 s: the robot is still 2 m away
+    const geom::Pose2 p = f.at(static_cast<double>(k * 20000) * 1e-6).pose;  // (as the world counts)
+    ASSERT_EQ(states[k].movers[0].x, p.x) << k;
+    ASSERT_EQ(states[k].movers[0].y, p.y) << k;
+  }
+
+  // The people of kPeople (one steps aside in front of a wall) keep out of the wall too.
+  std::vector<sim_state_t> people;
+  const Scenario p = parse(kPeople);
+  closestGaps(p, &people);
+  EXPECT_EQ(wallOverlap(p, people).states, 0);
+}
+
 TEST(WorldCore, APersonFarFromTheRobotKeepsExactlyItsPath) {
   // Bit for bit the path follower's positions: a scene whose people never come near the robot
   // gives the same log as before people kept clear.
