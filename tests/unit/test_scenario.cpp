@@ -498,10 +498,11 @@ INSTANTIATE_TEST_SUITE_P(Holdout, ShippedScenario,
                                            "holdout/glass_balustrade", "holdout/waiting_robot",
                                            "holdout/turning_in_place", "holdout/slow_corridor",
                                            "holdout/pioneer_sick180", "holdout/mesh_partition",
-                                           "holdout/glass_office_row", "holdout/window_wall"));
-// (holdout/angled_glass_doors is left out: its robot's disc overlaps the black box by 0.03 m
-// on the leg back (its centre passes 0.32 m from the box's corner), which lasonic-sim warns of;
-// the scene is kept as it was measured.)
+                                           "holdout/glass_office_row", "holdout/window_wall",
+                                           "holdout/reception_240", "holdout/pioneer_stockroom"));
+// (holdout/angled_glass_doors is left out: its black box stands between two legs of the loop
+// 1.4 m apart, closer than this test's 0.15 m margin to one of them; the robot's disc clears it,
+// which lasonic-sim checks.)
 // Scenes outside the suite (README "Simulator"): the same checks; in people_in_the_way the
 // people's paths cross the robot's, and they keep clear of it.
 INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
