@@ -380,7 +380,7 @@ TEST(EvalSensors, CausesReflectorsAndLaserReturnsByMaterial) {
   EXPECT_DOUBLE_EQ(m.number("sensors.laser_no_return"), 0.2);
 }
 
-// duration_s is the simulated time the log covers: for a log looped and recorded (lcm-logplayer -l
+// `duration_s` is the simulated time the log covers: for a log looped and recorded (lcm-logplayer -l
 // under lcm-logger) the passes' spans add up (it was the span of the sorted times: 9 s for two
 // passes of 9 s, or 10 s when the second pass started a second later).
 TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
@@ -411,16 +411,20 @@ TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
 // unit test still passed, and fails with that change.
 // a report within the tolerance short of the truth is no false alarm.
 TEST(EvalBoundaries, ReportWithinToleranceShortIsNoFalseAlarm) {
-  EvalOptions o; SectorSample s; s.truth = 1.0f;
+  EvalOptions o;
+  SectorSample s;
+  s.truth = 1.0f;
   EXPECT_FALSE(sectorFalseAlarm(1.0 - 0.5 * o.sector_tolerance, s, o));
   EXPECT_TRUE(sectorFalseAlarm(1.0 - 2.0 * o.sector_tolerance, s, o));
 }
-// a report beyond sector_range is no false alarm.
+// A report beyond sector_range is no false alarm.
 TEST(EvalBoundaries, ReportBeyondSectorRangeIsNoFalseAlarm) {
-  EvalOptions o; SectorSample s; s.truth = 3.0f;
+  EvalOptions o;
+  SectorSample s;
+  s.truth = 3.0f;
   EXPECT_FALSE(sectorFalseAlarm(o.sector_range + 0.3, s, o));
 }
-// a map from before the first sonar group is counted, not scored.
+// A map from before the first sonar group is counted, not scored.
 TEST(EvalBoundaries, MapBeforeFirstSonarIsWarmup) {
   const auto sc = boxRoom();
   RunLog log;
@@ -434,7 +438,7 @@ TEST(EvalBoundaries, MapBeforeFirstSonarIsWarmup) {
   EXPECT_EQ(m.number("sector_map.maps_before_first_data"), 1.0);
   EXPECT_EQ(m.number("sector_map.maps"), 0.0);
 }
-// a map of fewer than 3 sectors is malformed: not scored.
+// A map of fewer than 3 sectors is malformed: not scored.
 TEST(EvalBoundaries, TwoSectorMapIsNotScored) {
   const auto sc = boxRoom();
   RunLog log;
