@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
 namespace lasonic::sim {
@@ -461,15 +462,22 @@ int laserRank(const Material& m) {
   return 0;
 }
 
-// Length along `a` that `b` lies on (both ends of the shared stretch within tol of the other's line).
-double collinearOverlap(const geom::Segment& a, const geom::Segment& b, double tol) {
+// The stretch [t0, t1] along `a` (from a.a, clamped to a) that `b` lies on, when both of b's
+// ends are within tol of a's line; else nothing.
+std::optional<std::pair<double, double>> collinearSpan(const geom::Segment& a, const geom::Segment& b, double tol) {
   const double len = a.length();
-  if (len < 1e-9 || b.length() < 1e-9) return 0;
+  if (len < 1e-9 || b.length() < 1e-9) return std::nullopt;
   const geom::Vec2 u = (a.b - a.a) / len;
   const auto off = [&](const geom::Vec2& p) { return std::abs(u.x() * (p.y() - a.a.y()) - u.y() * (p.x() - a.a.x())); };
-  if (off(b.a) > tol || off(b.b) > tol) return 0;
+  if (off(b.a) > tol || off(b.b) > tol) return std::nullopt;
   const double t0 = u.dot(b.a - a.a), t1 = u.dot(b.b - a.a);
-  return std::max(0.0, std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1)));
+  return std::make_pair(std::clamp(std::min(t0, t1), 0.0, len), std::clamp(std::max(t0, t1), 0.0, len));
+}
+
+// Length along `a` that `b` lies on.
+double collinearOverlap(const geom::Segment& a, const geom::Segment& b, double tol) {
+  const auto span = collinearSpan(a, b, tol);
+  return span ? span->second - span->first : 0.0;
 }
 }  // namespace
 
@@ -487,12 +495,10 @@ void cutPanesIntoWalls(Scenario& s) {
     std::vector<std::pair<double, double>> cuts;
     for (const Primitive& t : s.statics) {
       if (t.kind != Primitive::Kind::Segment || t.obstacle == w.obstacle ||
-          t.material->laser != LaserBehaviour::Transparent ||
-          collinearOverlap(w.segment, t.segment, Scenario::kCoincidentM) < kMinOverlapM)
+          t.material->laser != LaserBehaviour::Transparent)
         continue;
-      const geom::Vec2 u = (w.segment.b - w.segment.a) / len;
-      const double a = u.dot(t.segment.a - w.segment.a), b = u.dot(t.segment.b - w.segment.a);
-      cuts.emplace_back(std::clamp(std::min(a, b), 0.0, len), std::clamp(std::max(a, b), 0.0, len));
+      const auto span = collinearSpan(w.segment, t.segment, Scenario::kCoincidentM);
+      if (span && span->second - span->first >= kMinOverlapM) cuts.push_back(*span);
     }
     if (cuts.empty()) {
       out.push_back(w);
@@ -537,10 +543,10 @@ int Scenario::canonicalObstacle(int obstacle, const geom::Vec2& p) const {
   if (obstacle < 0 || static_cast<size_t>(obstacle) >= coincident.size() || coincident[obstacle].empty())
     return obstacle;
   const auto rank = [this](int o) { return std::make_pair(laserRank(material(obstacles[o].material)), -o); };
+  const auto& partners = coincident[static_cast<size_t>(obstacle)];
   int best = obstacle;
   for (const Primitive& q : statics) {
     if (q.obstacle == best || q.kind != Primitive::Kind::Segment) continue;
-    const auto& partners = coincident[static_cast<size_t>(obstacle)];
     if (std::find(partners.begin(), partners.end(), q.obstacle) == partners.end()) continue;
     if (rank(q.obstacle) > rank(best) && geom::distance(q.segment, p) <= kCoincidentM) best = q.obstacle;
   }

@@ -6,7 +6,6 @@
 #include <vector>
 #include "core/config.hpp"
 #include "operational/agm.hpp"
-#include "operational/echo_placer.hpp"
 #include "operational/laser_memory.hpp"
 #include "operational/mover_prediction.hpp"
 #include "operational/sector_map.hpp"
@@ -134,64 +133,4 @@ TEST(OperationalBoundaries, CoastingMoverBeyondReachIsDropped) {
   ASSERT_EQ(m.coastingMovers().size(), 1u);          // at 1.6 m
   m.update(600'000, Vec2::Zero(), {}, {}, Blind{});  // at 2.1 m: beyond reach
   EXPECT_TRUE(m.coastingMovers().empty());
-}
-// An echo waits exactly arc_wait_cycles cycles and is still placed then.
-// a waiting echo's own arc does not count towards arc_min_votes.
-namespace {
-AgmParams tactical() {
-  AgmParams p;
-  p.size = 100;
-  p.cell_size = 0.1;
-  p.t = 1;
-  p.g_threshold = 5;
-  p.h_max = 2000;
-  p.g_max = 100;
-  p.arc_vote_tau = 100;
-  return p;
-}
-std::vector<GroupReading> echoAt(int id, const Vec2& from, const Vec2& target) {
-  GroupReading r;
-  r.sensor_id = id;
-  r.echo = true;
-  const Vec2 d = target - from;
-  r.e.range = d.norm();
-  r.e.sensor = geom::Pose2{from.x(), from.y(), std::atan2(d.y(), d.x())};
-  r.e.beam_width = geom::deg2rad(30);
-  r.axis_end = target;
-  return {r};
-}
-EchoPlacementConfig waiting(int cycles, double min_votes) {
-  EchoPlacementConfig c;
-  c.bearing = AgmBearing::Axis;
-  c.placement = AgmPlacement::ArcVotes;
-  c.arc_require_votes = true;
-  c.arc_wait_cycles = cycles;
-  c.arc_min_votes = min_votes;
-  return c;
-}
-}  // namespace
-TEST(OperationalBoundaries, AWaitingEchoIsNotConfirmedByItsOwnArc) {
-  AccumulativeGridMap agm(tactical());
-  agm.centreOn({0.05, 0.05});
-  const Vec2 target{1.55, 0.05};
-  EchoPlacer placer(waiting(100, 0.5));
-  EXPECT_TRUE(placer.place(echoAt(0, {0, 0}, target), agm).empty());
-  agm.update({target});  // the grid holds the cell; only the echo's own arc voted there
-  EXPECT_TRUE(placer.place({}, agm).empty());
-}
-TEST(OperationalBoundaries, AWaitingEchoIsPlacedExactlyArcWaitCyclesLater) {
-  AccumulativeGridMap agm(tactical());
-  agm.centreOn({0.05, 0.05});
-  const Vec2 target{1.55, 0.05};
-  const int wait = 4;
-  EchoPlacer placer(waiting(wait, 1.5));
-  EXPECT_TRUE(placer.place(echoAt(0, {0, 0}, target), agm).empty());  // waits from cycle c0
-  for (int i = 0; i < wait - 1; ++i) agm.update({});
-  agm.update({target});
-  for (const Vec2& from : {Vec2{0.3, 0.9}, Vec2{0.3, -0.9}}) {
-    const Vec2 d = target - from;
-    const double b = std::atan2(d.y(), d.x());
-    agm.addArcVotes(from, d.norm(), b - 0.3, b + 0.3);
-  }
-  EXPECT_EQ(placer.place({}, agm).size(), 1u);  // cycle c0 + wait: still waiting, now placed
 }

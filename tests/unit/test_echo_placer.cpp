@@ -25,13 +25,13 @@ AgmParams tactical() {
   return p;
 }
 
-EchoPlacementConfig waiting(int cycles) {
+EchoPlacementConfig waiting(int cycles, double min_votes = 1.5) {
   EchoPlacementConfig c;
   c.bearing = AgmBearing::Axis;
   c.placement = AgmPlacement::ArcVotes;
   c.arc_require_votes = true;
   c.arc_wait_cycles = cycles;
-  c.arc_min_votes = 1.5;  // two arcs, some cycles old (votes fade with arc_vote_tau)
+  c.arc_min_votes = min_votes;  // 1.5: two arcs, some cycles old (votes fade with arc_vote_tau)
   return c;
 }
 
@@ -258,4 +258,33 @@ TEST(EchoPlacer, SurfaceKeys) {
   EXPECT_FALSE(echoPlacementConfig(Config::fromString("{}")).surface_fill);  // the paper: one cell per echo
   EXPECT_THROW(echoPlacementConfig(Config::fromString("surface_spread_m: -1")), ConfigError);
   EXPECT_THROW(echoPlacementConfig(Config::fromString("surface_min_agree: 0")), ConfigError);
+}
+
+// The wait's boundaries (no other test pinned them down): the echo's own arc never confirms it,
+// and it is still placed at exactly arc_wait_cycles.
+TEST(EchoPlacer, AWaitingEchoIsNotConfirmedByItsOwnArc) {
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  const Vec2 target{1.55, 0.05};
+  EchoPlacer placer(waiting(100, 0.5));
+  EXPECT_TRUE(placer.place(echoAt(0, {0, 0}, target), agm).empty());
+  agm.update({target});  // the grid holds the cell; only the echo's own arc voted there
+  EXPECT_TRUE(placer.place({}, agm).empty());
+}
+
+TEST(EchoPlacer, AWaitingEchoIsPlacedExactlyArcWaitCyclesLater) {
+  AccumulativeGridMap agm(tactical());
+  agm.centreOn({0.05, 0.05});
+  const Vec2 target{1.55, 0.05};
+  const int wait = 4;
+  EchoPlacer placer(waiting(wait, 1.5));
+  EXPECT_TRUE(placer.place(echoAt(0, {0, 0}, target), agm).empty());  // waits from cycle c0
+  for (int i = 0; i < wait - 1; ++i) agm.update({});
+  agm.update({target});
+  for (const Vec2& from : {Vec2{0.3, 0.9}, Vec2{0.3, -0.9}}) {
+    const Vec2 d = target - from;
+    const double b = std::atan2(d.y(), d.x());
+    agm.addArcVotes(from, d.norm(), b - 0.3, b + 0.3);
+  }
+  EXPECT_EQ(placer.place({}, agm).size(), 1u);  // cycle c0 + wait: still waiting, now placed
 }
