@@ -98,15 +98,37 @@ ScenarioMatch checkLogMatchesScenario(const RunLog& log, const sim::Scenario& sc
                   std::to_string(scenario.obstacles.size()) + " obstacles and " + std::to_string(n) + " movers";
         return m;
       }
-  if (!scenario.robot.path.empty()) {
-    const geom::Pose2 p0{log.sim_states.front().robot_pose.x, log.sim_states.front().robot_pose.y,
-                          log.sim_states.front().robot_pose.theta};
-    const geom::Vec2 start = scenario.robot.path.front();
-    const double d = std::hypot(p0.x - start.x(), p0.y - start.y());
-    if (d > 0.5)
-      m.warning = "the robot's first true pose (" + std::to_string(p0.x) + ", " + std::to_string(p0.y) +
-                  ") is " + std::to_string(d) + " m from the scenario's first waypoint";
+  if (scenario.robot.path.empty()) return m;
+  // The simulated robot drives the path's legs exactly, so its farthest true pose from them says
+  // whether this is its scenario: metres off, it is another scene (or this one moved); a few
+  // centimetres off, a waypoint was edited after the run.
+  double worst = 0;
+  const sim_state_t* worst_state = nullptr;
+  for (const sim_state_t& st : log.sim_states) {
+    const double d = sim::distanceToRobotPath(scenario, {st.robot_pose.x, st.robot_pose.y});
+    if (!(d <= worst)) {  // NaN poses count as off the path
+      worst = d;
+      worst_state = &st;
+    }
   }
+  if (worst_state) {
+    std::ostringstream os;
+    os << "at t = " << static_cast<double>(worst_state->utime - log.sim_states.front().utime) * 1e-6
+       << " s its robot's true pose (" << worst_state->robot_pose.x << ", " << worst_state->robot_pose.y << ") is "
+       << worst << " m from the scenario's robot.path";
+    if (!(worst <= kOffPathErrorM)) {
+      m.error = os.str();
+      return m;
+    }
+    if (worst > kOffPathWarningM) m.warning = os.str() + " (edited after the run?)";
+  }
+  const geom::Pose2 p0{log.sim_states.front().robot_pose.x, log.sim_states.front().robot_pose.y,
+                       log.sim_states.front().robot_pose.theta};
+  const geom::Vec2 start = scenario.robot.path.front();
+  const double d = std::hypot(p0.x - start.x(), p0.y - start.y());
+  if (d > 0.5 && m.warning.empty())
+    m.warning = "the robot's first true pose (" + std::to_string(p0.x) + ", " + std::to_string(p0.y) +
+                ") is " + std::to_string(d) + " m from the scenario's first waypoint";
   return m;
 }
 

@@ -62,9 +62,14 @@ RunLog loadRunLog(const std::string& path);
 
 // Whether a log was simulated from the scenario it is scored against. `error`: the log's
 // SIM_STATE holds movers the scenario does not have (or the other way round), so no truth can be
-// computed; `warning`: the robot's first true pose lies more than 0.5 m from the scenario's first
+// computed, a truth channel names an obstacle the scenario does not have, or the robot's true
+// pose leaves the scenario's path by more than kOffPathErrorM (the simulated robot drives its
+// legs exactly); `warning`: it leaves it by more than kOffPathWarningM (a waypoint edited after
+// the run), or else the robot's first true pose lies more than 0.5 m from the scenario's first
 // waypoint (a live log recorded after the start may do that). Empty when they agree or the log
 // has no SIM_STATE.
+inline constexpr double kOffPathErrorM = 1.0;
+inline constexpr double kOffPathWarningM = 0.02;
 struct ScenarioMatch {
   std::string error, warning;
 };

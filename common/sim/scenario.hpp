@@ -191,5 +191,10 @@ Scenario parseScenario(const Config& root);
 // Whether the movers a log's SIM_STATE names (their ids) are this scenario's, as they are in a
 // log simulated from it: empty if so, else why not ("its SIM_STATE has 3 movers, the scenario 0").
 std::string simStateMoversMismatch(const Scenario& scenario, const std::vector<int>& mover_ids);
+// Distance from p to the robot's path as the simulator drives it: the waypoints' legs, and the
+// leg back to the first waypoint when the path loops. The simulated robot stays on these legs
+// (it turns on the spot at waypoints), so a true pose far from them was not simulated from this
+// scenario. Infinity when the scenario has no path.
+double distanceToRobotPath(const Scenario& scenario, const geom::Vec2& p);
 
 }  // namespace lasonic::sim

@@ -6,8 +6,9 @@
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
 #  2. the same twice gives identical JSON (deterministic);
 #  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
-#     and key path; an empty log, and a log scored against a scenario it was not simulated from,
-#     exit 2 saying so (lasonic-log-stats too); the offline tools exit 0 on --help and 2 on any bad
+#     and key path; an empty log, and a log scored against a scenario it was not simulated from
+#     (other movers, other obstacles, or a robot's path 1.5 m away from the log's track), exit 2
+#     saying so (lasonic-log-stats too); the offline tools exit 0 on --help and 2 on any bad
 #     command line;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
@@ -68,6 +69,16 @@ for other in corridor_people:SIM_STATE fig4_room:LASER_TRUTH; do
     die "scored against ${other%%:*}: $(cat "$tmp/other.err")"
   echo "  (against ${other%%:*}) $(head -n 1 "$tmp/other.err")"
 done
+# The same scene with the robot's path moved by a metre and a half: its obstacles and movers are
+# the log's, its robot's track is not.
+sed 's/^  path: \[\[1.0, 1.2\], \[7.0, 1.2\]/  path: [[1.0, 2.7], [7.0, 2.7]/' "$scenario" >"$tmp/moved_path.yaml"
+cmp -s "$scenario" "$tmp/moved_path.yaml" && die "the moved path's sed changed nothing in $scenario"
+rc=0
+"$bin/lasonic-eval" --log "$tmp/out.lcmlog" --scenario "$tmp/moved_path.yaml" >"$tmp/moved.err" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] || die "scored against a moved path: exit status $rc, expected 2"
+grep -qF "was not simulated from $tmp/moved_path.yaml: at t = " "$tmp/moved.err" &&
+  grep -qF "m from the scenario's robot.path" "$tmp/moved.err" || die "scored against a moved path: $(cat "$tmp/moved.err")"
+echo "  (against a moved path) $(head -n 1 "$tmp/moved.err")"
 : >"$tmp/empty.lcmlog"
 rc=0
 "$bin/lasonic-eval" --log "$tmp/empty.lcmlog" --scenario "$scenario" >"$tmp/empty_log.err" 2>&1 || rc=$?

@@ -466,3 +466,46 @@ TEST(EvalRunLog, RobotRadiusWarning) {
   EXPECT_NE(w.find("robot_radius 0.27 m"), std::string::npos) << w;
   EXPECT_NE(w.find("robot.radius 0.35 m"), std::string::npos) << w;
 }
+
+// A log is scored only against the scenario it was simulated from: the simulated robot drives the
+// path's legs, so a true pose a metre off them is another scene (or this one moved by a
+// kilometre: before, that only warned when the first pose was off the first waypoint), a few
+// centimetres off an edited waypoint; a log recorded after the start is no error.
+TEST(EvalRunLog, TheRobotsTrackMustLieOnTheScenariosPath) {
+  auto sc = boxRoom();  // path (2, 2) -> (2.5, 2), once
+  RunLog log;
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2.25, 2, 0), state(2'000'000, 2.5, 2, 0)};
+  ScenarioMatch m = checkLogMatchesScenario(log, sc);
+  EXPECT_EQ(m.error, "");
+  EXPECT_EQ(m.warning, "");
+
+  log.sim_states = {state(0, 2.3, 2, 0), state(1'000'000, 2.5, 2, 0)};  // recorded after the start
+  m = checkLogMatchesScenario(log, sc);
+  EXPECT_EQ(m.error, "");
+  EXPECT_EQ(m.warning, "");
+
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2.25, 2.05, 0), state(2'000'000, 2.5, 2, 0)};
+  m = checkLogMatchesScenario(log, sc);
+  EXPECT_EQ(m.error, "");
+  EXPECT_NE(m.warning.find("at t = 1 s its robot's true pose (2.25, 2.05) is 0.05 m from the scenario's robot.path"),
+            std::string::npos)
+      << m.warning;
+
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, 2.25, 3.5, 0)};
+  m = checkLogMatchesScenario(log, sc);
+  EXPECT_NE(m.error.find("(2.25, 3.5) is 1.5 m from the scenario's robot.path"), std::string::npos) << m.error;
+
+  log.sim_states = {state(0, 5002, -2998, 0), state(1'000'000, 5002.5, -2998, 0)};  // the scene moved
+  EXPECT_NE(checkLogMatchesScenario(log, sc).error, "");
+  log.sim_states = {state(0, 2, 2, 0), state(1'000'000, NAN, 2, 0)};
+  EXPECT_NE(checkLogMatchesScenario(log, sc).error, "");
+
+  // A looping path comes back along the leg from its last waypoint to its first.
+  sc.robot.path = {{1, 1}, {3, 1}, {3, 3}};
+  sc.robot.mode = sim::PathMode::Loop;
+  log.sim_states = {state(0, 1, 1, 0), state(1'000'000, 2, 2, 0)};
+  EXPECT_EQ(checkLogMatchesScenario(log, sc).error, "");
+  EXPECT_EQ(checkLogMatchesScenario(log, sc).warning, "");
+  sc.robot.mode = sim::PathMode::Once;
+  EXPECT_NE(checkLogMatchesScenario(log, sc).warning, "");
+}
