@@ -63,7 +63,7 @@ void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths) {
 }
 
 void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths, const std::vector<sonar_ring_t>& rings,
-                                    double max_range) {
+                                    double max_range, const sim::Scenario* scenario) {
   std::map<std::pair<int64_t, int>, float> read;
   for (const auto& r : rings)
     for (size_t i = 0; i < r.sensor_id.size() && i < r.range.size(); ++i) read[{r.utime, r.sensor_id[i]}] = r.range[i];
@@ -72,7 +72,9 @@ void LocatedPoints::addDirectEchoes(const std::vector<sonar_truth_t>& truths, co
       if (c.cause != sonar_cause_t::CAUSE_DIRECT || c.true_range < 0 || c.obstacle == -1) continue;
       const auto it = read.find({t.utime, c.sensor_id});
       const double range = it != read.end() ? double(it->second) : double(c.true_range);
-      if (range <= max_range) add(c.obstacle, t.utime, {c.hit_x, c.hit_y});
+      if (!(range <= max_range)) continue;
+      const geom::Vec2 hit(c.hit_x, c.hit_y);
+      add(scenario ? scenario->canonicalObstacle(c.obstacle, hit) : c.obstacle, t.utime, hit);
     }
 }
 
@@ -147,11 +149,12 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
   TruthTrack truth(log.sim_states);
   sim::WorldGeometry world(sc);
   LocatedPoints located(o.observe_radius), within_limit(o.observe_radius);
-  located.addDirectEchoes(log.sonar_truths);
-  within_limit.addDirectEchoes(log.sonar_truths, log.sonar_rings, hypothesisRangeLimit(log, o));
+  located.addDirectEchoes(log.sonar_truths, {}, std::numeric_limits<double>::infinity(), &sc);
+  within_limit.addDirectEchoes(log.sonar_truths, log.sonar_rings, hypothesisRangeLimit(log, o), &sc);
   std::map<std::string, int16_t> material_index;
   table.echo_memory_s = operationalMemory(log, o);
-  const auto memory = static_cast<int64_t>(table.echo_memory_s * 1e6);
+  // Rounded, not truncated: 4 cycles of 0.1 s are 400,000 us, not 399,999.
+  const auto memory = static_cast<int64_t>(std::llround(table.echo_memory_s * 1e6));
   for (size_t i = 0; i < log.sector_maps.size(); ++i) {
     const sector_map_t& sm = log.sector_maps[i];
     // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,

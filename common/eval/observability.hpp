@@ -48,9 +48,11 @@ class LocatedPoints {
   // Every DIRECT echo's hit point (cause DIRECT, true_range >= 0, finite hit point).
   void addDirectEchoes(const std::vector<sonar_truth_t>& truths);
   // ... only those whose reading was at most max_range: the range SONAR_RING reported for that
-  // firing and sensor, or, without one in the log, the echo's true range.
+  // firing and sensor, or, without one in the log, the echo's true range. With a scenario, an
+  // echo from a stretch two obstacles share (a box's side drawn on a wall) locates the one it is
+  // counted as (sim::Scenario::canonicalObstacle), as the sector samples' truth is.
   void addDirectEchoes(const std::vector<sonar_truth_t>& truths, const std::vector<sonar_ring_t>& rings,
-                       double max_range);
+                       double max_range, const sim::Scenario* scenario = nullptr);
   // True if an echo located `obstacle` within the radius of p at a time <= utime.
   bool located(int obstacle, const geom::Vec2& p, int64_t utime) const;
   // The newest such echo's time, if any.

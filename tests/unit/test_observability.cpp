@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "eval/baselines.hpp"
 #include "eval/evaluate.hpp"
@@ -121,6 +122,34 @@ TEST(LocatedPoints, LastLocatedIsTheNewestEchoAtOrBeforeTheTime) {
   EXPECT_EQ(lp.countLocated(1, {3.0, 2.0}, 300, 100), 0);
 }
 
+// A stretch two obstacles share (a box's side drawn on the wall) is one surface to both sensors,
+// and the sector samples' truth counts it as the obstacle the laser sees best (the wall): an echo
+// the simulator says came from the box locates that wall point too, as the evaluation counts it.
+TEST(LocatedPoints, AnEchoFromASharedStretchLocatesTheObstacleItIsCountedAs) {
+  const auto sc = sim::parseScenario(Config::fromString(R"(
+name: t
+duration_s: 10
+seed: 1
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[4,0],[4,4],[0,4]]}
+  - {shape: box, material: black_cardboard, center: [3.75, 2.0], size: [0.5, 0.4]}
+robot: {radius: 0.35, path: [[2,2],[2.5,2]], speed: 0.1}
+)"));
+  ASSERT_EQ(sc.canonicalObstacle(1, {4.0, 2.0}), 0);
+  ASSERT_EQ(sc.canonicalObstacle(1, {3.5, 2.0}), 1);  // the box's front face is its own
+  const std::vector<sonar_truth_t> echoes = {echo(100, sonar_cause_t::CAUSE_DIRECT, 1, 4.0, 2.0),
+                                             echo(200, sonar_cause_t::CAUSE_DIRECT, 1, 3.5, 1.9)};
+  const double all = std::numeric_limits<double>::infinity();
+  LocatedPoints as_counted(0.3), as_simulated(0.3);
+  as_counted.addDirectEchoes(echoes, {}, all, &sc);
+  as_simulated.addDirectEchoes(echoes, {}, all);
+  EXPECT_TRUE(as_counted.located(0, {4.0, 2.1}, 100));
+  EXPECT_FALSE(as_simulated.located(0, {4.0, 2.1}, 100));
+  EXPECT_FALSE(as_counted.located(1, {4.0, 2.1}, 100));
+  EXPECT_TRUE(as_counted.located(1, {3.5, 2.0}, 200));  // the front face stays the box's
+  EXPECT_FALSE(as_counted.located(0, {3.5, 2.0}, 150));
+}
+
 TEST(SectorTruthTable, GlassIsObservableOnlyWhereAndAfterAnEchoLocatedIt) {
   const auto sc = glassRoom();
   const RunLog log = glassLog(sc);
@@ -207,6 +236,8 @@ TEST(SectorTruthTable, TheOperationalMemoryIsHMaxRingIntervalsOfTheRun) {
   const auto table = sectorTruthTable(log, sc, o);
   EXPECT_NEAR(table.echo_memory_s, 0.5, 1e-12);
   EXPECT_EQ(table.mapSamples(1)[24].cue, Cue::EchoOnce);  // 0.4 s old: within the memory
+  o.operational_h_max = 4;  // 0.4 s: exactly as old as the memory is long, still within it
+  EXPECT_EQ(sectorTruthTable(log, sc, o).mapSamples(1)[24].cue, Cue::EchoOnce);
   o.operational_h_max = 3;                                 // 0.3 s: no longer
   EXPECT_EQ(sectorTruthTable(log, sc, o).mapSamples(1)[24].cue, Cue::EchoOld);
   // The run's config gives h_max: the pilot's (the code's default 18 without the key).
