@@ -194,6 +194,53 @@ TEST(IterativeEndPointFit, SplitsAnLAtItsCorner) {
   EXPECT_EQ(iterativeEndPointFit(pts, {0, 10}, 0.03).size(), 1u);
 }
 
+// Two walls split at their corner end where their lines meet, unless that is farther than
+// max_shift from either end (no corner of these two: a gap, or a third surface between them) or
+// the lines are within 10 deg of parallel (their intersection is ill-conditioned).
+TEST(JoinCorner, EndsBothAtTheIntersectionOnlyWithinMaxShift) {
+  const auto segment = [](Vec2 a, Vec2 b) {
+    RmSegment s;
+    s.seg = {a, b};
+    return s;
+  };
+  RmSegment a = segment({0, 0}, {0.95, 0}), b = segment({1, 0.05}, {1, 1});
+  joinCorner(a, b, 0.1);
+  EXPECT_NEAR((a.seg.b - Vec2(1, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((b.seg.a - Vec2(1, 0)).norm(), 0, 1e-12);
+  EXPECT_EQ(a.seg.a, Vec2(0, 0));
+  EXPECT_EQ(b.seg.b, Vec2(1, 1));
+
+  // The corner 0.2 m from a's end: farther than max_shift 0.1 (and than 0.15), nothing moves;
+  // within 0.25, both end there.
+  for (const double max_shift : {0.1, 0.15, 0.25}) {
+    a = segment({0, 0}, {0.8, 0});
+    b = segment({1, 0.05}, {1, 1});
+    joinCorner(a, b, max_shift);
+    const bool joined = max_shift > 0.2;
+    EXPECT_EQ((a.seg.b - Vec2(1, 0)).norm() < 1e-12, joined) << max_shift;
+    EXPECT_EQ((a.seg.b - Vec2(0.8, 0)).norm() < 1e-12, !joined) << max_shift;
+    EXPECT_EQ((b.seg.a - Vec2(1, 0.05)).norm() < 1e-12, !joined) << max_shift;
+  }
+  // ... and from b's end likewise.
+  a = segment({0, 0}, {0.95, 0});
+  b = segment({1, 0.2}, {1, 1});
+  joinCorner(a, b, 0.1);
+  EXPECT_EQ(a.seg.b, Vec2(0.95, 0));
+  EXPECT_EQ(b.seg.a, Vec2(1, 0.2));
+
+  // Lines 8 deg apart are left alone even where they meet beside both ends; 12 deg apart, joined.
+  const auto at = [](double deg, double len) { return Vec2(len * std::cos(deg * M_PI / 180), len * std::sin(deg * M_PI / 180)); };
+  a = segment({-1, 0}, {0, 0});
+  b = segment(at(8, 0.01), at(8, 1));
+  joinCorner(a, b, 10.0);
+  EXPECT_EQ(a.seg.b, Vec2(0, 0));
+  EXPECT_EQ(b.seg.a, at(8, 0.01));
+  b = segment(at(12, 0.01), at(12, 1));
+  joinCorner(a, b, 0.1);
+  EXPECT_NEAR(a.seg.b.norm(), 0, 1e-12);
+  EXPECT_NEAR(b.seg.a.norm(), 0, 1e-12);
+}
+
 namespace {
 // The definition: split at the first point farthest from the chord (geom::distance) until all
 // are within the threshold.
