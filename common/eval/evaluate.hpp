@@ -68,7 +68,7 @@ RunLog loadRunLog(const std::string& path);
 // the run), or else the robot's first true pose lies more than 0.5 m from the scenario's first
 // waypoint (a live log recorded after the start may do that). Empty when they agree or the log
 // has no SIM_STATE.
-inline constexpr double kOffPathErrorM = 1.0;
+inline constexpr double kOffPathErrorM = sim::kRobotOffPathM;
 inline constexpr double kOffPathWarningM = 0.02;
 struct ScenarioMatch {
   std::string error, warning;

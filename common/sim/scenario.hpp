@@ -196,5 +196,8 @@ std::string simStateMoversMismatch(const Scenario& scenario, const std::vector<i
 // (it turns on the spot at waypoints), so a true pose far from them was not simulated from this
 // scenario. Infinity when the scenario has no path.
 double distanceToRobotPath(const Scenario& scenario, const geom::Vec2& p);
+// How far off its path a log's robot may be before lasonic-eval and lasonic-render call the log
+// another scenario's [m].
+inline constexpr double kRobotOffPathM = 1.0;
 
 }  // namespace lasonic::sim

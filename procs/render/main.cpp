@@ -185,11 +185,21 @@ int main(int argc, char** argv) {
     for (const auto& [ch, n] : info.messages) s.in_log.insert(ch);
     const std::string path = every_s ? framePath(out_path, static_cast<int64_t>(k)) : out_path;
     // A scenario the log was not simulated from would draw a wrong truth under right maps: its
-    // movers must be the log's (SIM_STATE names them by their index in the scenario).
+    // movers must be the log's (SIM_STATE names them by their index in the scenario), and its
+    // robot on the scenario's path (the simulator drives the path's legs exactly; 1 m off it, as
+    // lasonic-eval decides, is another scene).
     if (scenario && s.true_robot && !scenario_mismatch) {
       std::vector<int> ids;
       for (const auto& m : s.movers) ids.push_back(m.id);
-      if (const std::string why = sim::simStateMoversMismatch(*scenario, ids); !why.empty()) {
+      std::string why = sim::simStateMoversMismatch(*scenario, ids);
+      if (const double d = sim::distanceToRobotPath(*scenario, s.true_robot->position());
+          why.empty() && !(d <= sim::kRobotOffPathM)) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "its robot's true pose (%g, %g) is %g m from the scenario's robot.path",
+                      s.true_robot->x, s.true_robot->y, d);
+        why = buf;
+      }
+      if (!why.empty()) {
         scenario_mismatch = true;
         std::fprintf(stderr, "%s: warning: %s was not simulated from %s (%s): no truth drawn\n", kName,
                      log_path.c_str(), scenario_path.c_str(), why.c_str());

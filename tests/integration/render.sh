@@ -2,7 +2,8 @@
 # render.sh: smoke test of lasonic-render on the real pipeline's output (no network).
 #  1. lasonic-sim (fig7_lab, 3 s) -> lasonic-replay -> lasonic-render at t = 2.5 s with the
 #     scenario: exit 0, a PNG of the expected size that is not blank (read back with Cairo by
-#     lasonic-render-check), and every panel whose channel the log lacks says so.
+#     lasonic-render-check), and every panel whose channel the log lacks says so; with another
+#     scenario's movers, or the robot's path moved 1.5 m, it says so and draws no truth.
 #  2. --every 1: one frame per second of the log, each a valid PNG.
 #  3. The raw simulator log (no pipeline channels): still a picture, the panels say what is missing.
 #     --most-sonar: on the replayed log a moment inside it with its count of sonar sectors; on the
@@ -38,6 +39,13 @@ grep -q "wrote $tmp/a.png (1600 x 878 px, t = 2.50 s)" "$tmp/a.txt" || die "no '
   >"$tmp/other.txt" 2>&1 || die "lasonic-render exited $? with another scenario"
 grep -q "was not simulated from .*corridor_people.yaml (its SIM_STATE has 0 movers, the scenario 3): no truth drawn" \
   "$tmp/other.txt" || die "another scenario's truth drawn without a word: $(cat "$tmp/other.txt")"
+# The same scene with the robot's path 1.5 m to the side: movers and obstacles agree, the track not.
+sed 's/^  path: \[\[1.0, 1.2\], \[7.0, 1.2\]/  path: [[1.0, 2.7], [7.0, 2.7]/' "$scenario" >"$tmp/moved_path.yaml"
+cmp -s "$scenario" "$tmp/moved_path.yaml" && die "the moved path's sed changed nothing in $scenario"
+"$render" --log "$tmp/out.lcmlog" --out "$tmp/moved.png" --time 2.5 --scenario "$tmp/moved_path.yaml" \
+  >"$tmp/moved.txt" 2>&1 || die "lasonic-render exited $? with a moved path"
+grep -q "was not simulated from .*moved_path.yaml (its robot's true pose (.*) is 1.5 m from the scenario's robot.path): no truth drawn" \
+  "$tmp/moved.txt" || die "a moved path's truth drawn without a word: $(cat "$tmp/moved.txt")"
 "$bin/lasonic-log-stats" "$tmp/out.lcmlog" >"$tmp/stats"
 for ch in RADAR_MAP SONAR_HYPOTHESIS SONAR_RING SONAR_COMPLEMENT AGM_OPERATIONAL AGM_TACTICAL CURRENT_SENSOR_MAP SECTOR_MAP; do
   if [[ -z $(stat "$ch") ]]; then

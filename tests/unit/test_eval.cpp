@@ -83,6 +83,11 @@ TEST(SectorTruth, RoomWallsAndCircle) {
   // Turned by 90 deg, the circle is to the right (bearing -90 deg -> sector 12).
   const auto r = trueSectorDistances(world, {2, 2, geom::kPi / 2}, 0.35, 48, 3.0);
   EXPECT_NEAR(r[12], 0.9 - 0.35, 1e-9);
+  // A robot whose body overlaps the circle (its centre 0.2 m from the circle's edge, within its
+  // 0.35 m radius) has the obstacle at distance 0 there, not at a negative one.
+  const auto o = trueSectorDistances(world, {2.7, 2, 0}, 0.35, 48, 3.0);
+  EXPECT_EQ(o[24], 0.0);
+  EXPECT_EQ(*std::min_element(o.begin(), o.end()), 0.0);
 }
 
 namespace {
