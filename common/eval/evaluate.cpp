@@ -2,11 +2,13 @@
 
 #include <sstream>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <ostream>
 
+#include "complement/complement.hpp"
 #include "core/geometry.hpp"
 #include "eval/baselines.hpp"
 #include "eval/laser_seen.hpp"
@@ -301,6 +303,9 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
   const TruthTrack track(log.sim_states);
 
   Ratio invisible, informative, specular, redundant, precision;
+  // What the complement called the invisible echoes, per class (CLASS_*): where recall is lost.
+  constexpr int kClasses = 7;
+  std::array<double, kClasses> invisible_by_class{}, informative_by_class{};
   for (const auto& cm : log.complements) {
     // The scan the complement compared this firing with: the one its Radar Map came from, else
     // the newest completed at or before the firing.
@@ -334,14 +339,20 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
       double visible = c.nearest_laser_visible < 0 ? limit : c.nearest_laser_visible;
       if (per_scan && direct && !no_scan) {
         const geom::Vec2 hit{c.hit_x, c.hit_y};
-        const auto saw = [&](int obstacle) { return seen.saw(scan, obstacle, hit, o.seen_radius, cm.utime); };
-        laser_saw = sc ? sc->eitherSeen(c.obstacle, hit, saw) : saw(c.obstacle);
+        laser_saw = sc ? seen.saw(*sc, scan, c.obstacle, hit, o.seen_radius, cm.utime)
+                       : seen.saw(scan, c.obstacle, hit, o.seen_radius, cm.utime);
         const geom::Pose2 sensor = track.robotAt(cm.utime).compose(toPose(r->second.mount));
         visible = seen.nearestInSector(scan, geom::Sector{sensor.position(), sensor.theta, beam, limit}).value_or(limit);
       }
       const bool informative_echo = direct && !no_scan && range <= limit && range < visible - cm.tolerance;
-      if (direct && !no_scan && !laser_saw && range <= limit) invisible.add(comp);
-      if (informative_echo) informative.add(comp);
+      if (direct && !no_scan && !laser_saw && range <= limit) {
+        invisible.add(comp);
+        if (rd.cls >= 0 && rd.cls < kClasses) invisible_by_class[static_cast<size_t>(rd.cls)] += 1;
+      }
+      if (informative_echo) {
+        informative.add(comp);
+        if (rd.cls >= 0 && rd.cls < kClasses) informative_by_class[static_cast<size_t>(rd.cls)] += 1;
+      }
       if (c.cause == sonar_cause_t::CAUSE_SPECULAR_LONG) specular.add(!comp);
       // "The RM holds it": the Radar Map has a surface inside the ideal beam no farther than the
       // echoing one (+ tolerance). A laser-reflecting pipe too thin to give an RM segment is
@@ -357,6 +368,13 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
   setRatio(m, "complement.specular_rejection", specular);
   setRatio(m, "complement.redundant_drop", redundant);
   setRatio(m, "complement.precision", precision);
+  for (int k = 0; k < kClasses; ++k) {
+    const std::string cls = complement::className(static_cast<complement::SonarClass>(k));
+    if (invisible.den > 0)
+      m.set("complement.invisible_by_class." + cls, invisible_by_class[static_cast<size_t>(k)] / invisible.den);
+    if (informative.den > 0)
+      m.set("complement.informative_by_class." + cls, informative_by_class[static_cast<size_t>(k)] / informative.den);
+  }
   m.set("complement.samples.invisible", invisible.den);
   m.set("complement.samples.informative", informative.den);
   m.set("complement.samples.specular_long", specular.den);
@@ -479,7 +497,7 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserS
       const double dist = d.norm();
       if (dist > reach || dist < 1e-6) continue;
       // What the newest scan saw is the Radar Map's, not the AGM's.
-      if (seen.saw(scan, b.obstacle, b.p, o.seen_radius)) continue;
+      if (seen.saw(sc, scan, b.obstacle, b.p, o.seen_radius)) continue;
       // Only boundary the sonar can see: nothing else in the line of sight.
       const auto hit = world.castRay(geom::Ray{true_robot.position(), d / dist}, dist + 0.05);
       if (hit && hit->range < dist - 0.03) continue;

@@ -235,6 +235,29 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
   EXPECT_DOUBLE_EQ(m.number("complement.specular_rejection"), 1.0);
   EXPECT_DOUBLE_EQ(m.number("complement.redundant_drop"), 0.0);  // the wall echo was not dropped
   EXPECT_DOUBLE_EQ(m.number("complement.precision"), 0.5);
+  EXPECT_DOUBLE_EQ(m.number("complement.invisible_by_class.complementary"), 1.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.invisible_by_class.seen_before"), 0.0);
+
+  // Where invisible recall is lost, the classes say why: the glass echo called seen_before (an
+  // earlier scan's lines hold it) and, at a second firing, outside_view.
+  log.complements[0].readings[0].cls = complement_reading_t::CLASS_SEEN_BEFORE;
+  log.sonar_rings.push_back(ring);
+  log.sonar_rings.back().utime = 200;
+  log.sonar_truths.push_back(tr);
+  log.sonar_truths.back().utime = 200;
+  log.complements.push_back(cm);
+  log.complements.back().utime = 200;
+  log.complements.back().readings[0].cls = complement_reading_t::CLASS_OUTSIDE_VIEW;
+  Metrics lost;
+  evalComplement(log, EvalOptions{}, lost);
+  EXPECT_DOUBLE_EQ(lost.number("complement.invisible_recall"), 0.0);
+  EXPECT_DOUBLE_EQ(lost.number("complement.samples.invisible"), 2.0);
+  EXPECT_DOUBLE_EQ(lost.number("complement.invisible_by_class.seen_before"), 0.5);
+  EXPECT_DOUBLE_EQ(lost.number("complement.invisible_by_class.outside_view"), 0.5);
+  EXPECT_DOUBLE_EQ(lost.number("complement.invisible_by_class.complementary"), 0.0);
+  EXPECT_DOUBLE_EQ(lost.number("complement.invisible_by_class.redundant"), 0.0);
+  EXPECT_DOUBLE_EQ(lost.number("complement.informative_by_class.seen_before"), 0.5);
+  EXPECT_DOUBLE_EQ(lost.number("complement.informative_by_class.outside_view"), 0.5);
 }
 
 TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
