@@ -47,6 +47,12 @@ class LaserSeen {
   // mover (obstacle <= -2) p is a point of the mover at time `utime`: the comparison is made in
   // the mover's frame. False for scan < 0.
   bool saw(int scan, int obstacle, const geom::Vec2& p, double radius, int64_t utime = 0) const;
+  // ... from `obstacle` or, where its surface at p is drawn on others' (sim::Scenario::partnersAt),
+  // from any of them: the laser names whichever surface its ray met first.
+  bool saw(const sim::Scenario& sc, int scan, int obstacle, const geom::Vec2& p, double radius,
+           int64_t utime = 0) const {
+    return sc.eitherSeen(obstacle, p, [&](int o) { return saw(scan, o, p, radius, utime); });
+  }
   // The same for the newest scan completed at or before utime (false if there is none).
   bool sawBy(int64_t utime, int obstacle, const geom::Vec2& p, double radius) const {
     return saw(newestAt(utime), obstacle, p, radius, utime);

@@ -181,7 +181,7 @@ void forEachLocating(const RunLog& log, const sim::Scenario& sc, const std::vect
       // An echo from a surface the laser saw (its hit point) is redundant: the Radar Map has that
       // surface, and the echo is no evidence of anything only the sonar knows.
       if (per_scan &&
-          sc.eitherSeen(c.obstacle, hit, [&](int obstacle) { return seen->saw(scan, obstacle, hit, seen_radius); }))
+          seen->saw(sc, scan, c.obstacle, hit, seen_radius))
         continue;
       const auto reading = readings.find({t.utime, c.sensor_id});
       // Only what the complement can keep reaches a grid: echoes within the hypothetical scan's limit.
@@ -195,7 +195,7 @@ void forEachLocating(const RunLog& log, const sim::Scenario& sc, const std::vect
         for (size_t i : by_surface[k]) {
           if (skip(i, t.utime) || (pts[i].p - hit).norm() > radius) continue;
           // Where the newest scan saw the point, the laser had it: not the sonar's alone.
-          if (per_scan && seen->saw(scan, pts[i].obstacle, pts[i].p, seen_radius)) continue;
+          if (per_scan && seen->saw(sc, scan, pts[i].obstacle, pts[i].p, seen_radius)) continue;
           // A point hidden from the transducer (the back of a bin, the far side of a box's
           // corner, a wall behind a box) was not located by this echo.
           if (sensor) {
@@ -250,7 +250,7 @@ void evalAgmTactical(const RunLog& log, const sim::Scenario& sc, const LaserSeen
     for (size_t i = 0; i < boundary.size(); ++i) {
       if (located[i] >= g.utime || !win.contains(boundary[i].p)) continue;
       // What the newest scan sees now is the Radar Map's, not the tactical level's memory.
-      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
+      if (seen.saw(sc, scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
       bool found = false;
       for (const auto& c : occupied)
         if ((c - boundary[i].p).norm() <= tol) {
@@ -328,7 +328,7 @@ void evalLines(const RunLog& log, const sim::Scenario& sc, const LaserSeen& seen
     const int scan = seen.newestAt(csm.utime);
     for (size_t i = 0; i < boundary.size(); ++i) {
       if (located[i] >= csm.utime || !win.contains(boundary[i].p)) continue;
-      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;  // the laser's now
+      if (seen.saw(sc, scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;  // the laser's now
       bool covered = false;
       for (const auto& s : sonar)
         if (geom::distance(s, boundary[i].p) <= o.line_tolerance) {
@@ -535,7 +535,7 @@ void evalTacticalBreakdown(const RunLog& log, const sim::Scenario& sc, const Las
         if (found_before[i]) left_window[i] = 1;  // out of the published window (and maybe the whole one)
         continue;
       }
-      if (seen.saw(scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
+      if (seen.saw(sc, scan, boundary[i].obstacle, boundary[i].p, o.seen_radius)) continue;
       const geom::Vec2 q = odom_from_true.transform(boundary[i].p);
       const NearCells near = nearCells(g, q, tol);
       const bool found = near.gp > 0 && near.gp >= g.gp_threshold;

@@ -539,17 +539,25 @@ void findCoincidentObstacles(Scenario& s) {
     }
 }
 
-int Scenario::canonicalObstacle(int obstacle, const geom::Vec2& p) const {
+std::vector<int> Scenario::partnersAt(int obstacle, const geom::Vec2& p) const {
+  std::vector<int> out;
   if (obstacle < 0 || static_cast<size_t>(obstacle) >= coincident.size() || coincident[obstacle].empty())
-    return obstacle;
-  const auto rank = [this](int o) { return std::make_pair(laserRank(material(obstacles[o].material)), -o); };
+    return out;
   const auto& partners = coincident[static_cast<size_t>(obstacle)];
-  int best = obstacle;
   for (const Primitive& q : statics) {
-    if (q.obstacle == best || q.kind != Primitive::Kind::Segment) continue;
+    if (q.obstacle == obstacle || q.kind != Primitive::Kind::Segment) continue;
     if (std::find(partners.begin(), partners.end(), q.obstacle) == partners.end()) continue;
-    if (rank(q.obstacle) > rank(best) && geom::distance(q.segment, p) <= kCoincidentM) best = q.obstacle;
+    if (std::find(out.begin(), out.end(), q.obstacle) == out.end() && geom::distance(q.segment, p) <= kCoincidentM)
+      out.push_back(q.obstacle);
   }
+  return out;
+}
+
+int Scenario::canonicalObstacle(int obstacle, const geom::Vec2& p) const {
+  const auto rank = [this](int o) { return std::make_pair(laserRank(material(obstacles[o].material)), -o); };
+  int best = obstacle;
+  for (const int o : partnersAt(obstacle, p))
+    if (rank(o) > rank(best)) best = o;
   return best;
 }
 

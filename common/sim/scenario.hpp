@@ -165,14 +165,18 @@ struct Scenario {
   // surface passes within kCoincidentM of p and that the laser sees best (reflect, then absorb,
   // then transparent; then the lower index), else `obstacle` itself (movers too).
   int canonicalObstacle(int obstacle, const geom::Vec2& p) const;
-  // Calls seen(o) for `obstacle` and, where its surface at p is drawn on another's, for that one:
-  // whether a sensor that tells obstacles apart saw the point as either (the laser returns from
-  // the wall behind a pane, or from the pane near its normal).
+  // The coincident obstacles of `obstacle` whose surface passes within kCoincidentM of p.
+  std::vector<int> partnersAt(int obstacle, const geom::Vec2& p) const;
+  // Calls seen(o) for `obstacle` and, where its surface at p is drawn on others', for each of
+  // them: whether a sensor that tells obstacles apart saw the point as any of them (the laser
+  // returns from the wall behind a pane, or from the pane near its normal; of two walls drawn on
+  // each other, from either).
   template <typename Seen>
   bool eitherSeen(int obstacle, const geom::Vec2& p, const Seen& seen) const {
     if (seen(obstacle)) return true;
-    const int c = canonicalObstacle(obstacle, p);
-    return c != obstacle && seen(c);
+    for (const int o : partnersAt(obstacle, p))
+      if (seen(o)) return true;
+    return false;
   }
 };
 

@@ -558,3 +558,21 @@ TEST(Scenario, PanesCutWallsAndCoincidentObstacles) {
   EXPECT_EQ(asked, 2);
   EXPECT_FALSE(s.eitherSeen(2, {6.2, 1.0}, [&](int o) { return o == 0; }));
 }
+
+// Two walls drawn over the same stretch (a room's outline and a wall piece drawn again beside a
+// door, as angled_glass_doors does): a point there counts as the lower-indexed one, and was seen
+// when the laser returned from either — also when the echo named the one it counts as and the
+// laser the other (that case called 143 wall echoes of angled_glass_doors' seed 1 laser-invisible).
+TEST(Scenario, TwoWallsDrawnOnEachOtherAreSeenAsEither) {
+  const Scenario s = parse(minimal(
+      "obstacles:\n"
+      "  - {shape: polyline, material: wall, points: [[0,0],[6,0]]}\n"
+      "  - {shape: segment, material: wall, from: [1,0], to: [3,0]}\n"));
+  EXPECT_EQ(s.canonicalObstacle(1, {2.0, 0.0}), 0);
+  EXPECT_EQ(s.canonicalObstacle(0, {2.0, 0.0}), 0);
+  EXPECT_EQ(s.partnersAt(0, {2.0, 0.0}), (std::vector<int>{1}));
+  EXPECT_TRUE(s.partnersAt(0, {5.0, 0.0}).empty());
+  EXPECT_TRUE(s.eitherSeen(0, {2.0, 0.0}, [](int o) { return o == 1; }));
+  EXPECT_TRUE(s.eitherSeen(1, {2.0, 0.0}, [](int o) { return o == 0; }));
+  EXPECT_FALSE(s.eitherSeen(0, {5.0, 0.0}, [](int o) { return o == 1; }));  // beyond the shared stretch
+}
