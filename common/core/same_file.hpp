@@ -1,7 +1,8 @@
 #pragma once
-// Whether a tool's output file would overwrite one of its inputs (README "Processes: start-up,
-// exit codes, status"): lasonic-sim --out naming its scenario, lasonic-render --out its log,
-// lasonic-replay --out its --in.
+// Whether a tool's output file would overwrite one of its inputs (README "Scenario format",
+// *Physical bounds*): lasonic-sim --out naming its scenario, lasonic-render --out its log,
+// lasonic-replay --out its --in or a --config, lasonic-eval's --json, --samples or
+// --tactical-samples its log, scenario or a --config, lasonic-lossy-relay --out-log its --in-log.
 #include <filesystem>
 #include <string>
 #include <system_error>

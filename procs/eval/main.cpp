@@ -5,10 +5,12 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/cli.hpp"
 #include "core/config.hpp"
+#include "core/same_file.hpp"
 #include "eval/baselines.hpp"
 #include "eval/evaluate.hpp"
 #include "lcmio/eventlog.hpp"
@@ -37,6 +39,23 @@ int main(int argc, char** argv) {
                  "obstacle and material of a located laser-invisible boundary point; whether the tactical AGM "
                  "holds it and else why not; whether a sonar line covers it and else why not); implies --breakdown");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
+  // No output over an input (README "Scenario format", *Physical bounds*): --json naming the log
+  // would truncate it before it is read.
+  {
+    std::vector<std::pair<std::string, std::string>> inputs = {{"--log", log_path}, {"--scenario", scenario_path}};
+    for (const std::string& c : config_files) inputs.emplace_back("--config", c);
+    const std::pair<const char*, std::string> outputs[] = {
+        {"--json", json_path == "-" ? std::string() : json_path},
+        {"--samples", samples_path},
+        {"--tactical-samples", tactical_samples_path}};
+    for (const auto& [option, out] : outputs)
+      for (const auto& [input_option, input] : inputs)
+        if (!out.empty() && lasonic::sameExistingFile(out, input)) {
+          std::cerr << "lasonic-eval: " << option << " " << out << " is the " << input_option << " file " << input
+                    << ": not overwritten\n";
+          return 2;
+        }
+  }
   lasonic::eval::BaselinesConfig baselines;
   lasonic::eval::EvalOptions opts;
   try {

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "core/cli.hpp"
+#include "core/same_file.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/signals.hpp"
 
@@ -102,6 +103,12 @@ int main(int argc, char** argv) {
   if (live == offline || (live && (from.empty() || to.empty() || from == to)) ||
       (offline && (in_log.empty() || out_log.empty()))) {
     std::fprintf(stderr, "lasonic-lossy-relay: give either --from URL1 --to URL2 (different) or --in-log and --out-log\n");
+    return 2;
+  }
+  // The output is opened (truncated) before the input is read: the same file would be lost.
+  if (offline && lasonic::sameExistingFile(out_log, in_log)) {
+    std::fprintf(stderr, "lasonic-lossy-relay: --out-log %s is the --in-log file %s: not overwritten\n", out_log.c_str(),
+                 in_log.c_str());
     return 2;
   }
   if (offline) {

@@ -222,6 +222,11 @@ int main(int argc, char** argv) {
               << "): writing it would destroy it\n";
     return 2;
   }
+  for (const std::string& c : config_files)
+    if (lasonic::sameExistingFile(out_path, c)) {
+      std::cerr << "lasonic-replay: --out " << out_path << " is the --config file " << c << ": not overwritten\n";
+      return 2;
+    }
   lasonic::setupLogging("lasonic-replay");
   try {
     const lasonic::Config root = lasonic::Config::loadConfiguration(config_files);

@@ -9,7 +9,7 @@
 #     and key path; an empty log, and a log scored against a scenario it was not simulated from
 #     (other movers, other obstacles, or a robot's path 1.5 m away from the log's track), exit 2
 #     saying so (lasonic-log-stats too); the offline tools exit 0 on --help and 2 on any bad
-#     command line;
+#     command line, and 2 on an output that names one of their inputs (the input left intact);
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -91,6 +91,30 @@ rc=0
 "$bin/lasonic-replay" --in "$tmp/raw.lcmlog" --out "$tmp/./raw.lcmlog" >"$tmp/same.err" 2>&1 || rc=$?
 [[ $rc -eq 2 && $(command stat -c %s "$tmp/raw.lcmlog") -eq $size ]] && grep -qF "is the input log" "$tmp/same.err" ||
   die "lasonic-replay --out = --in: exit status $rc, $(command stat -c %s "$tmp/raw.lcmlog") of $size bytes left: $(cat "$tmp/same.err")"
+# No other output over an input either: each case exits 2 naming both, and the input is intact.
+cp "$config" "$tmp/cfg.yaml"
+cp "$scenario" "$tmp/scene.yaml"
+cp "$tmp/out.lcmlog" "$tmp/keep.lcmlog"
+not_overwritten() {  # FILE WANT TOOL ARGS...
+  local file=$1 want=$2 before rc=0
+  shift 2
+  before=$(md5sum <"$file")
+  "$bin/$1" "${@:2}" >"$tmp/over.err" 2>&1 || rc=$?
+  [[ $rc -eq 2 && $(md5sum <"$file") == "$before" ]] && grep -qF -- "$want" "$tmp/over.err" ||
+    die "$*: exit status $rc, $file changed or not named: $(cat "$tmp/over.err")"
+}
+not_overwritten "$tmp/cfg.yaml" "--out $tmp/cfg.yaml is the --config file" \
+  lasonic-replay --in "$tmp/raw.lcmlog" --out "$tmp/cfg.yaml" --config "$tmp/cfg.yaml"
+not_overwritten "$tmp/keep.lcmlog" "--json $tmp/./keep.lcmlog is the --log file" \
+  lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --json "$tmp/./keep.lcmlog"
+not_overwritten "$tmp/scene.yaml" "--samples $tmp/scene.yaml is the --scenario file" \
+  lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --samples "$tmp/scene.yaml"
+not_overwritten "$tmp/cfg.yaml" "--tactical-samples $tmp/cfg.yaml is the --config file" \
+  lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --config "$tmp/cfg.yaml" --tactical-samples "$tmp/cfg.yaml"
+if [[ -x $bin/lasonic-lossy-relay ]]; then
+  not_overwritten "$tmp/keep.lcmlog" "--out-log $tmp/keep.lcmlog is the --in-log file" \
+    lasonic-lossy-relay --in-log "$tmp/keep.lcmlog" --out-log "$tmp/keep.lcmlog" --loss 0.2
+fi
 rc=0
 "$bin/lasonic-log-stats" "$tmp/empty.lcmlog" >"$tmp/empty_stats.err" 2>&1 || rc=$?
 [[ $rc -eq 2 ]] && grep -qF "empty.lcmlog: no event in the log" "$tmp/empty_stats.err" ||
