@@ -106,6 +106,19 @@ TEST(Himm, IncrementOnTheAxisDecrementInFrontClamp) {
   EXPECT_EQ(g.cv({0.55, 0.05}), 0);
 }
 
+// A cell whose certainty value equals the threshold is an obstacle (CV >= threshold): with the
+// threshold at one increment, one echo marks its cell.
+TEST(Himm, ACellAtExactlyTheThresholdIsAnObstacle) {
+  HimmParams p = himmTestParams();
+  p.threshold = p.increment;
+  HimmGrid g(p);
+  const Pose2 s{0.05, 0.05, 0.0};
+  g.follow(s.position());
+  g.insert(s, 1.0, false, 3.0);
+  EXPECT_EQ(g.cv({1.05, 0.05}), p.threshold);
+  EXPECT_TRUE(occupied(g.occupancy(), {1.05, 0.05}));
+}
+
 TEST(Himm, GrowthRateOperatorAddsHalfTheNeighbours) {
   HimmGrid g(himmTestParams());
   const Pose2 s{0.05, 0.05, 0.0};
@@ -224,6 +237,14 @@ TEST(LogOdds, ConfigRejectsNonsense) {
   EXPECT_DOUBLE_EQ(logOddsParams(Config::fromString("{sonar_occupied: 0.7}")).sonar_occupied, 0.7);
 }
 
+// A probability of 0.5 is no evidence either way: an "occupied" reading must lie above it, a
+// "free" one below it.
+TEST(LogOdds, AnEvenProbabilityIsNoEvidence) {
+  for (const char* bad : {"{sonar_occupied: 0.5}", "{laser_occupied: 0.5}", "{sonar_free: 0.5}", "{laser_free: 0.5}"})
+    EXPECT_THROW(logOddsParams(Config::fromString(bad)), ConfigError) << bad;
+  EXPECT_DOUBLE_EQ(logOddsParams(Config::fromString("{sonar_occupied: 0.51}")).sonar_occupied, 0.51);
+}
+
 // ------------------------------------------------------------------------------ naive fusion
 
 TEST(NaiveFusion, KeepsASpecularGhostThatComplementExtractionDrops) {
@@ -257,6 +278,16 @@ TEST(NaiveFusion, KeepsASpecularGhostThatComplementExtractionDrops) {
   NaiveFusion quiet(p);
   for (int i = 0; i < 2; ++i) quiet.insertGroup(i * 30'000, {{0, sensor, reading, false}}, Vec2(0, 0), 0.0);
   EXPECT_EQ(quiet.agm().g(ix, iy), 0);
+}
+
+// Naive fusion counts the ring's groups as the pilot does, group 0 among them: a ring of four
+// groups fired in turn gives the AGM a memory of h_max_ring_cycles x 4 update cycles.
+TEST(NaiveFusion, TheMemoryFollowsARingOfFourGroupsCountingGroupZero) {
+  NaiveFusionParams p;
+  p.h_max_ring_cycles = 3;
+  NaiveFusion naive(p);
+  for (int i = 0; i < 12; ++i) naive.insertGroup(i * 30'000, {}, Vec2(0, 0), 0.0, i % 4);
+  EXPECT_EQ(naive.agm().params().h_max, 12);
 }
 
 // ------------------------------------------------------------------------------ read-out

@@ -2,6 +2,8 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <fstream>
+#include <string>
 
 #include "launch/profile.hpp"
 #include "launch/supervisor.hpp"
@@ -83,6 +85,29 @@ TEST(HostProfile, EnabledTakesAVariable) {
   const std::string yaml = "lcm_url: u\nprocesses: [{name: a, command: [a], enabled: '${spy}'}]\n";
   EXPECT_FALSE(load(yaml, {{"spy", "0"}}).processes[0].enabled);
   EXPECT_TRUE(load(yaml, {{"spy", "1"}}).processes[0].enabled);
+}
+
+// "$${name}" is a literal "${name}" in a command: a --set of that name changes nothing in the
+// profile and is refused as a variable the profile does not use, at the start of an argument too.
+TEST(HostProfile, AnEscapedVariableIsNotAUsedOne) {
+  const std::string yaml = "lcm_url: u\nprocesses: [{name: a, command: [a, '$${x}']}]\n";
+  EXPECT_EQ(load(yaml).processes[0].command[1], "${x}");
+  EXPECT_THROW(load(yaml, {{"x", "1"}}), ConfigError);
+}
+
+// "enabled" taking a variable that expands to nothing turns the process off (as 0, false, no):
+// a profile's optional process is left out by leaving its variable empty.
+TEST(HostProfile, AnEnabledVariableThatIsEmptyDisablesTheProcess) {
+  const std::string yaml = "lcm_url: u\nprocesses: [{name: a, command: [a], enabled: '${spy}'}]\n";
+  EXPECT_FALSE(load(yaml, {{"spy", ""}}).processes[0].enabled);
+  EXPECT_TRUE(load(yaml, {{"spy", "yes"}}).processes[0].enabled);
+}
+
+// --lcm-url (--set lcm_url) is the launcher's own option: it overrides the profile's URL even where
+// no command names ${lcm_url}, and is no "unused variable".
+TEST(HostProfile, SetOfTheLcmUrlIsAcceptedWhereNoCommandUsesIt) {
+  const auto p = load("lcm_url: u1\nprocesses: [{name: a, command: [a]}]\n", {{"lcm_url", "u2"}});
+  EXPECT_EQ(p.lcm_url, "u2");
 }
 
 TEST(HostProfile, ErrorsNameTheKey) {
@@ -168,6 +193,14 @@ TEST(Backoff, DoublesUpToTheCap) {
   EXPECT_DOUBLE_EQ(restartDelay(p, 1000), 10.0);
 }
 
+// A restart count below 1 (none yet) waits as the first restart does: never less than
+// initial_delay_s.
+TEST(Backoff, ACountBelowOneWaitsTheInitialDelay) {
+  const BackoffParams p{0.5, 10, 30};
+  EXPECT_DOUBLE_EQ(restartDelay(p, 0), 0.5);
+  EXPECT_DOUBLE_EQ(restartDelay(p, -3), 0.5);
+}
+
 TEST(ResolveExecutable, SearchesDirsThenPath) {
   EXPECT_FALSE(resolveExecutable("sh", {"/nonexistent"}).empty());  // from $PATH
   EXPECT_EQ(resolveExecutable("/bin/sh", {}), "/bin/sh");
@@ -186,4 +219,46 @@ TEST(RunToEnd, ExitStatusSignalAndOutput) {
   EXPECT_EQ(launch::runToEnd("/bin/sh", {"-c", "read x; echo \"got:$x\""}, out), 0);
   EXPECT_EQ(out, "got:\n");  // stdin is /dev/null: nothing waits for input
   EXPECT_EQ(launch::runToEnd("/no/such/program", {}, out), 127);
+}
+
+namespace {
+// A fresh directory for a supervisor's logs.
+std::string logDir() {
+  std::string dir = ::testing::TempDir() + "lasonic-launch-XXXXXX";
+  if (!::mkdtemp(dir.data())) ADD_FAILURE() << "mkdtemp failed";
+  return dir;
+}
+// How many times the supervisor started `name`: its log has a launcher line before each start.
+int startsIn(const std::string& dir, const std::string& name) {
+  std::ifstream log(dir + "/" + name + ".txt");
+  int starts = 0;
+  for (std::string line; std::getline(log, line);) starts += line.find("] start ") != std::string::npos ? 1 : 0;
+  return starts;
+}
+}  // namespace
+
+// Exit status 2 is a bad command line or configuration: starting the process again cannot help,
+// so it is not restarted (whatever its policy) and the launcher exits 2 once nothing runs.
+TEST(Supervisor, AProcessThatExitsTwoIsNotRestartedAndTheLauncherExitsTwo) {
+  const std::string dir = logDir();
+  const HostProfile profile = load("lcm_url: u\nprocesses: [{name: bad, command: [/bin/sh, -c, 'exit 2'], restart: always}]\n");
+  Supervisor supervisor(profile, dir, {});
+  ASSERT_TRUE(supervisor.prepare());
+  EXPECT_EQ(supervisor.run(3.0), 2);
+  EXPECT_EQ(startsIn(dir, "bad"), 1);
+}
+
+// A process that ran for reset_after_s before it failed was healthy: its restart waits the
+// initial delay again, not the doubled one of a process that keeps dying.
+TEST(Supervisor, AfterAHealthyRunTheRestartDelayStartsAfresh) {
+  const std::string dir = logDir();
+  const HostProfile profile = load(
+      "lcm_url: u\nrestart: {initial_delay_s: 0.05, max_delay_s: 10, reset_after_s: 0.1}\n"
+      "processes: [{name: flaky, command: [/bin/sh, -c, 'sleep 0.15; exit 1'], restart: always}]\n");
+  Supervisor supervisor(profile, dir, {});
+  ASSERT_TRUE(supervisor.prepare());
+  EXPECT_EQ(supervisor.run(3.0), 124);
+  // Every 0.2 s or so (about 15 starts; 10 if a loaded machine takes 0.1 s to start the shell);
+  // with the delay doubling (0.05, 0.1, 0.2, 0.4, 0.8, 1.6 s) it would be 6 starts at most.
+  EXPECT_GE(startsIn(dir, "flaky"), 9);
 }

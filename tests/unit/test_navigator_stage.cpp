@@ -29,6 +29,11 @@ using geom::Vec2;
 
 namespace {
 
+// Copies: the generated CLASS_* are static consts without a definition.
+constexpr int8_t kComplementary = complement_reading_t::CLASS_COMPLEMENTARY,
+                 kOutsideView = complement_reading_t::CLASS_OUTSIDE_VIEW,
+                 kSeenBefore = complement_reading_t::CLASS_SEEN_BEFORE;
+
 // The robot drives slowly along a corridor: a glass pane on its left (laser-invisible), a plaster
 // wall on its right; a person walks towards it and past it between robot and wall.
 const char* kScenario = R"(
@@ -359,6 +364,26 @@ struct NavFixture : ::testing::Test {
     node.publish(channels::RADAR_MAP, m);
     drain();
   }
+  // One firing group at `utime`: a reading of class `cls` from the robot (at the origin) along
+  // +x at `range`, with a 30 deg beam, classified with `tolerance`.
+  void complement(int64_t utime, int8_t cls, double range, float tolerance = 0.1f) {
+    complement_t c{};
+    c.utime = utime;
+    c.tolerance = tolerance;
+    c.beam_width = 0.5236f;
+    c.range_limit = 2.2f;
+    complement_reading_t r{};
+    r.cls = cls;
+    r.range = static_cast<float>(range);
+    r.hypothetical_range = static_cast<float>(range);
+    r.sensor_pose = {0.0, 0.0, 0.0};
+    r.beam_width = 0.5236f;
+    r.end_x = range;
+    r.end_y = 0.0;
+    c.readings.push_back(r);
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drain();
+  }
 };
 line_segment_t seg(double x0, double y0, double x1, double y1) {
   line_segment_t s{};
@@ -389,6 +414,16 @@ TEST_F(NavFixture, BadRadarMapsAreCountedAndSkipped) {
   EXPECT_EQ(csm.back().segments[0].y0, 3.0);
 }
 
+// A Radar Map segment is skipped (and counted) whichever of its four coordinates is not finite.
+TEST_F(NavFixture, ASegmentWithAnyNonFiniteCoordinateIsSkipped) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  radarMap(1'000'000, {seg(nan, 1, 1, 1), seg(0, nan, 1, 1), seg(0, 1, nan, 1), seg(0, 1, 1, nan), seg(0, 3, 1, 3)});
+  EXPECT_EQ(node.counter("rejected.radar_map_segment"), 4);
+  ASSERT_FALSE(csm.empty());
+  ASSERT_EQ(csm.back().segments.size(), 1u);
+  EXPECT_EQ(csm.back().segments[0].y0, 3.0);
+}
+
 TEST_F(NavFixture, MalformedComplementModelIsCountedAndReplaced) {
   complement_t c{};
   c.utime = 1'000'000;
@@ -405,6 +440,69 @@ TEST_F(NavFixture, MalformedComplementModelIsCountedAndReplaced) {
   node.publish(channels::SONAR_COMPLEMENT, c);
   drain();
   EXPECT_EQ(node.counter("rejected.complement_backwards"), 1);
+}
+
+// A group waiting for the next scan is verified against that scan's Radar Map with the
+// complement's tolerance: an echo 5 cm short of the laser's surface (within the 0.1 m tolerance)
+// is that surface's and explained; one 15 cm short is kept.
+TEST_F(NavFixture, TheNextScanExplainsAnEchoWithinTheToleranceOfItsSurface) {
+  complement(1'000'000, kComplementary, 0.95);
+  complement(1'030'000, kComplementary, 0.85);
+  radarMap(1'300'000, {seg(1, -1, 1, 1)});  // a wall 1 m ahead; its scan started at 1.1 s
+  EXPECT_EQ(node.counter("verify.explained"), 1);
+  EXPECT_EQ(node.counter("verify.kept"), 1);
+}
+
+// A malformed tolerance in SONAR_COMPLEMENT is replaced by 0.10 m (reported), not by 0: an echo
+// 5 cm short of the next scan's surface is still that surface's.
+TEST_F(NavFixture, AMalformedToleranceIsReplacedByTenCentimetres) {
+  complement(1'000'000, kComplementary, 0.95, std::numeric_limits<float>::quiet_NaN());
+  EXPECT_EQ(node.counter("rejected.complement_model"), 1);
+  radarMap(1'300'000, {seg(1, -1, 1, 1)});
+  EXPECT_EQ(node.counter("verify.explained"), 1);
+  EXPECT_EQ(node.counter("verify.kept"), 0);
+}
+
+// Echoes from beyond the laser's view (outside_view, seen_before) go in unverified: the next scan
+// cannot vouch for what lies outside its view either, even where its lines would explain them.
+TEST_F(NavFixture, EchoesFromBeyondTheLasersViewAreNotVerifiedByTheNextScan) {
+  complement(1'000'000, kOutsideView, 1.0);
+  complement(1'030'000, kSeenBefore, 1.0);
+  radarMap(1'300'000, {seg(1, -1, 1, 1)});
+  EXPECT_EQ(node.counter("agm.cycles"), 2);
+  EXPECT_EQ(node.counter("verify.explained"), 0);
+  EXPECT_EQ(node.counter("verify.kept"), 0);
+}
+
+// A group waits for the next scan at most 4 s however slow the laser: 2.5 periods of a 0.5 Hz
+// scanner would be 5 s, beyond the 5 s of scan-matching corrections the navigator keeps.
+TEST_F(NavFixture, AGroupWaitsForTheNextScanAtMostFourSeconds) {
+  for (int64_t t = 3'020'000; t <= 12'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    node.publish(channels::ODOMETRY, o);
+  }
+  drain();
+  for (int64_t t = 0; t <= 6'000'000; t += 2'000'000) {  // 0.5 Hz: three intervals time it
+    laser_scan_t s{};
+    s.utime = t;
+    s.angle_min = -geom::kPi;
+    s.angle_increment = geom::kPi / 4;
+    s.range_min = 0.05f;
+    s.range_max = 15.0f;
+    for (int i = 0; i < 8; ++i) {
+      s.ranges.push_back(0.0f);
+      s.flags.push_back(int8_t{laser_scan_t::FLAG_NO_RETURN});
+      s.offset_us.push_back(i * 25'000);
+    }
+    node.publish(channels::LASER_SCAN, s);
+    drain();
+  }
+  complement(7'000'000, kComplementary, 0.85);
+  complement(10'900'000, kComplementary, 0.85);  // 3.9 s later: still waiting
+  EXPECT_EQ(node.counter("verify.timed_out"), 0);
+  complement(11'100'000, kComplementary, 0.85);  // 4.1 s later
+  EXPECT_EQ(node.counter("verify.timed_out"), 1);
 }
 
 // AGM_TACTICAL carries the middle published_size cells of the tactical AGM's larger window: the
@@ -675,6 +773,58 @@ TEST(NavigatorStage, PassThroughByUnverifiableReadingsEmptiesTheStandNoLater) {
   EXPECT_GE(emptied_shipped, kTrolleySeeds / 2);
 }
 
+// The footprint clears only the cells wholly inside the robot's body (centre within
+// robot_radius - cell_size / sqrt(2)): a cell the body only partly covers may hold an obstacle
+// the robot touches, and keeps its hit.
+TEST(NavigatorStage, TheFootprintClearsOnlyCellsWhollyInsideTheBody) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  NavigatorConfig cfg;
+  cfg.verify_with_next_scan = false;
+  cfg.placement.placement = AgmPlacement::Estimate;
+  cfg.placement.bearing = AgmBearing::Axis;
+  cfg.hit_weight_speed = 0;  // one hit per echo, the robot standing
+  cfg.hit_weight_low_speed = 0;
+  ASSERT_TRUE(cfg.clear_footprint);
+  ASSERT_DOUBLE_EQ(cfg.robot_radius, 0.35);
+  NavigatorStage stage{node, cfg};
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    node.publish(channels::ODOMETRY, o);
+  }
+  while (node.spinOnce(0) > 0) {
+  }
+  // Echoes from the robot's centre to the centres of two cells of 0.1 m: (0.15, 0.15), 0.21 m
+  // away (wholly inside), and (0.25, 0.15), 0.29 m away (its far corner at 0.36 m: partly out).
+  const auto echoAt = [&node](int64_t utime, const Vec2& p) {
+    complement_t c{};
+    c.utime = utime;
+    c.tolerance = 0.1f;
+    c.beam_width = 0.5236f;
+    c.range_limit = 2.2f;
+    complement_reading_t r{};
+    r.cls = complement_reading_t::CLASS_COMPLEMENTARY;
+    r.range = static_cast<float>(p.norm());
+    r.hypothetical_range = 2.2f;
+    r.sensor_pose = {0.0, 0.0, std::atan2(p.y(), p.x())};
+    r.beam_width = 0.5236f;
+    r.end_x = p.x();
+    r.end_y = p.y();
+    c.readings.push_back(r);
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    while (node.spinOnce(0) > 0) {
+    }
+  };
+  echoAt(500'000, {0.15, 0.15});
+  echoAt(530'000, {0.25, 0.15});
+  EXPECT_EQ(node.counter("agm.cycles"), 2);
+  int ix = 0, iy = 0;
+  ASSERT_TRUE(stage.agm().cellAt({0.15, 0.15}, ix, iy));
+  EXPECT_EQ(stage.agm().g(ix, iy), 0);
+  ASSERT_TRUE(stage.agm().cellAt({0.25, 0.15}, ix, iy));
+  EXPECT_EQ(stage.agm().g(ix, iy), 1);
+}
+
 namespace {
 // The tactical G_T a navigator ends with after 8 s of firing groups `groups` per ring cycle, each
 // `period_us` after the one before plus 0-8 ms at random; also the threshold of its last
@@ -869,6 +1019,38 @@ TEST(NavigatorConfig, DefaultsAreTheShippedTacticalOnesAndBadKeysAreErrors) {
                           "navigator: {laser_glints: {confirm_s: .nan}}", "navigator: {laser_glints: {glass: true}}",
                           "navigator: {laser_glints: 3}", "navigator: {pass_through: {silence: 2}}"})
     EXPECT_THROW(navigatorConfig(Config::fromString(bad).section("navigator")), ConfigError) << bad;
+}
+
+// The tactical window must hold every complementary echo: one at the hypothesis' range limit
+// from a transducer on the robot's boundary lies robot_radius + range_limit from its centre.
+TEST(NavigatorConfig, TheWindowMustHoldTheRobotRadiusPlusTheRangeLimit) {
+  const NavigatorConfig d = navigatorConfig(Config{});
+  const double view = d.agm.guaranteedView();
+  const double radius = PilotConfig{}.sector_map.robot_radius;
+  ASSERT_GT(radius, 0.1);
+  const auto root = [](double range_limit) {
+    return Config::fromString("complement: {range_limit: " + std::to_string(range_limit) + "}");
+  };
+  EXPECT_NO_THROW(navigatorConfigFromRoot(root(view - radius)));
+  try {
+    navigatorConfigFromRoot(root(view - radius / 2));
+    ADD_FAILURE() << "an echo beyond the window was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("navigator.agm.cell_size"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("pilot.robot_radius + complement.range_limit"), std::string::npos) << e.what();
+  }
+}
+
+// A line threshold equal to the largest Gp the AGM can reach ((2 t + 1)^2 g_max) is reached by a
+// fully hit neighbourhood: allowed; one above it never is: an error.
+TEST(NavigatorConfig, TheLineThresholdMayBeTheLargestGp) {
+  const int most = static_cast<int>(navigatorConfig(Config{}).agm.maxGp());
+  const auto lines = [](int gp_threshold) {
+    return Config::fromString("navigator: {lines: {gp_threshold: " + std::to_string(gp_threshold) + "}}")
+        .section("navigator");
+  };
+  EXPECT_EQ(navigatorConfig(lines(most)).lines.gp_threshold, most);
+  EXPECT_THROW(navigatorConfig(lines(most + 1)), ConfigError);
 }
 
 // Laser glints: a glass wall 3.6 m to the robot's left, beyond the sonar's 3.0 m listening window

@@ -205,6 +205,19 @@ TEST_F(PilotFixture, LaserThenSonarMapsAndAgmRate) {
   EXPECT_EQ(node.errors(), 0);
 }
 
+// AGM_OPERATIONAL goes out again as soon as 1/agm_publish_hz (0.5 s) of message time has passed
+// since the last one: a group fired exactly 0.5 s later publishes, one fired 10 ms earlier does
+// not.
+TEST_F(PilotFixture, TheAgmIsPublishedAgainExactlyOnePeriodLater) {
+  odometry();
+  complement(300'000);
+  complement(790'000);
+  ASSERT_EQ(grids.size(), 1u);
+  complement(800'000);
+  ASSERT_EQ(grids.size(), 2u);
+  EXPECT_EQ(grids[1].utime, 800'000);
+}
+
 TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
   odometry_t bad{};
   bad.utime = 1;
@@ -277,6 +290,21 @@ TEST_F(PilotFixture, AnOdometryOutageIsReportedOnceAndTheMapsComeBack) {
   EXPECT_EQ(node.counter("odometry.lost"), 1);
 }
 
+// Odometry that stopped exactly kLostUs (0.5 s, the sector map's staleness limit) before a map
+// is not yet an outage; a microsecond later it is, and it is reported once.
+TEST(OdometryOutage, IsReportedOnlyOnceOdometryIsSilentForLongerThanKLostUs) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PoseHistory poses;
+  poses.add(1'000'000, geom::Pose2{1.0, 2.0, 0.0});
+  OdometryOutage outage;
+  outage.missing(node, poses, 1'000'000 + OdometryOutage::kLostUs, "SECTOR_MAP");
+  EXPECT_EQ(node.counter("odometry.lost"), 0);
+  outage.missing(node, poses, 1'000'001 + OdometryOutage::kLostUs, "SECTOR_MAP");
+  EXPECT_EQ(node.counter("odometry.lost"), 1);
+  outage.missing(node, poses, 2'000'000 + OdometryOutage::kLostUs, "SECTOR_MAP");
+  EXPECT_EQ(node.counter("odometry.lost"), 1);
+}
+
 TEST_F(PilotFixture, RotationDoesNotRotateTheGrid) {
   odometry(kPi / 2);  // facing +y: the echo at (2.05, 2.05) is now to the right
   complement(300'000);
@@ -324,6 +352,47 @@ TEST(PilotConfig, ErrorsNameTheKeyPath) {
       pilotConfig(Config::fromString("pilot: {agm: {g_threshold: 3}, max_range: 2.5}").section("pilot"));
   EXPECT_EQ(c.sector_map.gp_threshold, 3);  // defaults to G_T
   EXPECT_DOUBLE_EQ(c.sector_map.max_range, 2.5);
+}
+
+namespace {
+// The ConfigError pilotConfig throws for `yaml` (the whole file), or "" if it accepts it.
+std::string pilotConfigError(const std::string& yaml) {
+  try {
+    pilotConfig(Config::fromString(yaml).section("pilot"));
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+// A mover prediction whose speed window is empty (max_speed equal to min_speed) can never call
+// anything a mover: an error, as for a max_speed below min_speed.
+TEST(PilotConfig, AnEmptyMoverSpeedWindowIsAnError) {
+  EXPECT_NE(pilotConfigError("pilot: {mover_prediction: {min_speed: 0.5, max_speed: 0.5}}")
+                .find("pilot.mover_prediction.max_speed: (0.5) must be greater than min_speed (0.5)"),
+            std::string::npos);
+  EXPECT_EQ(pilotConfigError("pilot: {mover_prediction: {min_speed: 0.5, max_speed: 0.6}}"), "");
+}
+
+// The sector map reaches robot_radius + max_range from the robot's centre: the AGM window must
+// hold all of it, the robot's own radius included, wherever re-centring lets the robot be.
+TEST(PilotConfig, TheAgmWindowMustHoldTheRobotRadiusPlusMaxRange) {
+  const PilotConfig d = pilotConfig(Config{});
+  const double view = d.agm.guaranteedView();
+  const double radius = d.sector_map.robot_radius;
+  ASSERT_GT(radius, 0.1);
+  const std::string within = "pilot: {max_range: " + std::to_string(view - radius) + "}";
+  const std::string beyond = "pilot: {max_range: " + std::to_string(view - radius / 2) + "}";
+  EXPECT_EQ(pilotConfigError(within), "");
+  EXPECT_NE(pilotConfigError(beyond).find("pilot.max_range: robot_radius + max_range"), std::string::npos);
+}
+
+// A sector-map threshold of 0 would take every empty cell of the AGM for an obstacle: Gp must be
+// at least 1, as G_T.
+TEST(PilotConfig, AGpThresholdOfZeroIsAnError) {
+  EXPECT_NE(pilotConfigError("pilot: {gp_threshold: 0}").find("pilot.gp_threshold"), std::string::npos);
+  EXPECT_EQ(pilotConfigError("pilot: {gp_threshold: 1}"), "");
 }
 
 TEST(PilotConfig, BearingAndCellPointOptions) {
@@ -437,6 +506,40 @@ TEST_F(PilotFixture, OdometryMakesMapsWhenNoSensorDoesSoADeadSonarIsFlagged) {
   for (size_t i = 3; i < maps.size(); ++i) EXPECT_LE(maps[i].utime - maps[i - 1].utime, 100'000 + 20'000);
   EXPECT_TRUE(maps.back().sonar_stale);
   EXPECT_TRUE(maps.back().laser_stale);
+}
+
+// When no sensor makes a map, the ODOMETRY that comes map_max_interval_s (0.1 s) of message time
+// after the last map makes one: the interval is a bound a consumer may rely on, not one odometry
+// tick more.
+TEST_F(PilotFixture, OdometryMakesAMapExactlyMapMaxIntervalAfterTheLast) {
+  standStill(node, 0, 300'000);
+  drain();
+  complement(300'000);
+  ASSERT_EQ(maps.size(), 1u);
+  standStill(node, 320'000, 380'000);
+  drain();
+  EXPECT_EQ(maps.size(), 1u);
+  standStill(node, 400'000, 400'000);
+  drain();
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps.back().utime, 400'000);
+  EXPECT_EQ(node.counter("sector_map.on_odometry"), 1);
+}
+
+// A scan none of whose readings has odometry says nothing about the room: the sector map keeps
+// the previous scan's returns (ageing), rather than taking it for a scan of an empty room.
+TEST_F(PilotFixture, AScanWithoutOdometryKeepsThePreviousScansReturns) {
+  const int left = 36;
+  odometry();  // poses from 0 to 2 s
+  laserScan(100'000);
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_NEAR(maps.back().laser_distance[left], 0.65, 1e-5);
+  laserScan(2'500'000);  // every reading after the last pose
+  EXPECT_EQ(node.counter("rejected.laser_no_odometry"), 1);
+  standStill(node, 2'020'000, 3'000'000);
+  drain();
+  complement(2'900'000);
+  EXPECT_NEAR(maps.back().laser_distance[left], 0.65, 1e-5);
 }
 
 TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
@@ -648,8 +751,9 @@ struct PilotRememberedFixture : PilotFixture {
   // AGM_TACTICAL with occupied cells (ix, iy) of 0.1 m from the origin; by default one, global
   // (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
   // `frame`: the navigator's frame from the odometry's (scan matching), identity by default.
+  // `gp_threshold`: the threshold the map says its cells were published with.
   void tactical(int64_t utime, const std::vector<std::pair<int, int>>& cells = {{20, 19}},
-                const geom::Pose2& frame = {}) {
+                const geom::Pose2& frame = {}, int gp_threshold = 5) {
     grid_map_t g{};
     g.utime = utime;
     const geom::Pose2 robot = frame.compose(geom::Pose2{1.0, 2.0, 0.0});
@@ -662,7 +766,7 @@ struct PilotRememberedFixture : PilotFixture {
     g.cell_size = 0.1f;
     g.width = g.height = 40;
     g.ncells = 1600;
-    g.gp_threshold = 5;
+    g.gp_threshold = gp_threshold;
     g.g.assign(1600, 0);
     g.h.assign(1600, 0);
     g.gp.assign(1600, 0);
@@ -718,6 +822,15 @@ TEST_F(PilotRememberedFixture, CellsMoveOntoTheLineOfTheirCycle) {
   lines(1'500'000, 2.30);
   EXPECT_NEAR(rememberedAhead(1'540'000), at_centre, 1e-5);
   EXPECT_EQ(node.errors(), 0);
+}
+
+// An AGM_TACTICAL that says its threshold is 0 still gives only the cells with weight as
+// remembered obstacles: an empty cell is no obstacle, whatever threshold the map carries.
+TEST_F(PilotRememberedFixture, EmptyCellsAreNeverRememberedWhateverTheMapsThreshold) {
+  odometry();
+  const double at_centre = std::hypot(1.05, 0.05) - 0.35;
+  tactical(500'000, {{20, 19}}, {}, 0);
+  EXPECT_NEAR(rememberedAhead(510'000), at_centre, 1e-5);
 }
 
 TEST_F(PilotRememberedFixture, CellsComeIntoThePilotsFrameThroughTheMapsRobotPose) {
@@ -939,6 +1052,40 @@ TEST(PilotLaserMemory, AFaceThatGoesDarkStaysUntilAReturnSaysOtherwise) {
   const sector_map_t paper = mapAfterTheFaceGoesDark(false, false);
   ASSERT_EQ(paper.nsectors, 48);
   EXPECT_EQ(paper.source[left], kNone);
+}
+
+// A clock that jumps back (a restarted simulator, a looping log) starts the laser memory afresh:
+// a face the memory held from before the restart is not reported where the first scan after it
+// reads nothing.
+TEST(PilotLaserMemory, AClockRestartForgetsWhatTheMemoryHeld) {
+  const int left = 36;  // [90, 97.5) deg
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage{node, PilotConfig{}};
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  const auto scan = [&node](int64_t utime, bool face) {
+    laser_scan_t s = noReturnScan(utime, -kPi, geom::deg2rad(0.5), 720, 200'000);
+    if (face)
+      for (int i = 540 - 60; i <= 540 + 60; ++i) {  // +90 deg +- 30 deg: a face 1 m to the left
+        s.ranges[static_cast<size_t>(i)] = static_cast<float>(1.0 / std::cos(geom::deg2rad(0.5 * (i - 540))));
+        s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+      }
+    node.publish(channels::LASER_SCAN, s);
+    drainAll(node);
+  };
+  standStill(node, 0, 3'000'000);
+  drainAll(node);
+  scan(2'000'000, true);
+  scan(2'300'000, false);
+  ASSERT_FALSE(maps.empty());
+  EXPECT_EQ(maps.back().source[left], kLaser);  // the face stays while the scan reads nothing there
+  // The sources restart at 0.
+  standStill(node, 0, 1'000'000);
+  drainAll(node);
+  scan(100'000, false);
+  EXPECT_EQ(node.counter("time_resets"), 1);
+  EXPECT_EQ(maps.back().utime, 100'000 + 719 * 200'000 / 720);
+  EXPECT_EQ(maps.back().source[left], kNone);
 }
 
 // An echo that an earlier scan's lines explain where the newest scan does not look (class

@@ -134,6 +134,16 @@ TEST(RadarMapMemory, TheLaserReportsAnEchoOnlyInItsSectorAtItsRange) {
   EXPECT_FALSE(laserReportsEcho(at(0, 1.0), sensor, std::nan(""), tol, sector));
 }
 
+// The laser reports the echo's surface within the tolerance on either side of its range: a
+// return 8 cm nearer than a 1 m echo (tolerance 0.1 m) is the same surface.
+TEST(RadarMapMemory, AReturnNearerThanTheEchoWithinTheToleranceReportsIt) {
+  const Pose2 sensor{1.0, 0.0, geom::kPi / 2};  // looking along +y
+  const double sector = geom::deg2rad(7.5), tol = 0.1;
+  const std::vector<Vec2> nearer = {{1.0, 0.92}};
+  EXPECT_TRUE(laserReportsEcho(nearer, sensor, 1.0, tol, sector));
+  EXPECT_FALSE(laserReportsEcho(nearer, sensor, 1.0, 0.05, sector));
+}
+
 // A rear transducer hears the wall the robot has turned away from. By the newest scan's lines
 // (none there) its echo is complementary; by the lines the earlier scan saw there it is the
 // wall's (redundant) or passed it (false): SeenBefore, which the pilot leaves out and the

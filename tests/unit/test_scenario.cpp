@@ -1,6 +1,7 @@
 // Scenario files: the format of README "Scenario format", and errors that name the offending key path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -575,4 +576,43 @@ TEST(Scenario, TwoWallsDrawnOnEachOtherAreSeenAsEither) {
   EXPECT_TRUE(s.eitherSeen(0, {2.0, 0.0}, [](int o) { return o == 1; }));
   EXPECT_TRUE(s.eitherSeen(1, {2.0, 0.0}, [](int o) { return o == 0; }));
   EXPECT_FALSE(s.eitherSeen(0, {5.0, 0.0}, [](int o) { return o == 1; }));  // beyond the shared stretch
+}
+
+namespace {
+// The stretches [x0, x1] of obstacle `o`'s statics along y = 0 (a wall drawn along the x axis).
+std::vector<std::pair<double, double>> piecesAlongX(const Scenario& s, int o) {
+  std::vector<std::pair<double, double>> out;
+  for (const Primitive& p : s.statics)
+    if (p.obstacle == o) out.emplace_back(std::min(p.segment.a.x(), p.segment.b.x()), std::max(p.segment.a.x(), p.segment.b.x()));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+}  // namespace
+
+// A pane that overlaps a wall by less than 5 cm (drawn up to its end, a little too long) is no
+// door in it: the wall stays whole.
+TEST(Scenario, APaneOverlappingAWallByLessThanFiveCentimetresDoesNotCutIt) {
+  const Scenario s = parse(minimal(
+      "obstacles:\n"
+      "  - {shape: segment, material: wall, from: [0,0], to: [2,0]}\n"
+      "  - {shape: segment, material: glass, from: [1.98,0], to: [3,0]}\n"));
+  const auto wall = piecesAlongX(s, 0);
+  ASSERT_EQ(wall.size(), 1u);
+  EXPECT_NEAR(wall[0].second, 2.0, 1e-9);
+}
+
+// Two panes drawn over one stretch of a wall, one inside the other: the wall is cut where either
+// lies, and does not come back behind the larger one where the smaller ends.
+TEST(Scenario, APaneInsideAnotherCutsTheWallOnlyWhereEitherLies) {
+  const Scenario s = parse(minimal(
+      "obstacles:\n"
+      "  - {shape: segment, material: wall, from: [0,0], to: [4,0]}\n"
+      "  - {shape: segment, material: glass, from: [1,0], to: [3,0]}\n"
+      "  - {shape: segment, material: mesh, from: [1.5,0], to: [2,0]}\n"));
+  const auto wall = piecesAlongX(s, 0);
+  ASSERT_EQ(wall.size(), 2u);
+  EXPECT_NEAR(wall[0].first, 0.0, 1e-9);
+  EXPECT_NEAR(wall[0].second, 1.0, 1e-9);
+  EXPECT_NEAR(wall[1].first, 3.0, 1e-9);
+  EXPECT_NEAR(wall[1].second, 4.0, 1e-9);
 }

@@ -467,6 +467,27 @@ TEST(SonarPhysical, ForeignEmitterIsHeardAtItsArrivalTime) {
   EXPECT_GT(foreign, 5);
 }
 
+// An emitter starts with its first ping at phase_s: a sensor firing before then hears only the
+// wall, never a ping from before the emitter started; after it, the pings are heard.
+TEST(SonarPhysical, AForeignEmitterIsSilentBeforeItsFirstPing) {
+  const Scenario s = scenario(
+      "obstacles:\n  - {shape: segment, material: wall, from: [2.5, -3], to: [2.5, 3]}\n"
+      "emitters:\n  - {position: [1.5, 0], period_s: 0.05, phase_s: 1.0}\n");
+  const SonarConfig c = clean();
+  WorldGeometry w(s);
+  PhysicalSonar model(s, c, 1);
+  std::mt19937_64 rng(1);
+  int foreign = 0;
+  for (int k = 0; k < 12; ++k) {
+    const SonarReading r = model.fireGroup(w, WorldCore::kStartUtime + k * 180'000, {0}, {{0, 0, 0}}, {}, rng).at(0);
+    if (k * 0.18 + 2 * 2.5 / 343.0 < 1.0) {
+      EXPECT_EQ(r.truth.cause, kDirect) << k;  // (firings up to 0.9 s)
+    }
+    foreign += r.truth.cause == kForeign ? 1 : 0;
+  }
+  EXPECT_GT(foreign, 0);
+}
+
 TEST(SonarPhysical, BeamScaleWidensTheSimulatedBeamOnly) {
   // The widest bearing a pipe at 1.5 m is heard at scales with beam_scale; SONAR_RING keeps
   // publishing the nominal beam the pipeline assumes.
@@ -635,6 +656,32 @@ TEST(SonarPhysical, FindsCornersAndEdges) {
   count("  - {shape: segment, material: wall, from: [0, 0], to: [2, 0]}\n"
         "  - {shape: segment, material: glass, from: [2, 0], to: [3, 0]}\n",
         0, 2);
+}
+
+// Only a right angle (within the tolerance) is a corner reflector, which sends sound back
+// parallel to how it came: two walls meeting at 45 deg make none, only the edge of their
+// outside (and the two free ends).
+TEST(SonarPhysical, AnAcuteJunctionIsNoCornerReflector) {
+  const Scenario s = scenario("obstacles:\n  - {shape: polyline, material: wall, points: [[1,1],[0,0],[1,0]]}\n");
+  const Reflectors r = findReflectors(s.statics, deg2rad(5));
+  EXPECT_TRUE(r.corners.empty());
+  EXPECT_EQ(r.edges.size(), 3u);
+}
+
+// Where two materials meet at an outside edge, the edge answers with the stronger reflector's
+// level: a wall ending on a mesh screen is the wall's edge.
+TEST(SonarPhysical, AnEdgeBetweenTwoMaterialsIsTheStrongerOnes) {
+  const Scenario s = scenario("obstacles:\n"
+                              "  - {shape: segment, material: mesh, from: [2, 0], to: [2, 2]}\n"
+                              "  - {shape: segment, material: wall, from: [0, 0], to: [2, 0]}\n");
+  const Reflectors r = findReflectors(s.statics, deg2rad(5));
+  const EdgeReflector* joint = nullptr;
+  for (const EdgeReflector& e : r.edges)
+    if ((e.point - geom::Vec2(2, 0)).norm() < 1e-9) joint = &e;
+  ASSERT_NE(joint, nullptr);
+  EXPECT_EQ(joint->a->material->name, "wall");
+  ASSERT_NE(joint->b, nullptr);
+  EXPECT_EQ(joint->b->material->name, "mesh");
 }
 
 TEST(SonarPhysical, EffectiveBeamDependsOnTheReflectorAndItsRange) {

@@ -277,6 +277,72 @@ TEST(WorldCore, APersonFarFromTheRobotKeepsExactlyItsPath) {
   }
 }
 
+namespace {
+
+// A person walking at 1 m/s along y = 0.2 towards a robot that drives 0.5 m and then stands,
+// 0.2 m off the person's line: the person's path runs through the robot.
+const char* kStandingRobot = R"(
+name: standing_robot
+duration_s: 12
+movers:
+  - {radius: 0.25, speed: 1.0, path: [[4, 0.2], [-3, 0.2]], mode: once}
+robot: {radius: 0.35, path: [[0, 0], [0.5, 0]], speed: 0.5, mode: once}
+)";
+
+}  // namespace
+
+// A person whom a standing robot blocks waits kPatienceS (2 s) at the distance they keep, then
+// walks round the robot and on to the end of their path: nobody waits for ever.
+TEST(WorldCore, ABlockedPersonWaitsTwoSecondsThenWalksRoundTheRobot) {
+  const Scenario s = parse(kStandingRobot);
+  std::vector<sim_state_t> states;
+  const std::vector<double> gap = closestGaps(s, &states);
+  EXPECT_GT(gap[0], 0.10 - 0.02);
+  // Blocked from about 2.8 s: still there at 4 s, after 2 s of waiting.
+  ASSERT_GT(states.size(), 200u);
+  EXPECT_NEAR(states[150].movers[0].x, 1.18, 0.01);
+  EXPECT_NEAR(states[200].movers[0].x, 1.18, 0.01);
+  EXPECT_NEAR(states.back().movers[0].x, -3.0, 1e-6);
+  EXPECT_NEAR(states.back().movers[0].y, 0.2, 1e-6);
+}
+
+// Once clear of the robot, a person walks back to their path at walking speed: the offset from
+// the path shrinks by at most speed x dt per step of the world, it does not jump back.
+TEST(WorldCore, APersonWalksBackToTheirPathAtWalkingSpeed) {
+  const Scenario s = parse(kStandingRobot);
+  std::vector<sim_state_t> states;
+  closestGaps(s, &states);
+  const double step = s.movers[0].speed * 0.02;
+  double widest = 0;
+  for (size_t k = 1; k < states.size(); ++k) {
+    const double before = std::abs(states[k - 1].movers[0].y - 0.2), after = std::abs(states[k].movers[0].y - 0.2);
+    widest = std::max(widest, after);
+    EXPECT_LE(before - after, step + 1e-9) << k;
+  }
+  EXPECT_GT(widest, 0.3);  // (it did step aside)
+}
+
+// A person standing left of the robot's path, with a pillar right behind them, cannot step
+// straight back: they step aside to the side they are on (left), never across the robot's path.
+TEST(WorldCore, APersonStepsAsideToTheSideTheyAreOn) {
+  const Scenario s = parse(R"(
+name: pillar
+duration_s: 16
+obstacles:
+  - {shape: circle, material: metal, center: [7.02, 0.18], radius: 0.05}
+movers:
+  - {radius: 0.25, speed: 0.5, path: [[6.7, 0.1], [6.7, 0.11]], mode: once}
+robot: {radius: 0.35, path: [[0, 0], [6.3, 0]], speed: 0.5, mode: once}
+)");
+  std::vector<sim_state_t> states;
+  const std::vector<double> gap = closestGaps(s, &states);
+  EXPECT_GT(gap[0], 0.10 - 0.02);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const sim_state_t& st : states) lowest = std::min(lowest, static_cast<double>(st.movers[0].y));
+  EXPECT_GE(lowest, 0.1 - 1e-9);
+  EXPECT_GT(states.back().movers[0].y, 0.3);
+}
+
 TEST(WorldCore, KeepClearKeysFromYaml) {
   const Scenario s = parse(R"(
 name: k
@@ -385,6 +451,12 @@ TEST(WorldCore, OdometryPublishedAtItsOwnRate) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("publish_hz: must be <= rate_hz (20)"), std::string::npos) << e.what();
   }
+}
+
+// ODOMETRY published with every state (publish_hz equal to rate_hz) is allowed: only a rate
+// above the state rate is impossible.
+TEST(WorldCore, OdometryMayBePublishedWithEveryState) {
+  EXPECT_EQ(odometryConfig(Config::fromString("rate_hz: 20\npublish_hz: 20\n")).publish_hz, 20);
 }
 
 // Systematic odometry errors (UMBmark's) grow with what was driven and turned: without noise the
