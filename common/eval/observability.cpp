@@ -186,8 +186,9 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
         s.material = it->second;
         // The laser saw the point (the newest scan returned from its obstacle near it; without
         // LASER_TRUTH: its material reflects the laser), or an echo located it.
-        const bool laser = seen.available() ? seen.saw(sc, scan, h.primitive->obstacle, h.point, o.seen_radius, sm.utime)
-                                            : mat.laser == sim::LaserBehaviour::Reflect;
+        const bool laser = seen.available()
+                               ? seen.saw(sc, scan, h.primitive->obstacle, h.point, o.seen_radius, sm.utime)
+                               : mat.laser == sim::LaserBehaviour::Reflect;
         if (h.distance <= o.sector_range) {
           if (laser) {
             s.cue = Cue::Laser;

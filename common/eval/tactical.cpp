@@ -180,9 +180,7 @@ void forEachLocating(const RunLog& log, const sim::Scenario& sc, const std::vect
       const geom::Vec2 hit(c.hit_x, c.hit_y);
       // An echo from a surface the laser saw (its hit point) is redundant: the Radar Map has that
       // surface, and the echo is no evidence of anything only the sonar knows.
-      if (per_scan &&
-          seen->saw(sc, scan, c.obstacle, hit, seen_radius))
-        continue;
+      if (per_scan && seen->saw(sc, scan, c.obstacle, hit, seen_radius)) continue;
       const auto reading = readings.find({t.utime, c.sensor_id});
       // Only what the complement can keep reaches a grid: echoes within the hypothetical scan's limit.
       const double range = reading != readings.end() ? double(reading->second.range) : double(c.true_range);

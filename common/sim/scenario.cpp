@@ -575,7 +575,8 @@ double distanceToRobotPath(const Scenario& scenario, const geom::Vec2& p) {
   const auto& path = scenario.robot.path;
   double best = std::numeric_limits<double>::infinity();
   if (path.size() == 1) return (path.front() - p).norm();
-  for (size_t i = 0; i + 1 < path.size(); ++i) best = std::min(best, geom::distance(geom::Segment{path[i], path[i + 1]}, p));
+  for (size_t i = 0; i + 1 < path.size(); ++i)
+    best = std::min(best, geom::distance(geom::Segment{path[i], path[i + 1]}, p));
   if (scenario.robot.mode == PathMode::Loop && path.size() > 2)
     best = std::min(best, geom::distance(geom::Segment{path.back(), path.front()}, p));
   return best;

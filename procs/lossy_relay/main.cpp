@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
   }
   // The output is opened (truncated) before the input is read: the same file would be lost.
   if (offline && lasonic::sameExistingFile(out_log, in_log)) {
-    std::fprintf(stderr, "lasonic-lossy-relay: --out-log %s is the --in-log file %s: not overwritten\n", out_log.c_str(),
-                 in_log.c_str());
+    std::fprintf(stderr, "lasonic-lossy-relay: --out-log %s is the --in-log file %s: not overwritten\n",
+                 out_log.c_str(), in_log.c_str());
     return 2;
   }
   if (offline) {
