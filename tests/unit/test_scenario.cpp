@@ -563,7 +563,7 @@ TEST(Scenario, PanesCutWallsAndCoincidentObstacles) {
 // Two walls drawn over the same stretch (a room's outline and a wall piece drawn again beside a
 // door, as angled_glass_doors does): a point there counts as the lower-indexed one, and was seen
 // when the laser returned from either — also when the echo named the one it counts as and the
-// laser the other (that case called 143 wall echoes of angled_glass_doors' seed 1 laser-invisible).
+// laser the other (that case called 159 wall echoes of angled_glass_doors' seed 1 laser-invisible).
 TEST(Scenario, TwoWallsDrawnOnEachOtherAreSeenAsEither) {
   const Scenario s = parse(minimal(
       "obstacles:\n"
