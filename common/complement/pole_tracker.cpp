@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "core/utime.hpp"
 
 namespace lasonic::complement {
 
@@ -10,7 +11,7 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
   std::vector<geom::Vec2> poles;
   if (cfg_.min_points <= 0) return poles;
   if (!history_.empty() && utime < history_.back().utime) history_.clear();
-  const auto memory_us = static_cast<int64_t>(std::llround(cfg_.memory_s * 1e6));
+  const auto memory_us = secondsToUs(cfg_.memory_s);
   while (!history_.empty() && utime - history_.front().utime > memory_us) history_.pop_front();
   const double match2 = cfg_.match * cfg_.match, baseline2 = cfg_.baseline * cfg_.baseline;
   Seen now{utime, robot, {}};

@@ -27,6 +27,7 @@
 
 #include "complement/radar_map.hpp"
 #include "core/geometry.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::complement {
 
@@ -42,7 +43,7 @@ class RadarMapMemory {
   // max_incidence [rad]: lines seen only within this of their normal are not kept (0: all are).
   // min_length [m]: shorter lines are not kept (0: all are).
   explicit RadarMapMemory(double memory_s = 0, double max_incidence = 0, double min_length = 0)
-      : memory_us_(static_cast<int64_t>(memory_s * 1e6)), max_incidence_(max_incidence), min_length_(min_length) {}
+      : memory_us_(secondsToUs(memory_s)), max_incidence_(max_incidence), min_length_(min_length) {}
   bool enabled() const { return memory_us_ > 0; }
 
   // The newest Radar Map (its utime, view and segments): earlier maps older than memory_s before

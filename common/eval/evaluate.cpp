@@ -371,9 +371,11 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
   for (int k = 0; k < kClasses; ++k) {
     const std::string cls = complement::className(static_cast<complement::SonarClass>(k));
     if (invisible.den > 0)
-      m.set("complement.invisible_by_class." + cls, invisible_by_class[static_cast<size_t>(k)] / invisible.den);
+      m.set("complement.invisible_by_class." + cls,
+            invisible_by_class[static_cast<size_t>(k)] / static_cast<double>(invisible.den));
     if (informative.den > 0)
-      m.set("complement.informative_by_class." + cls, informative_by_class[static_cast<size_t>(k)] / informative.den);
+      m.set("complement.informative_by_class." + cls,
+            informative_by_class[static_cast<size_t>(k)] / static_cast<double>(informative.den));
   }
   m.set("complement.samples.invisible", invisible.den);
   m.set("complement.samples.informative", informative.den);

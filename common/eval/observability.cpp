@@ -7,6 +7,7 @@
 #include <lasonic/sector_map_t.hpp>
 
 #include "eval/laser_seen.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::eval {
 
@@ -154,7 +155,7 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
   std::map<std::string, int16_t> material_index;
   table.echo_memory_s = operationalMemory(log, o);
   // Rounded, not truncated: 4 cycles of 0.1 s are 400,000 us, not 399,999.
-  const auto memory = static_cast<int64_t>(std::llround(table.echo_memory_s * 1e6));
+  const auto memory = secondsToUs(table.echo_memory_s);
   for (size_t i = 0; i < log.sector_maps.size(); ++i) {
     const sector_map_t& sm = log.sector_maps[i];
     // A map that says it has never heard from one of its sensors (age -1: the pilot's start-up,

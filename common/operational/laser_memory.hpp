@@ -27,6 +27,7 @@
 
 #include "core/geometry.hpp"
 #include "operational/sector_map.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -66,8 +67,8 @@ class LaserMemory {
               const std::vector<SectorMap::MovingPoint>& movers, Covers&& covers,
               const std::vector<uint8_t>* cluster = nullptr) {
     if (!enabled()) return;
-    const auto max_age_us = static_cast<int64_t>(p_.memory_s * 1e6);
-    const auto cluster_age_us = p_.cluster_s > 0 ? static_cast<int64_t>(p_.cluster_s * 1e6) : max_age_us;
+    const auto max_age_us = secondsToUs(p_.memory_s);
+    const auto cluster_age_us = p_.cluster_s > 0 ? secondsToUs(p_.cluster_s) : max_age_us;
     const double reach2 = p_.reach * p_.reach;
     const auto keep = [&](const Remembered& r) {
       return utime - r.utime <= (r.cluster ? cluster_age_us : max_age_us) &&
@@ -88,7 +89,7 @@ class LaserMemory {
     for (size_t i = 0; i < points.size(); ++i) last_.push_back({points[i], utime, flags && (*cluster)[i] != 0});
 
     std::vector<Coasting> coasting;
-    const auto coast_us = static_cast<int64_t>(p_.coast_s * 1e6);
+    const auto coast_us = secondsToUs(p_.coast_s);
     const auto coast = [&](const Coasting& c) {
       if (utime - c.seen > coast_us) return;
       Coasting n = c;

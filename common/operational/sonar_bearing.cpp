@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -21,7 +22,7 @@ BearingEstimate echoBearingEstimate(const SonarEcho& self, const std::vector<Son
   // closer than the mean of their openings.
   const auto beamOf = [&p](const SonarEcho& e) { return e.beam_width > 0 ? e.beam_width : p.beam_width; };
   const double b = beamOf(self);
-  const auto max_age_us = static_cast<int64_t>(p.max_age_s * 1e6);
+  const auto max_age_us = secondsToUs(p.max_age_s);
   Side side[2];  // 0: right (clockwise), 1: left
   for (const SonarEcho& o : others) {
     const int64_t age = self.utime - o.utime;

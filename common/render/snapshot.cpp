@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "lcmio/node.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::render {
 
@@ -197,7 +198,7 @@ std::optional<int64_t> SnapshotCollector::add(const LogRecord& r) {
 }
 
 void SnapshotCollector::forget(int64_t before) {
-  const auto sonar_before = before - static_cast<int64_t>(opts_.sonar_window_s * 1e6);
+  const auto sonar_before = before - secondsToUs(opts_.sonar_window_s);
   odometry_.forget(sonar_before);  // sonar firings in the window are placed with it
   sim_state_.forget(before);
   radar_map_.forget(before);
@@ -283,7 +284,7 @@ Snapshot SnapshotCollector::at(int64_t utime) const {
       s.sector_map->robot_radius < 10)
     s.robot_radius = s.sector_map->robot_radius;
 
-  const int64_t window_start = utime - static_cast<int64_t>(opts_.sonar_window_s * 1e6);
+  const int64_t window_start = utime - secondsToUs(opts_.sonar_window_s);
   // Newest reading per sensor among the messages in (window_start, utime], newest first.
   auto perSensor = [&](const auto& track, auto&& visit) {
     std::set<int> seen;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/drivers.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::sim {
 
@@ -64,7 +65,7 @@ LaserDriverCore::LaserDriverCore(const Scenario& s, const LaserConfig& c, uint64
     : scenario_(std::make_unique<const Scenario>(s)),
       world_(*scenario_),
       cfg_(c),
-      period_us_(std::llround(1e6 / c.scan_rate_hz)),
+      period_us_(periodUs(c.scan_rate_hz)),
       rng_(deriveSeed(seed, "laser")) {
   const double fov = geom::deg2rad(c.fov_deg);
   const bool full_circle = c.fov_deg >= 360.0 - 1e-9;
@@ -233,7 +234,7 @@ std::pair<double, int> LaserDriverCore::physicalReading(const geom::Vec2& origin
 LaserDriverCore::Output LaserDriverCore::makeScan(int64_t start_utime) {
   Output out;
   laser_scan_t& scan = out.scan;
-  scan.utime = start_utime + std::llround(cfg_.clock_offset_s * 1e6);  // the scanner host's clock
+  scan.utime = start_utime + secondsToUs(cfg_.clock_offset_s);  // the scanner host's clock
   scan.seq = seq_++;
   scan.mount.x = cfg_.mount.x;
   scan.mount.y = cfg_.mount.y;

@@ -9,6 +9,7 @@
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
 #include "sim/sonar_physical.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::sim {
 
@@ -355,7 +356,7 @@ SonarDriverCore::SonarDriverCore(const Scenario& s, const SonarConfig& c, uint64
       world_(*scenario_),
       rng_(deriveSeed(seed, "sonar")),
       groups_(firingGroups(c.sensors)),
-      period_us_(std::max<int64_t>(1, std::llround(c.group_period_s * 1e6))),
+      period_us_(std::max<int64_t>(1, secondsToUs(c.group_period_s))),
       schedule_rng_(deriveSeed(seed, "sonar-schedule")) {
   if (groups_.empty()) throw std::invalid_argument("SonarDriverCore: no sonar sensors configured");
   if (c.profile == SensorProfile::Physical) physical_ = std::make_unique<PhysicalSonar>(*scenario_, c, seed);
@@ -386,8 +387,8 @@ std::vector<SonarDriverCore::Output> SonarDriverCore::onSimState(const sim_state
         if (ma.id == m.id)
           mover_velocity_[static_cast<size_t>(m.id)] =
               geom::Vec2(m.x - ma.x, m.y - ma.y) / (static_cast<double>(st.utime - last_->utime) * 1e-6);
-  const auto jitter_us = std::llround(config_.group_jitter_s * 1e6);
-  const auto delay_us = std::llround(config_.sendDelay() * 1e6);
+  const auto jitter_us = secondsToUs(config_.group_jitter_s);
+  const auto delay_us = secondsToUs(config_.sendDelay());
   for (; next_fire_utime_ <= st.utime;) {
     pending_.emplace_back(next_fire_utime_ + delay_us, fire(next_fire_utime_, interpolateState(*last_, st, next_fire_utime_)));
     next_fire_utime_ += period_us_;
@@ -410,7 +411,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
 
   Output o;
   const int group = static_cast<int>(seq_ % static_cast<int32_t>(groups_.size()));
-  o.ring.utime = o.truth.utime = utime + std::llround(config_.clock_offset_s * 1e6);  // the sonar host's clock
+  o.ring.utime = o.truth.utime = utime + secondsToUs(config_.clock_offset_s);  // the sonar host's clock
   o.ring.seq = o.truth.seq = seq_++;
   o.ring.group = o.truth.group = static_cast<int16_t>(group);
   o.ring.num_sensors = static_cast<int16_t>(config_.sensors.size());
@@ -445,7 +446,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
 
 sonar_geometry_t SonarDriverCore::geometry(int64_t utime) const {
   sonar_geometry_t g;
-  g.utime = utime + std::llround(config_.clock_offset_s * 1e6);
+  g.utime = utime + secondsToUs(config_.clock_offset_s);
   for (const SonarSensor& s : config_.sensors) {
     g.mount.push_back(toMsg(s.mount));
     g.beam_width.push_back(reportedBeam(config_, s));

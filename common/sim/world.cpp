@@ -7,6 +7,7 @@
 
 #include "sim/drivers.hpp"
 #include "sim/path_follower.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic::sim {
 
@@ -131,7 +132,7 @@ WorldCore::WorldCore(const Scenario& s, const OdometryConfig& c)
     : cfg_(c),
       scenario_(s),
       robot_(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate),
-      end_utime_(kStartUtime + static_cast<int64_t>(std::llround(s.duration_s * 1e6))),
+      end_utime_(kStartUtime + secondsToUs(s.duration_s)),
       rng_(deriveSeed(s.seed, "odometry")) {
   // (parseScenario and the tools' --duration keep it so; a longer one would overflow end_utime_)
   if (!(s.duration_s > 0 && s.duration_s <= bounds::kMaxDurationS))
@@ -220,11 +221,11 @@ void WorldCore::giveWay(size_t i, double t, double dt, const geom::Pose2& robot,
   }
 }
 
-int64_t WorldCore::periodUs() const { return std::llround(1e6 / cfg_.rate_hz); }
+int64_t WorldCore::periodUs() const { return ::lasonic::periodUs(cfg_.rate_hz); }
 
 bool WorldCore::odometryDue(int64_t utime) const {
   if (!(cfg_.publish_hz > 0) || cfg_.publish_hz >= cfg_.rate_hz) return true;
-  const int64_t every = std::llround(1e6 / cfg_.publish_hz);
+  const int64_t every = ::lasonic::periodUs(cfg_.publish_hz);
   return (utime - kStartUtime) % every < periodUs();
 }
 

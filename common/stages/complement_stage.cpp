@@ -8,6 +8,7 @@
 #include "complement/messages.hpp"
 #include "core/physics.hpp"
 #include "stages/inputs.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -141,7 +142,7 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
   // only makes that allowance 0 or at most a second.)
   const double flight_s = std::isfinite(m.range_max) ? std::clamp(timeOfFlight(m.range_max), 0.0, 1.0) : 0.0;
   checkStamps(node_, sonar_stamps_, poses_, m.utime, channels::SONAR_RING, "time.sonar_ahead_of_odometry",
-              "time.sonar_behind_odometry", static_cast<int64_t>(flight_s * 1e6));
+              "time.sonar_behind_odometry", secondsToUs(flight_s));
   const auto robot = poses_.at(m.utime);
   if (!robot)
     node_.reportError("rejected.sonar_no_odometry", "SONAR_RING utime " + std::to_string(m.utime) +

@@ -11,6 +11,7 @@
 #include "stages/inputs.hpp"
 #include "stages/pilot_stage.hpp"
 #include "stages/stage_messages.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -320,7 +321,7 @@ void NavigatorStage::onComplement(const complement_t& m) {
 void NavigatorStage::flushPending() {
   const double wait_s = std::max(cfg_.verify_max_wait_s,
                                  std::min(kMaxScanWaitS, scan_period_.scans(cfg_.verify_max_wait_scans, 0.0)));
-  const auto wait_us = static_cast<int64_t>(wait_s * 1e6);
+  const auto wait_us = secondsToUs(wait_s);
   const int64_t newest = std::max({now_, last_complement_utime_.value_or(0), last_rm_utime_.value_or(0)});
   while (!pending_.empty()) {
     PendingGroup& g = pending_.front();
@@ -461,7 +462,7 @@ int64_t NavigatorStage::cycleUtime(int64_t cycle) const {
 
 void NavigatorStage::advance(int64_t utime) {
   now_ = std::max(now_, utime);
-  const auto period_us = static_cast<int64_t>(1e6 / cfg_.publish_hz);
+  const auto period_us = periodUs(cfg_.publish_hz);
   if (!last_publish_ || now_ - *last_publish_ >= period_us) publish();
 }
 

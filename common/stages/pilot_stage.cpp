@@ -18,6 +18,7 @@
 #include "operational/remembered_on_lines.hpp"
 #include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -284,7 +285,7 @@ void PilotStage::onOdometry(const odometry_t& m) {
   if (!odo) return;
   speed_ = odo->v;
   // No sensor made a map for too long: odometry does, so the ages (and stale flags) move on.
-  const auto interval_us = static_cast<int64_t>(cfg_.map_max_interval_s * 1e6);
+  const auto interval_us = secondsToUs(cfg_.map_max_interval_s);
   if (last_map_utime_ && odo->utime - *last_map_utime_ >= interval_us) {
     now_ = std::max(now_, odo->utime);
     node_.count("sector_map.on_odometry");
@@ -513,7 +514,7 @@ void PilotStage::onComplement(const complement_t& m) {
   sector_map_.setSonarTime(m.utime);
   now_ = std::max(now_, m.utime);
   publishSectorMap();
-  const auto period_us = static_cast<int64_t>(1e6 / cfg_.agm_publish_hz);
+  const auto period_us = periodUs(cfg_.agm_publish_hz);
   if (!last_agm_publish_ || m.utime - *last_agm_publish_ >= period_us) publishAgm(m.utime);
 }
 

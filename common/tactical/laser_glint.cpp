@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -98,7 +99,7 @@ std::vector<complement::RmSegment> GlintTracker::update(int64_t utime, const geo
   std::vector<complement::RmSegment> out;
   if (!p_.enabled()) return out;
   if (!seen_.empty() && utime <= seen_.back().utime) seen_.clear();
-  const auto window = static_cast<int64_t>(p_.confirm_s * 1e6);
+  const auto window = secondsToUs(p_.confirm_s);
   while (!seen_.empty() && utime - seen_.front().utime > window) seen_.pop_front();
   const std::vector<complement::RmSegment> candidates = glintCandidates(radar_map, viewpoint, p_);
   for (const complement::RmSegment& c : candidates)

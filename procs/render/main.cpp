@@ -26,6 +26,7 @@
 #include "render/snapshot.hpp"
 #include "core/same_file.hpp"
 #include "sim/scenario.hpp"
+#include "core/utime.hpp"
 
 namespace {
 
@@ -167,7 +168,7 @@ int main(int argc, char** argv) {
     frames.push_back(t);
   }
   auto frameUtime = [&](double t) {
-    return std::min(info.end_utime, info.start_utime + static_cast<int64_t>(std::llround(t * 1e6)));
+    return std::min(info.end_utime, info.start_utime + secondsToUs(t));
   };
 
   // ---- pass 2: the pictures

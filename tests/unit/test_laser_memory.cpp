@@ -63,6 +63,18 @@ TEST(LaserMemory, ForgetsAfterMemorySAndBeyondReach) {
   EXPECT_TRUE(m.points().empty());
 }
 
+// A memory_s whose product with 1e6 lies just below the integer (4.1 s: 4099999.9999999995 µs)
+// still keeps a return exactly that old: the age in microseconds is rounded, not truncated.
+TEST(LaserMemory, AMemoryOf4point1SKeepsAReturnExactlyThatOld) {
+  LaserMemory m = memory(4.1);
+  const View270 facing_minus_y{Vec2::Zero(), -geom::kPi / 2};
+  m.update(0, Vec2::Zero(), {{0.0, 1.0}}, View270{});
+  m.update(4'100'000, Vec2::Zero(), {}, facing_minus_y);
+  EXPECT_EQ(m.points().size(), 1u);
+  m.update(4'100'001, Vec2::Zero(), {}, facing_minus_y);
+  EXPECT_TRUE(m.points().empty());
+}
+
 // A still person-sized cluster's returns (flagged by the caller) are kept cluster_s, the rest
 // memory_s; without cluster_s (0) or without flags, every return memory_s.
 TEST(LaserMemory, AStillClusterIsKeptForClusterSOnly) {
