@@ -34,8 +34,12 @@ int main(int argc, char** argv) {
   std::optional<double> robot_speed;
   bool same_path = false;
   std::string profile;
+  bool check_config = false;
   app.add_option("--scenario", scenario_file, "scenario YAML")->required();
-  app.add_option("--out", out_file, "LCM log file to write")->required();
+  app.add_option("--out", out_file, "LCM log file to write (required unless --check-config)");
+  app.add_flag("--check-config", check_config,
+               "load and check the configuration, scenario and options, say what would be simulated, then exit: "
+               "0 usable, 2 not; writes nothing");
   app.add_option("--duration", duration, "sim seconds (default: the scenario's duration_s)");
   sim::addSeedOption(app, seed);
   app.add_option("--robot-speed", robot_speed,
@@ -54,6 +58,10 @@ int main(int argc, char** argv) {
                  "or ideal (the method's idealised sensors)")
       ->check(CLI::IsMember({"physical", "ideal"}));
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
+  if (out_file.empty() && !check_config) {
+    std::cerr << "lasonic-sim: --out is required (lasonic-sim --help lists the options)\n";
+    return kExitBadCommandLine;
+  }
   try {
     sim::checkSeedOption(seed);
   } catch (const ConfigError& e) {
@@ -118,6 +126,17 @@ int main(int argc, char** argv) {
   // not refused, since a robot may be meant to pass close (README "Scenario format").
   for (const sim::RobotOverlap& o : sim::robotOverlaps(scenario))
     std::cerr << "lasonic-sim: warning: " << scenario_file << ": " << sim::describeRobotOverlap(scenario, o) << "\n";
+  if (check_config) {
+    std::cout << "lasonic-sim: configuration usable";
+    for (const std::string& f : config_files) std::cout << " " << f;
+    if (config_files.empty()) std::cout << " (the built-in defaults)";
+    std::printf(", scenario %s: %s, %.1f sim s, robot at %.2f m/s, seed %llu, laser %s, sonar %s\n",
+                scenario_file.c_str(), scenario.name.c_str(), scenario.duration_s, scenario.robot.speed,
+                static_cast<unsigned long long>(scenario.seed),
+                laser_cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical",
+                sonar_cfg.profile == sim::SensorProfile::Ideal ? "ideal" : "physical");
+    return 0;
+  }
 
   const auto wall0 = std::chrono::steady_clock::now();
   std::map<std::string, int64_t> counts;

@@ -6,6 +6,8 @@
 #     missing scenario file, a scenario with a YAML syntax error, a scenario with an unknown key,
 #     a missing config file, or a config with a bad value: exit status 2 and one message that
 #     names the file and, for a bad key, the key path;
+#     lasonic-sim --check-config says a usable set-up is usable (exit 0, nothing written) and a
+#     bad one is not (exit 2 naming the key); without it, --out is required (exit 2);
 #  2. lasonic-laser-driver fed malformed messages on SIM_STATE (lasonic-sonar-check garbage:
 #     19 bytes that are no lasonic type): counts them as decode errors in PROCESS_STATUS, keeps
 #     running, and still scans when good SIM_STATE messages follow. (lasonic-sonar-driver gets
@@ -69,6 +71,26 @@ expect_error lasonic-sonar-driver bad_beam_scale "bad_beam_scale.yaml: sonar.bea
 expect_error lasonic-sim bad_beam_scale "bad_beam_scale.yaml: sonar.beam_scale: must be in (0, 5]" \
   --scenario "$tmp/bad_beam_scale.yaml"
 expect_error lasonic-sim bad_robot_speed "--robot-speed must be in (0, 5] m/s" --scenario "$scenario" --robot-speed 0
+# lasonic-sim --check-config: the same checks, writing nothing; without it --out is required.
+rc=0
+"$bin/lasonic-sim" --scenario "$scenario" --config "$config" --seed 3 --check-config >"$tmp/check.out" 2>&1 || rc=$?
+[[ $rc -eq 0 ]] || die "lasonic-sim --check-config on a usable set-up: exit $rc: $(cat "$tmp/check.out")"
+grep -qF "lasonic-sim: configuration usable $config, scenario $scenario:" "$tmp/check.out" ||
+  die "lasonic-sim --check-config did not say the set-up is usable: $(cat "$tmp/check.out")"
+grep -qF "seed 3, laser physical, sonar physical" "$tmp/check.out" ||
+  die "lasonic-sim --check-config did not say what it would simulate: $(cat "$tmp/check.out")"
+echo "  lasonic-sim (check_config): $(cat "$tmp/check.out")"
+rc=0
+"$bin/lasonic-sim" --scenario "$scenario" --config "$tmp/bad_sonar.yaml" --check-config >"$tmp/check_bad.out" 2>&1 ||
+  rc=$?
+[[ $rc -eq 2 ]] && grep -qF "bad_sonar.yaml: ${bad_value[bad_sonar]}" "$tmp/check_bad.out" ||
+  die "lasonic-sim --check-config on a bad config: exit $rc, expected 2 naming the key: $(cat "$tmp/check_bad.out")"
+echo "  lasonic-sim (check_config, bad config): $(cat "$tmp/check_bad.out")"
+rc=0
+"$bin/lasonic-sim" --scenario "$scenario" >"$tmp/no_out.out" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] && grep -qF "lasonic-sim: --out is required" "$tmp/no_out.out" ||
+  die "lasonic-sim without --out: exit $rc, expected 2: $(cat "$tmp/no_out.out")"
+echo "  lasonic-sim (no --out): $(cat "$tmp/no_out.out")"
 echo "$test_name: (1) ok: every start-up error exits 2 and names the file and key"
 
 # 2. Malformed messages on the laser driver's input.
