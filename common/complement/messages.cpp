@@ -229,8 +229,43 @@ const std::optional<LaserScan>& laserScanFromMessageInto(const laser_scan_t& m, 
   return slot;
 }
 
+void counterClockwiseCopy(const laser_scan_t& m, laser_scan_t& out) {
+  out = m;
+  const size_t n = m.ranges.size();
+  if (!(m.angle_increment < 0) || m.flags.size() != n || m.offset_us.size() != n) return;
+  std::reverse(out.ranges.begin(), out.ranges.end());
+  std::reverse(out.flags.begin(), out.flags.end());
+  std::reverse(out.offset_us.begin(), out.offset_us.end());
+  if (n > 0) out.angle_min = m.angle_min + static_cast<double>(n - 1) * m.angle_increment;
+  out.angle_increment = -m.angle_increment;
+}
+
+namespace {
+// `m` in counter-clockwise order; `source` the message as it came (the same one unless it was
+// clockwise), whose values and reading indices the problems name.
+bool scanFromCounterClockwise(const laser_scan_t& m, const laser_scan_t& source, std::vector<InputProblem>& problems,
+                              LaserScan& s);
+}  // namespace
+
 bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& s) {
+  // A clockwise scanner (angle_increment < 0: one mounted upside down, or turning that way) is
+  // read from its last reading to its first, so every consumer sees its readings in
+  // counter-clockwise order, each with its own time (README "Channels").
+  if (std::isfinite(m.angle_increment) && m.angle_increment < 0) {
+    thread_local laser_scan_t ccw;  // (scratch, its storage reused scan to scan)
+    counterClockwiseCopy(m, ccw);
+    return scanFromCounterClockwise(ccw, m, problems, s);
+  }
+  return scanFromCounterClockwise(m, m, problems, s);
+}
+
+namespace {
+bool scanFromCounterClockwise(const laser_scan_t& m, const laser_scan_t& source, std::vector<InputProblem>& problems,
+                              LaserScan& s) {
   const auto n = static_cast<size_t>(std::max(0, m.nranges));
+  // The index the sender gave reading i (reversed for a clockwise scan).
+  const bool reversed = &m != &source;
+  const auto sent = [&](size_t i) { return reversed ? n - 1 - i : i; };
   if (m.ranges.size() != n || m.flags.size() != n || m.offset_us.size() != n) {
     problems.push_back({"rejected.laser_scan", "LASER_SCAN: nranges = " + std::to_string(m.nranges) +
                                                    " but ranges/flags/offset_us hold " +
@@ -240,9 +275,9 @@ bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& 
     return false;
   }
   if (!(std::isfinite(m.angle_increment) && m.angle_increment > 0) || !std::isfinite(m.angle_min)) {
-    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_increment = " + num(m.angle_increment) +
-                                                   ", angle_min = " + num(m.angle_min) +
-                                                   ": need a finite angle_min and angle_increment > 0"});
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_increment = " + num(source.angle_increment) +
+                                                   ", angle_min = " + num(source.angle_min) +
+                                                   ": need a finite angle_min and a finite angle_increment != 0"});
     return false;
   }
   if (!plausiblePose(m.mount)) {
@@ -266,9 +301,10 @@ bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& 
   // The readings span at most one turn (a finite but huge increment overflowed the angles to
   // infinity, and the Radar Map's points to NaN: found by fuzzing).
   if (static_cast<double>(n - 1) * m.angle_increment > 2.0 * geom::kPi + 1e-6 ||
-      std::abs(m.angle_min) > 4.0 * geom::kPi) {
-    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_min = " + num(m.angle_min) + ", angle_increment = " +
-                                                   num(m.angle_increment) + " with " + std::to_string(n) +
+      std::abs(m.angle_min) > 4.0 * geom::kPi || std::abs(source.angle_min) > 4.0 * geom::kPi) {
+    problems.push_back({"rejected.laser_scan", "LASER_SCAN.angle_min = " + num(source.angle_min) +
+                                                   ", angle_increment = " + num(source.angle_increment) + " with " +
+                                                   std::to_string(n) +
                                                    " readings: more than one turn, or angle_min beyond +-4 pi"});
     return false;
   }
@@ -309,20 +345,20 @@ bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& 
       continue;
     }
     if (m.offset_us[i] < 0 || m.offset_us[i] > input_limits::kMaxLaserOffsetUs) {
-      problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", i) + " = " +
+      problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", sent(i)) + " = " +
                                                        std::to_string(m.offset_us[i]) + " (must be in [0, " +
                                                        std::to_string(input_limits::kMaxLaserOffsetUs) + "])"});
       continue;
     }
     if (m.flags[i] == laser_scan_t::FLAG_NO_RETURN) continue;
     if (m.flags[i] != laser_scan_t::FLAG_OK) {
-      problems.push_back({"rejected.laser_flag", field("LASER_SCAN", "flags", i) + " = " +
+      problems.push_back({"rejected.laser_flag", field("LASER_SCAN", "flags", sent(i)) + " = " +
                                                      std::to_string(m.flags[i]) + " (unknown flag)"});
       continue;
     }
     const double rr = m.ranges[i];
     if (!std::isfinite(rr) || rr < 0 || rr > m.range_max) {
-      problems.push_back({"rejected.laser_range", field("LASER_SCAN", "ranges", i) + " = " + num(rr) +
+      problems.push_back({"rejected.laser_range", field("LASER_SCAN", "ranges", sent(i)) + " = " + num(rr) +
                                                       " (range_max " + num(m.range_max) + ")"});
       continue;
     }
@@ -330,6 +366,7 @@ bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& 
   }
   return true;
 }
+}  // namespace
 
 SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem>& problems) {
   SonarGroup g;

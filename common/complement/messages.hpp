@@ -84,10 +84,18 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
 
 // nullopt when the scan as a whole is unusable (arrays of different length, no readings, bad
 // angles, range limits or mount).
+// A clockwise scan (angle_increment < 0: a scanner mounted upside down, or one that turns that
+// way) becomes a LaserScan in counter-clockwise order: its readings from the last to the first,
+// each with its own time, so the LaserScan's readings always run by increasing angle (and a
+// problem names the index the sender gave the reading).
 std::optional<LaserScan> laserScanFromMessage(const laser_scan_t& m, std::vector<InputProblem>& problems);
 // The same into `out` (its readings' storage reused, scan after scan); false where
 // laserScanFromMessage gives nothing (then `out` holds nothing of use).
 bool laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems, LaserScan& out);
+// `m` with its readings in counter-clockwise order: for angle_increment < 0 (and arrays of
+// nranges' length) the arrays reversed, angle_min the last reading's angle and the increment
+// positive; otherwise a plain copy. Reading i's time stays utime + offset_us[i].
+void counterClockwiseCopy(const laser_scan_t& m, laser_scan_t& out);
 // laserScanFromMessage(m, problems) into `slot` (a LaserScan kept from message to message, its
 // storage reused; empty where the message gives nothing); returns `slot`.
 const std::optional<LaserScan>& laserScanFromMessageInto(const laser_scan_t& m, std::vector<InputProblem>& problems,

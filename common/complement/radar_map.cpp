@@ -868,8 +868,8 @@ namespace {
 RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points, std::optional<geom::Pose2> pose,
                     const RadarMapConfig& cfg) {
   RadarMap rm;
-  rm.source_utime = scan.readings.empty() ? scan.utime : scan.readings.front().utime;
-  rm.utime = scan.readings.empty() ? scan.utime : scan.readings.back().utime;
+  rm.source_utime = firstReadingTime(scan);
+  rm.utime = lastReadingTime(scan);
   rm.robot_pose = pose.value_or(geom::Pose2{});
   rm.view = laserViewOf(scan, rm.robot_pose);
   appendScanSegments(points, scan.full_circle, cfg, rm.segments, &rm.pole_candidates);
@@ -878,8 +878,20 @@ RadarMap radarMapOf(const LaserScan& scan, const std::vector<ScanPoint>& points,
 }
 }  // namespace
 
+// The earliest and the latest of the readings' times: the first and the last reading of a
+// counter-clockwise scanner, the last and the first of a clockwise one (its readings reversed).
+int64_t firstReadingTime(const LaserScan& scan) {
+  if (scan.readings.empty()) return scan.utime;
+  int64_t t = scan.readings.front().utime;
+  for (const LaserReading& r : scan.readings) t = std::min(t, r.utime);
+  return t;
+}
+
 int64_t lastReadingTime(const LaserScan& scan) {
-  return scan.readings.empty() ? scan.utime : scan.readings.back().utime;
+  if (scan.readings.empty()) return scan.utime;
+  int64_t t = scan.readings.back().utime;
+  for (const LaserReading& r : scan.readings) t = std::max(t, r.utime);
+  return t;
 }
 
 bool RmCorner::inside(const geom::Vec2& p) const {

@@ -195,8 +195,10 @@ RmSegment fitLine(const std::vector<geom::Vec2>& points, IndexRange r);
 // short of the corner (at the projection of the reading nearest to it).
 void joinCorner(RmSegment& a, RmSegment& b, double max_shift);
 
-// The time of the scan's last reading (its utime if it has none): a Radar Map's time and pose.
+// The time of the scan's latest reading (its utime if it has none): a Radar Map's time and pose.
 int64_t lastReadingTime(const LaserScan& scan);
+// The time of its earliest reading (its utime if it has none): a Radar Map's source_utime.
+int64_t firstReadingTime(const LaserScan& scan);
 
 // The segments of the placed readings (clusters, end-point fit, size filters) appended to
 // `segments`, and, if given, the clusters that gave none to `pole_candidates`

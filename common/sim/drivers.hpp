@@ -121,6 +121,9 @@ struct LaserConfig {
   double range_min = 0.05;        // [m]
   double noise_std = 0.01;        // [m]
   geom::Pose2 mount{0, 0, 0};     // sensor pose in the robot frame
+  // The direction the scanner turns, seen from above: a scanner mounted upside down turns
+  // clockwise, and its LASER_SCAN says so by a negative angle_increment (README "Channels").
+  bool clockwise = false;
   // --- physical profile
   // Detection limit: a surface of remission rho at incidence beta is seen up to
   // range_10pct * sqrt(rho cos(beta) / 0.1) (the returned power falls as 1/r²).

@@ -20,7 +20,7 @@ namespace {
 LaserConfig laserKeys(const Config& c, LaserConfig base) {
   c.allowOnly({"profile", "scan_rate_hz", "readings", "fov_deg", "range_max", "range_min", "noise_std", "mount",
                "range_10pct_m", "dropout_db", "beam_divergence_deg", "beam_diameter_m", "footprint_rays", "merge_range_m",
-               "clock_offset_s"});
+               "clock_offset_s", "sweep"});
   base.profile = c.getChoice("profile", base.profile, {{"physical", SensorProfile::Physical}, {"ideal", SensorProfile::Ideal}});
   base.scan_rate_hz = c.get("scan_rate_hz", base.scan_rate_hz, Range::between(0.1, 100));
   base.readings = c.get("readings", base.readings, Range::between(2, 100000));
@@ -28,6 +28,7 @@ LaserConfig laserKeys(const Config& c, LaserConfig base) {
   base.range_min = c.get("range_min", base.range_min, Range::nonNegative());
   base.range_max = c.get("range_max", base.range_max, Range::positive());
   base.noise_std = c.get("noise_std", base.noise_std, Range::nonNegative());
+  base.clockwise = c.getChoice("sweep", base.clockwise, {{"counterclockwise", false}, {"clockwise", true}});
   if (c.has("mount")) {
     const Config m = c.section("mount");
     m.allowOnly({"x", "y", "yaw_deg"});
@@ -72,6 +73,10 @@ LaserDriverCore::LaserDriverCore(const Scenario& s, const LaserConfig& c, uint64
   // A full circle must not read the same direction twice; a partial fov includes both edges.
   angle_increment_ = full_circle ? fov / c.readings : fov / (c.readings - 1);
   angle_min_ = -0.5 * fov;
+  if (c.clockwise) {  // the same directions, swept the other way: from +fov/2 down
+    angle_min_ = -angle_min_;
+    angle_increment_ = -angle_increment_;
+  }
   offset_us_.resize(static_cast<size_t>(c.readings));
   for (int i = 0; i < c.readings; ++i)
     offset_us_[static_cast<size_t>(i)] =

@@ -294,12 +294,16 @@ void PilotStage::onOdometry(const odometry_t& m) {
 }
 
 void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
-  mask.resize(m.flags.size());
-  for (size_t i = 0; i < m.flags.size(); ++i)
-    mask[i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() && m.offset_us[i] >= 0 &&
-                      m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
-                  ? 1
-                  : 0;
+  const size_t n = m.flags.size();
+  mask.resize(n);
+  // In the LaserScan's order: a clockwise scan's readings reversed (complement::laserScanFromMessage).
+  const bool reversed = m.angle_increment < 0;
+  for (size_t i = 0; i < n; ++i)
+    mask[reversed ? n - 1 - i : i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() &&
+                                             m.offset_us[i] >= 0 &&
+                                             m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
+                                         ? 1
+                                         : 0;
 }
 
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,

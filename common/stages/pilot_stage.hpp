@@ -160,7 +160,8 @@ void validReturns(const std::vector<complement::ScanPoint>& placed, const std::v
 void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
                    std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving);
 
-// The readings of `m` that came back empty (1) -- the gaps the dark continuation may go into; a
+// The readings of `m` that came back empty (1), in the order of the LaserScan made from it (a
+// clockwise scan reversed) -- the gaps the dark continuation may go into; a
 // reading the message layer rejected (a time offset outside the scan's sweep) is no gap,
 // whatever its flag. (Storage reused.)
 void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask);

@@ -169,11 +169,15 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
     std::vector<float> range(n, 0.0f);
     std::vector<char> valid(n, 0);
     std::vector<geom::Vec2> points;
+    // The LaserScan's readings run counter-clockwise (a clockwise scan's reversed), from its first
+    // reading's angle by |angle_increment|.
+    const double angle_min = n > 0 ? scan.readings.front().angle : msg.angle_min;
+    const double increment = std::abs(msg.angle_increment);
     for (size_t i = 0; i < n; ++i) {
       if (!placed[i].valid) continue;
       points.push_back(placed[i].p);
       const geom::Vec2 local = sensor_ref.inverseTransform(placed[i].p);
-      auto k = static_cast<int64_t>(std::lround((std::atan2(local.y(), local.x()) - msg.angle_min) / msg.angle_increment));
+      auto k = static_cast<int64_t>(std::lround((std::atan2(local.y(), local.x()) - angle_min) / increment));
       if (scan.full_circle) k = ((k % static_cast<int64_t>(n)) + static_cast<int64_t>(n)) % static_cast<int64_t>(n);
       if (k < 0 || k >= static_cast<int64_t>(n)) continue;
       const auto d = static_cast<float>(local.norm());
@@ -189,12 +193,12 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
       obs.setScanRange(i, range[i]);
       obs.setScanRangeValidity(i, valid[i] != 0);
     }
-    obs.aperture = static_cast<float>(static_cast<double>(n) * msg.angle_increment);
+    obs.aperture = static_cast<float>(static_cast<double>(n) * increment);
     obs.rightToLeft = true;
     obs.maxRange = msg.range_max;
     // MRPT's beam i lies at -aperture/2 + i * aperture/n in its sensor frame.
     obs.sensorPose = mrpt::poses::CPose3D(scan.mount.x, scan.mount.y, 0.0,
-                                          scan.mount.theta + msg.angle_min + 0.5 * obs.aperture, 0.0, 0.0);
+                                          scan.mount.theta + angle_min + 0.5 * obs.aperture, 0.0, 0.0);
     const auto robot3 = pose3(*ref);
     auto t0 = Clock::now();
     grid.insertObservation(obs, robot3);

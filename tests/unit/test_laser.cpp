@@ -233,6 +233,38 @@ TEST(Laser, A270DegreeScannerWorks) {
   }
 }
 
+// `sweep: clockwise` (a scanner mounted upside down): the same 270 deg, swept from +135 deg down,
+// angle_increment < 0, the readings' times still rising with the index. Standing still, the
+// reading at each direction is the counter-clockwise scanner's.
+TEST(Laser, AClockwiseScannerSweepsFromTheLeftEdgeDown) {
+  const Scenario sc = world(
+      "  - {shape: segment, material: wall, from: [3, -1], to: [3, 2]}\n"
+      "  - {shape: segment, material: wall, from: [-1, 1.5], to: [2, 1.5]}\n");
+  const std::string keys = "profile: ideal\nfov_deg: 270\nreadings: 541\nnoise_std: 0\n";
+  LaserDriverCore ccw_laser(sc, laserConfig(Config::fromString(keys)), 1);
+  LaserDriverCore cw_laser(sc, laserConfig(Config::fromString(keys + "sweep: clockwise\n")), 1);
+  const laser_scan_t ccw = scanFrom(ccw_laser, {0, 0, 0}), cw = scanFrom(cw_laser, {0, 0, 0});
+  ASSERT_EQ(cw.nranges, 541);
+  EXPECT_NEAR(cw.angle_min, deg2rad(135), 1e-12);
+  EXPECT_NEAR(cw.angle_increment, -deg2rad(0.5), 1e-12);
+  EXPECT_EQ(cw.offset_us, ccw.offset_us);  // reading 0 first, whichever way it turns
+  int seen = 0;
+  for (int i = 0; i < cw.nranges; ++i) {
+    const auto j = static_cast<size_t>(cw.nranges - 1 - i);  // the same direction, counter-clockwise
+    EXPECT_NEAR(cw.angle_min + i * cw.angle_increment, ccw.angle_min + static_cast<double>(j) * ccw.angle_increment,
+                1e-12);
+    EXPECT_EQ(cw.flags[static_cast<size_t>(i)], ccw.flags[j]) << i;
+    EXPECT_NEAR(cw.ranges[static_cast<size_t>(i)], ccw.ranges[j], 1e-5) << i;
+    seen += cw.flags[static_cast<size_t>(i)] == kOk;
+  }
+  EXPECT_GT(seen, 200);
+  EXPECT_NEAR(cw.ranges[270], 3.0, 1e-5);  // straight ahead
+  EXPECT_NEAR(cw.ranges[90], 1.5, 1e-5);   // 90 deg to the left: the first readings
+  EXPECT_NE(configMessage("  sweep: sideways\n").find("cfg.yaml: laser.sweep: must be one of counterclockwise, clockwise"),
+            std::string::npos)
+      << configMessage("  sweep: sideways\n");
+}
+
 TEST(Laser, MountPoseFromConfig) {
   // Sensor 0.2 m ahead of the robot's centre, looking to the robot's left.
   const Scenario sc = world("  - {shape: segment, material: wall, from: [-5, 3], to: [5, 3]}\n");

@@ -111,6 +111,22 @@ struct PilotFixture : ::testing::Test {
 
 // A 2 Hz scanner (a scan every 0.5 s, its readings over the 0.5 s): the laser is stale after two
 // of its own scan periods, timed from its scans, not after the 0.4 s that are two of a 5 Hz one.
+// The dark continuation's gaps are in the LaserScan's order: a clockwise scan's reversed.
+TEST(PilotStage, NoReturnMaskFollowsTheLaserScansOrder) {
+  laser_scan_t m;
+  m.nranges = 4;
+  m.ranges = {0.f, 1.f, 1.f, 1.f};
+  m.flags = {laser_scan_t::FLAG_NO_RETURN, laser_scan_t::FLAG_OK, laser_scan_t::FLAG_OK, laser_scan_t::FLAG_OK};
+  m.offset_us = {0, 100, 200, 300};
+  m.angle_increment = 0.1;
+  std::vector<uint8_t> mask;
+  noReturnMask(m, mask);
+  EXPECT_EQ(mask, (std::vector<uint8_t>{1, 0, 0, 0}));
+  m.angle_increment = -0.1;  // reading 0 is the LaserScan's last
+  noReturnMask(m, mask);
+  EXPECT_EQ(mask, (std::vector<uint8_t>{0, 0, 0, 1}));
+}
+
 TEST(PilotStage, TheLaserIsStaleAfterTwoOfItsOwnScanPeriods) {
   const auto staleAfter = [](const PilotConfig& cfg, int64_t age_us) {
     Node node{"t", "memq://", Node::Options{false, false}};

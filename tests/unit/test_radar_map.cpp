@@ -1,6 +1,7 @@
 // RadarMap: placement with per-reading poses, clusters, iterative end-point fit, TLS refit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -76,6 +77,54 @@ TEST(RadarMap, RectangleRoomGivesFourWallsWithCornersWithin2cm) {
   for (const auto& s : rm.segments) EXPECT_LT(s.rms, 0.005);
   EXPECT_EQ(rm.source_utime, 1'000'000);
   EXPECT_GT(rm.utime, 1'090'000);
+}
+
+// A scanner mounted upside down sweeps clockwise: its LASER_SCAN lists the same readings from
+// the other end, angle_increment < 0, each reading still at its own time. Read as such, it is the
+// same scan: the LaserScan's readings run counter-clockwise, and the Radar Map of a moving robot
+// (each reading placed with its own pose) is the counter-clockwise scanner's, its times the
+// earliest and the latest reading's.
+TEST(RadarMap, AClockwiseScanIsTheSameScanReadTheOtherWay) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const laser_scan_t ccw = fixture::simulateScan(rectangleRoom(), traj, t0, dur);
+  laser_scan_t cw = ccw;  // reading i of cw is reading n-1-i of ccw
+  const size_t n = ccw.ranges.size();
+  std::reverse(cw.ranges.begin(), cw.ranges.end());
+  std::reverse(cw.flags.begin(), cw.flags.end());
+  std::reverse(cw.offset_us.begin(), cw.offset_us.end());
+  cw.angle_min = ccw.angle_min + static_cast<double>(n - 1) * ccw.angle_increment;
+  cw.angle_increment = -ccw.angle_increment;
+  const LaserScan a = plain(ccw), b = plain(cw);
+  ASSERT_EQ(a.readings.size(), b.readings.size());
+  EXPECT_EQ(a.full_circle, b.full_circle);
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(a.readings[i].utime, b.readings[i].utime) << i;
+    EXPECT_EQ(a.readings[i].range, b.readings[i].range) << i;
+    EXPECT_EQ(a.readings[i].valid, b.readings[i].valid) << i;
+    EXPECT_NEAR(a.readings[i].angle, b.readings[i].angle, 1e-12) << i;
+  }
+  const PoseHistory odo = historyOf(traj, t0 - 100'000, t0 + dur + 100'000);
+  const RadarMap ra = extractRadarMap(a, odo, {}), rb = extractRadarMap(b, odo, {});
+  EXPECT_EQ(rb.source_utime, t0);
+  EXPECT_EQ(rb.utime, ra.utime);
+  EXPECT_EQ(rb.source_utime, ra.source_utime);
+  ASSERT_EQ(ra.segments.size(), rb.segments.size());
+  for (size_t k = 0; k < ra.segments.size(); ++k) {
+    EXPECT_LT((ra.segments[k].seg.a - rb.segments[k].seg.a).norm(), 1e-9) << k;
+    EXPECT_LT((ra.segments[k].seg.b - rb.segments[k].seg.b).norm(), 1e-9) << k;
+  }
+  EXPECT_LT(offWalls(rb, rectangleRoom()), 0.02);
+
+  // A problem names the index the sender gave the reading.
+  cw.ranges[3] = std::numeric_limits<float>::quiet_NaN();
+  std::vector<InputProblem> problems;
+  const auto bad = laserScanFromMessage(cw, problems);
+  ASSERT_TRUE(bad.has_value());
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].message.find("LASER_SCAN.ranges[3] = nan"), std::string::npos) << problems[0].message;
+  EXPECT_FALSE(bad->readings[n - 1 - 3].valid);
+  EXPECT_EQ(bad->readings[3].valid, a.readings[3].valid);
 }
 
 TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
