@@ -802,6 +802,29 @@ LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot) {
   return v;
 }
 
+LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot, const geom::Pose2& robot_at_first) {
+  LaserView v = laserViewOf(scan, robot);
+  const size_t n = scan.readings.size();
+  if (!scan.full_circle || n < 2) return v;
+  const LaserReading& front = scan.readings.front();
+  const LaserReading& back = scan.readings.back();
+  const double spacing = (back.angle - front.angle) / static_cast<double>(n - 1);
+  // The turn from the earliest reading to the latest; the sweep runs from the earliest reading to
+  // the latest: counter-clockwise when the first by angle is the earliest.
+  const double turn = geom::angleDiff(robot.theta, robot_at_first.theta);
+  const bool ccw = front.utime <= back.utime;
+  if (ccw && turn < -spacing) {  // the earliest reading (the first by angle) lies at front - turn
+    v.full_circle = false;
+    v.angle_min = front.angle - turn;
+    v.angle_max = back.angle;
+  } else if (!ccw && turn > spacing) {  // the earliest reading (the last by angle) lies at back - turn
+    v.full_circle = false;
+    v.angle_min = front.angle;
+    v.angle_max = back.angle - turn;
+  }
+  return v;
+}
+
 DarkBearings::DarkBearings(const LaserScan& scan, const LaserView& view, const std::vector<uint8_t>& empty)
     : view_(view) {
   const size_t n = std::min(scan.readings.size(), empty.size());

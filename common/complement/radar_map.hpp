@@ -36,7 +36,7 @@ struct LaserReading {
 };
 
 struct LaserScan {
-  int64_t utime = 0;               // [us] time of reading 0
+  int64_t utime = 0;               // [us] the message's utime: its earliest reading's time
   geom::Pose2 mount;               // sensor pose in the robot frame
   std::vector<LaserReading> readings;  // in scan (angle) order
   bool full_circle = false;        // the last reading neighbours the first (360 deg scanner)
@@ -84,6 +84,14 @@ struct LaserView {
 };
 // The view of `scan` with the robot at `robot` (the pose at the scan's last reading).
 LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot);
+// The same, knowing also the robot's pose at the scan's earliest reading: a robot that turned
+// during the scan took that reading at another heading, so in the last reading's frame it lies
+// that much further along. A full-circle scan during which the robot turned against the sweep by
+// more than one reading's spacing left a wedge at its seam that no reading looked into (at
+// 1 rad/s and 5 scans/s, 11 deg: one and a half sectors): its view is the part the readings
+// covered, as a partial scanner's. (A scanner of less than a full turn, or a turn with the sweep:
+// the view as above.)
+LaserView laserViewOf(const LaserScan& scan, const geom::Pose2& robot, const geom::Pose2& robot_at_first);
 
 // The bearings in which a scan's readings came back empty (an empty reading is no free space:
 // the pilot's laser memory keeps earlier returns there). at(p) is true where the reading nearest

@@ -441,9 +441,13 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     // return stays.
     std::optional<complement::DarkBearings> dark;
     if (cfg_.laser_memory_dark) dark.emplace(*scan, view, no_return_);
+    // Where it looked: a robot turning against the sweep leaves a wedge at a full circle's seam
+    // that no reading of this scan looked into; earlier returns stay there.
+    const auto first = poses_.at(complement::firstReadingTime(*scan));
+    const complement::LaserView looked = first ? complement::laserViewOf(*scan, *robot, *first) : view;
     laser_memory_.update(
         newest, robot->position(), still, moving,
-        [&view, &dark](const geom::Vec2& p) { return view.covers(p) && !(dark && dark->at(p)); }, &still_cluster_);
+        [&looked, &dark](const geom::Vec2& p) { return looked.covers(p) && !(dark && dark->at(p)); }, &still_cluster_);
     const std::vector<SectorMap::MovingPoint>& coasting = laser_memory_.coastingMovers();
     if (!coasting.empty()) {
       moving.insert(moving.end(), coasting.begin(), coasting.end());

@@ -1231,3 +1231,43 @@ TEST(PilotRingMemory, TheAgmForgetsAfterThreeRingCyclesOfTheRingItHears) {
   EXPECT_EQ(heardWeightAfter(3, 6, 19), 0);
   EXPECT_EQ(heardWeightAfter(0, 8, 19), 0);  // agm.h_max, whatever the ring
 }
+
+// A robot turning on the spot at 1 rad/s against a 360 deg scanner's sweep (clockwise against
+// counter-clockwise), inside a round room 1 m away everywhere: each 0.2 s scan's readings,
+// taken at their own headings, cover 360 deg less 11.5 deg in its last reading's frame, a wedge
+// at the seam behind the robot. The laser memory keeps the scan before's returns there, so
+// every sector keeps its wall.
+TEST(PilotStage, ATurnAgainstTheSweepLeavesNoSectorWithoutItsWall) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage(node, PilotConfig{});
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  const auto heading = [](int64_t t) { return -1.0 * static_cast<double>(t) * 1e-6; };
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, heading(t)};
+    o.omega = -1.0;
+    node.publish(channels::ODOMETRY, o);
+  }
+  drainAll(node);
+  for (int64_t scan = 0; scan < 4; ++scan) {
+    laser_scan_t s = noReturnScan(scan * 200'000, -kPi, 2 * kPi / 720, 720, 200'000);
+    for (size_t i = 0; i < s.ranges.size(); ++i) {
+      s.ranges[i] = 1.0f;
+      s.flags[i] = laser_scan_t::FLAG_OK;
+    }
+    maps.clear();
+    node.publish(channels::LASER_SCAN, s);
+    drainAll(node);
+  }
+  ASSERT_FALSE(maps.empty());
+  const sector_map_t& m = maps.back();
+  int walls = 0;
+  for (int k = 0; k < m.nsectors; ++k) {
+    const auto i = static_cast<size_t>(k);
+    EXPECT_EQ(m.source[i], kLaser) << "sector " << k;
+    if (m.source[i] == kLaser) walls += std::abs(m.laser_distance[i] - 0.65f) < 0.02f;  // 1 m less the radius
+  }
+  EXPECT_EQ(walls, m.nsectors);
+}

@@ -127,6 +127,64 @@ TEST(RadarMap, AClockwiseScanIsTheSameScanReadTheOtherWay) {
   EXPECT_EQ(bad->readings[3].valid, a.readings[3].valid);
 }
 
+// A full-circle scan of 720 readings (0.5 deg apart) taken over 0.2 s, by increasing angle,
+// counter-clockwise in time (clockwise: the latest reading first).
+LaserScan fullCircle(bool clockwise) {
+  LaserScan s;
+  s.full_circle = true;
+  const size_t n = 720;
+  for (size_t i = 0; i < n; ++i) {
+    LaserReading r;
+    r.angle = -geom::kPi + static_cast<double>(i) * 2 * geom::kPi / n;
+    const auto k = static_cast<int64_t>(clockwise ? n - 1 - i : i);
+    r.utime = 1'000'000 + k * 200'000 / static_cast<int64_t>(n);
+    r.range = 2.0;
+    r.valid = true;
+    s.readings.push_back(r);
+  }
+  return s;
+}
+
+// A robot that turns during a full-circle scan against its sweep leaves a wedge at the seam that
+// no reading looked into: the view knowing the first reading's pose is the part covered. With
+// the sweep, or by less than a reading's spacing, it stays a full circle.
+TEST(RadarMap, AFullCircleScanTurnedAgainstLeavesAWedgeAtItsSeam) {
+  const geom::Pose2 last{0, 0, 0.0};
+  const geom::Pose2 turned_right{0, 0, 0.1}, turned_left{0, 0, -0.1};  // the first reading's heading
+  const auto at = [](double bearing) { return geom::unitVector(bearing); };
+  // Counter-clockwise sweep, the robot turning clockwise (heading 0.1 -> 0): the first reading,
+  // at -pi in its own frame, lies at -pi + 0.1 in the last one's.
+  const LaserScan ccw = fullCircle(false);
+  const LaserView v = laserViewOf(ccw, last, turned_right);
+  EXPECT_FALSE(v.full_circle);
+  EXPECT_NEAR(v.angle_min, -geom::kPi + 0.1, 1e-12);
+  EXPECT_DOUBLE_EQ(v.angle_max, ccw.readings.back().angle);
+  EXPECT_FALSE(v.covers(at(-geom::kPi + 0.05)));  // in the wedge
+  EXPECT_FALSE(v.covers(at(geom::kPi - 0.001)));  // beyond the last reading (pi - 0.0087)
+  EXPECT_TRUE(v.covers(at(-geom::kPi + 0.15)));
+  EXPECT_TRUE(v.covers(at(0.0)));
+  EXPECT_TRUE(laserViewOf(ccw, last, turned_left).full_circle);  // with the sweep: overlap, no wedge
+  EXPECT_TRUE(laserViewOf(ccw, last, geom::Pose2{0, 0, 0.008}).full_circle);  // less than 0.5 deg
+  EXPECT_TRUE(laserViewOf(ccw, last).full_circle);
+  // Clockwise sweep (a scanner upside down), the robot turning counter-clockwise: the first
+  // reading, the last by angle (pi - 0.0087), lies at pi - 0.0087 - 0.1.
+  const LaserScan cw = fullCircle(true);
+  const LaserView w = laserViewOf(cw, last, turned_left);
+  EXPECT_FALSE(w.full_circle);
+  EXPECT_DOUBLE_EQ(w.angle_min, cw.readings.front().angle);
+  EXPECT_NEAR(w.angle_max, cw.readings.back().angle - 0.1, 1e-12);
+  EXPECT_FALSE(w.covers(at(geom::kPi - 0.05)));
+  EXPECT_TRUE(w.covers(at(geom::kPi - 0.15)));
+  EXPECT_TRUE(laserViewOf(cw, last, turned_right).full_circle);
+  // A scanner of less than a full turn keeps its view.
+  LaserScan part = ccw;
+  part.full_circle = false;
+  part.readings.resize(540);
+  const LaserView p = laserViewOf(part, last, turned_right);
+  EXPECT_DOUBLE_EQ(p.angle_min, part.readings.front().angle);
+  EXPECT_DOUBLE_EQ(p.angle_max, part.readings.back().angle);
+}
+
 TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
   // 1 m/s and 1 rad/s during a 200 ms scan: 20 cm and 11 deg of motion between first and last ray.
   const int64_t t0 = 5'000'000, dur = 200'000;
