@@ -348,6 +348,10 @@ bool scanFromCounterClockwise(const laser_scan_t& m, const laser_scan_t& source,
       problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", sent(i)) + " = " +
                                                        std::to_string(m.offset_us[i]) + " (must be in [0, " +
                                                        std::to_string(input_limits::kMaxLaserOffsetUs) + "])"});
+      // Its time is unknown: the scan's own, so that it moves neither the scan's earliest nor its
+      // latest reading time (firstReadingTime, lastReadingTime, the pilot's newest return),
+      // wherever it lies in the scan.
+      r.utime = utime;
       continue;
     }
     if (m.flags[i] == laser_scan_t::FLAG_NO_RETURN) continue;

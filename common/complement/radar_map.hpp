@@ -29,14 +29,14 @@ namespace lasonic::complement {
 // One laser reading in the sensor frame. `valid` is false for no-return readings (and for
 // readings the message layer rejected): they become gaps.
 struct LaserReading {
-  int64_t utime = 0;   // [us] time this reading was taken
+  int64_t utime = 0;   // [us] time this reading was taken (its offset rejected: the scan's utime)
   double angle = 0;    // [rad] sensor frame
   double range = 0;    // [m]
   bool valid = false;
 };
 
 struct LaserScan {
-  int64_t utime = 0;               // [us] the message's utime: its earliest reading's time
+  int64_t utime = 0;               // [us] the message's utime, its readings' offsets counted from it
   geom::Pose2 mount;               // sensor pose in the robot frame
   std::vector<LaserReading> readings;  // in scan (angle) order
   bool full_circle = false;        // the last reading neighbours the first (360 deg scanner)

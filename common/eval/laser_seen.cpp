@@ -5,6 +5,8 @@
 #include <map>
 #include <tuple>
 
+#include "complement/messages.hpp"
+
 namespace lasonic::eval {
 
 namespace {
@@ -37,7 +39,13 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     const laser_truth_t& t = *it->second;
     Scan scan;
     scan.done = s.utime;
-    for (size_t i = 0; i < n; ++i) scan.done = std::max<int64_t>(scan.done, s.utime + s.offset_us[i]);
+    // A reading whose time offset the pipeline rejects (outside the scan's sweep) was not seen:
+    // it neither completes the scan later (the Radar Map's time leaves it out) nor is a point.
+    const auto in_sweep = [&s](size_t i) {
+      return s.offset_us[i] >= 0 && s.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs;
+    };
+    for (size_t i = 0; i < n; ++i)
+      if (in_sweep(i)) scan.done = std::max<int64_t>(scan.done, s.utime + s.offset_us[i]);
     const geom::Pose2 mount = toPose(s.mount);
     // Sorted with their cells at hand, then kept compact (Point).
     struct Reading {
@@ -50,7 +58,7 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     for (size_t i = 0; i < n; ++i) {
       const int obstacle = t.obstacle[i];
       const float r = s.ranges[i];
-      if (s.flags[i] != laser_scan_t::FLAG_OK || obstacle == -1 || !std::isfinite(r) || r < 0) continue;
+      if (s.flags[i] != laser_scan_t::FLAG_OK || obstacle == -1 || !std::isfinite(r) || r < 0 || !in_sweep(i)) continue;
       const int64_t when = s.utime + s.offset_us[i];
       const geom::Pose2 sensor = truth_.robotAt(when).compose(mount);
       const geom::Vec2 w =

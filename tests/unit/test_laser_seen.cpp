@@ -174,6 +174,20 @@ TEST(LaserSeen, SeesTheBoxInOneScanAndNotInTheOther) {
   EXPECT_FALSE(seen.saw(0, kBox, {std::nan(""), 2.0}, 0.10));
 }
 
+// A reading whose time offset the pipeline rejects (outside [0, 1 s]) was not seen: the scan is
+// completed when its Radar Map is (at its latest good reading), and that reading is no point.
+TEST(LaserSeen, AReadingWithARejectedTimeOffsetIsNotSeen) {
+  const auto sc = boxRoom();
+  RunLog log = twoScans(sc);
+  log.laser_scans[0].offset_us[360] = 30'000'000;  // the reading that hit the box's front face
+  const LaserSeen seen(log);
+  ASSERT_EQ(seen.scans(), 2u);
+  EXPECT_EQ(seen.completionTime(0), doneAt(kScanA));
+  EXPECT_EQ(seen.completedAt(doneAt(kScanA)), 0);
+  EXPECT_TRUE(seen.saw(0, kBox, {2.8, 2.05}, 0.10));   // its neighbours
+  EXPECT_FALSE(seen.saw(0, kBox, {2.8, 2.0}, 0.01));  // not the rejected reading itself
+}
+
 TEST(LaserSeen, PlacesEachReadingWithThePoseAtItsOwnTimeAndTheMount) {
   // The robot drives +x at 1 m/s; the scanner sits 0.1 m ahead of its centre, turned by 90 deg.
   RunLog log;

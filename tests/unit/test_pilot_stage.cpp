@@ -264,6 +264,23 @@ TEST_F(PilotFixture, BadInputIsReportedAndTheStageGoesOn) {
   EXPECT_EQ(node.counter("rejected.odometry_backwards"), 1);
 }
 
+// A reading whose time offset is rejected says nothing: the sector map is the scan's, at its
+// latest good reading, not half a minute later where no pose is (which would also have moved the
+// pilot's clock on).
+TEST_F(PilotFixture, ARejectedLaserTimeOffsetDoesNotMoveTheMapsTime) {
+  odometry();
+  laser_scan_t s = noReturnScan(100'000, -kPi, 2 * kPi / 720, 720, 200'000);
+  s.ranges[540] = 1.0f;
+  s.flags[540] = laser_scan_t::FLAG_OK;
+  s.offset_us[200] = 30'000'000;
+  node.publish(channels::LASER_SCAN, s);
+  drain();
+  EXPECT_EQ(node.counter("rejected.laser_offset"), 1);
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_EQ(maps.back().utime, 100'000 + 719 * 200'000 / 720);
+  EXPECT_EQ(maps.back().source[36], kLaser);
+}
+
 TEST_F(PilotFixture, NegativeComplementRangesAreSkipped) {
   odometry();
   // A complementary reading with a finite but negative range: skipped, not accumulated.

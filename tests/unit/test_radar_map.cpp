@@ -185,6 +185,40 @@ TEST(RadarMap, AFullCircleScanTurnedAgainstLeavesAWedgeAtItsSeam) {
   EXPECT_DOUBLE_EQ(p.angle_max, part.readings.back().angle);
 }
 
+// A reading whose time offset is rejected (outside the scan's sweep) says nothing, wherever it
+// lies in the scan: the Radar Map's times stay the earliest and the latest of the other readings,
+// for a counter-clockwise and a clockwise scan alike, and the map is seen from the same pose (not
+// from none, which would make the complement keep its previous Radar Map).
+TEST(RadarMap, ARejectedTimeOffsetDoesNotMoveTheMapsTimes) {
+  const int64_t t0 = 5'000'000, dur = 200'000;
+  const auto traj = fixture::moving({1.5, 1.5, 0.0}, t0, 1.0, 0.0, 1.0);
+  const PoseHistory odo = historyOf(traj, t0 - 100'000, t0 + dur + 100'000);
+  for (const bool clockwise : {false, true}) {
+    laser_scan_t m = fixture::simulateScan(rectangleRoom(), traj, t0, dur);
+    if (clockwise) {  // a clockwise scanner: the directions reversed, reading 0 still taken first
+      const size_t n = m.ranges.size();
+      std::reverse(m.ranges.begin(), m.ranges.end());
+      std::reverse(m.flags.begin(), m.flags.end());
+      m.angle_min += static_cast<double>(n - 1) * m.angle_increment;
+      m.angle_increment = -m.angle_increment;
+    }
+    const RadarMap good = extractRadarMap(plain(m), odo, {});
+    m.offset_us[100] = -40'000;     // before the scan began
+    m.offset_us[300] = 30'000'000;  // half a minute after it
+    std::vector<InputProblem> problems;
+    const auto scan = laserScanFromMessage(m, problems);
+    ASSERT_TRUE(scan.has_value());
+    EXPECT_EQ(problems.size(), 2u);
+    EXPECT_EQ(firstReadingTime(*scan), t0) << clockwise;
+    EXPECT_EQ(lastReadingTime(*scan), good.utime) << clockwise;
+    const RadarMap rm = extractRadarMap(*scan, odo, {});
+    EXPECT_EQ(rm.source_utime, good.source_utime) << clockwise;
+    EXPECT_EQ(rm.utime, good.utime) << clockwise;
+    EXPECT_EQ(rm.robot_pose.x, good.robot_pose.x) << clockwise;  // seen from the pose at its latest reading
+    EXPECT_EQ(rm.robot_pose.theta, good.robot_pose.theta) << clockwise;
+  }
+}
+
 TEST(RadarMap, MotionDuringTheScanIsCorrectedByInterpolatedPoses) {
   // 1 m/s and 1 rad/s during a 200 ms scan: 20 cm and 11 deg of motion between first and last ray.
   const int64_t t0 = 5'000'000, dur = 200'000;
