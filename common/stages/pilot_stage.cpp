@@ -72,7 +72,8 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "dark_continuation_m", "motion_confirmation",
+                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "laser_memory_seam",
+                                   "dark_continuation_m", "motion_confirmation",
                                    "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
@@ -121,6 +122,7 @@ PilotConfig pilotConfig(const Config& c) {
   p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
   p.laser_memory_cluster_s = c.get("laser_memory_cluster_s", p.laser_memory_cluster_s, Range::between(0, 60));
   p.laser_memory_dark = c.get<bool>("laser_memory_dark", p.laser_memory_dark);
+  p.laser_memory_seam = c.get<bool>("laser_memory_seam", p.laser_memory_seam);
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
     const Config m = c.section("mover_prediction");
@@ -443,7 +445,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     if (cfg_.laser_memory_dark) dark.emplace(*scan, view, no_return_);
     // Where it looked: a robot turning against the sweep leaves a wedge at a full circle's seam
     // that no reading of this scan looked into; earlier returns stay there.
-    const auto first = poses_.at(complement::firstReadingTime(*scan));
+    const auto first = cfg_.laser_memory_seam ? poses_.at(complement::firstReadingTime(*scan)) : std::nullopt;
     const complement::LaserView looked = first ? complement::laserViewOf(*scan, *robot, *first) : view;
     laser_memory_.update(
         newest, robot->position(), still, moving,

@@ -130,6 +130,11 @@ struct PilotConfig {
   // in that bearing (nearer or farther) decides, as everywhere else. false: the memory only where
   // the scanner does not look.
   bool laser_memory_dark = true;
+  // Beyond the paper, with laser_memory_dark: a 360 deg scan during which the robot turned
+  // against the sweep left a wedge at its seam that none of its readings looked into
+  // (complement::laserViewOf with the first reading's pose); earlier returns stay there. false:
+  // a 360 deg scan covers every bearing.
+  bool laser_memory_seam = true;
   // Beyond the paper: a straight run of returns that ends in readings with no return is continued
   // along its line into them, up to `length` past its last return (complement/dark_continuation.hpp):
   // a return stands for its surface 0.10 m around it, as for laser_explains_radius. 0: off (the paper).

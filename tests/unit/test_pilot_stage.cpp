@@ -1254,16 +1254,18 @@ TEST(PilotRingMemory, TheAgmForgetsAfterThreeRingCyclesOfTheRingItHears) {
 // taken at their own headings, cover 360 deg less 11.5 deg in its last reading's frame, a wedge
 // at the seam behind the robot. The laser memory keeps the scan before's returns there, so
 // every sector keeps its wall.
-TEST(PilotStage, ATurnAgainstTheSweepLeavesNoSectorWithoutItsWall) {
+namespace {
+// The last SECTOR_MAP of a robot standing at (1, 2) and turning at -1 rad/s, after four 0.2 s
+// scans of a round room 1 m away (every reading returns).
+sector_map_t turningInARoundRoom(const PilotConfig& config) {
   Node node{"t", "memq://", Node::Options{false, false}};
-  PilotStage stage(node, PilotConfig{});
+  PilotStage stage(node, config);
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
-  const auto heading = [](int64_t t) { return -1.0 * static_cast<double>(t) * 1e-6; };
   for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
     odometry_t o{};
     o.utime = t;
-    o.pose = {1.0, 2.0, heading(t)};
+    o.pose = {1.0, 2.0, -1.0 * static_cast<double>(t) * 1e-6};
     o.omega = -1.0;
     node.publish(channels::ODOMETRY, o);
   }
@@ -1274,12 +1276,16 @@ TEST(PilotStage, ATurnAgainstTheSweepLeavesNoSectorWithoutItsWall) {
       s.ranges[i] = 1.0f;
       s.flags[i] = laser_scan_t::FLAG_OK;
     }
-    maps.clear();
     node.publish(channels::LASER_SCAN, s);
     drainAll(node);
   }
-  ASSERT_FALSE(maps.empty());
-  const sector_map_t& m = maps.back();
+  return maps.empty() ? sector_map_t{} : maps.back();
+}
+}  // namespace
+
+TEST(PilotStage, ATurnAgainstTheSweepLeavesNoSectorWithoutItsWall) {
+  const sector_map_t m = turningInARoundRoom(PilotConfig{});
+  ASSERT_EQ(m.nsectors, 48);
   int walls = 0;
   for (int k = 0; k < m.nsectors; ++k) {
     const auto i = static_cast<size_t>(k);
@@ -1287,4 +1293,13 @@ TEST(PilotStage, ATurnAgainstTheSweepLeavesNoSectorWithoutItsWall) {
     if (m.source[i] == kLaser) walls += std::abs(m.laser_distance[i] - 0.65f) < 0.02f;  // 1 m less the radius
   }
   EXPECT_EQ(walls, m.nsectors);
+  // pilot.laser_memory_seam: false: the scan covers every bearing, and the wedge has no wall.
+  PilotConfig seamless;
+  seamless.laser_memory_seam = false;
+  const sector_map_t n = turningInARoundRoom(seamless);
+  ASSERT_EQ(n.nsectors, 48);
+  int without = 0;
+  for (int k = 0; k < n.nsectors; ++k) without += n.source[static_cast<size_t>(k)] != kLaser;
+  EXPECT_GE(without, 1);
+  EXPECT_LE(without, 2);  // 11.5 deg: at most two sectors of 7.5
 }
