@@ -47,8 +47,11 @@ RawChannelReplay::RawChannelReplay(const RunLog& log) : log_(&log) {
   for (size_t i = 0; i < log.odometry.size(); ++i) events_.push_back({log.odometry[i].utime, 0, i});
   for (size_t i = 0; i < log.laser_scans.size(); ++i) {
     const laser_scan_t& s = log.laser_scans[i];
+    // Delivered when its latest reading is in; an offset the pipeline rejects (outside the scan's
+    // sweep, complement::input_limits) delays nothing.
     int64_t last = 0;
-    for (const int32_t off : s.offset_us) last = std::max<int64_t>(last, off);
+    for (const int32_t off : s.offset_us)
+      if (off >= 0 && off <= complement::input_limits::kMaxLaserOffsetUs) last = std::max<int64_t>(last, off);
     events_.push_back({s.utime + last, 1, i});
   }
   for (size_t i = 0; i < log.sonar_rings.size(); ++i) events_.push_back({log.sonar_rings[i].utime, 2, i});

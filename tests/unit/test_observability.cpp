@@ -374,3 +374,37 @@ baselines: {sonar_himm: {threshold: 6}, log_odds: {occupied_threshold: 0.8}}
   }
   EXPECT_THROW(baselinesConfig(Config::fromString("baselines: {mrpt: {}}")), ConfigError);
 }
+
+// The raw-channel replay hands a scan out once its latest reading is in; a reading whose time
+// offset the pipeline rejects (outside the scan's sweep) delays nothing.
+TEST(EvalBaselines, ARejectedTimeOffsetDoesNotDelayTheScan) {
+  RunLog log;
+  for (int64_t t = 0; t <= 1'000'000; t += 20'000) {
+    odometry_t od{};
+    od.utime = t;
+    log.odometry.push_back(od);
+  }
+  laser_scan_t scan{};
+  scan.utime = 300'000;
+  scan.angle_min = -geom::kPi;
+  scan.angle_increment = geom::kPi / 4;
+  scan.range_min = 0.05f;
+  scan.range_max = 15.0f;
+  for (int i = 0; i < 8; ++i) {
+    scan.ranges.push_back(2.0f);
+    scan.flags.push_back(int8_t{laser_scan_t::FLAG_OK});
+    scan.offset_us.push_back(i * 10'000);  // the latest at +70 ms
+  }
+  scan.offset_us[3] = 30'000'000;  // rejected: half a minute after the scan
+  scan.nranges = 8;
+  log.laser_scans.push_back(scan);
+  RawChannelReplay replay(log);
+  int scans = 0;
+  RawChannelReplay::Handlers h;
+  h.laser = [&scans](const laser_scan_t&, const complement::LaserScan&, const std::vector<complement::ScanPoint>&,
+                     int64_t) { ++scans; };
+  replay.advanceTo(369'999, h);
+  EXPECT_EQ(scans, 0);
+  replay.advanceTo(370'000, h);
+  EXPECT_EQ(scans, 1);
+}
