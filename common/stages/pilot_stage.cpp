@@ -72,8 +72,8 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
-                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark", "laser_memory_seam",
-                                   "dark_continuation_m", "motion_confirmation",
+                                   "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
+                                   "laser_memory_seam", "dark_continuation_m", "motion_confirmation",
                                    "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);

@@ -260,9 +260,9 @@ TEST(Laser, AClockwiseScannerSweepsFromTheLeftEdgeDown) {
   EXPECT_GT(seen, 200);
   EXPECT_NEAR(cw.ranges[270], 3.0, 1e-5);  // straight ahead
   EXPECT_NEAR(cw.ranges[90], 1.5, 1e-5);   // 90 deg to the left: the first readings
-  EXPECT_NE(configMessage("  sweep: sideways\n").find("cfg.yaml: laser.sweep: must be one of counterclockwise, clockwise"),
-            std::string::npos)
-      << configMessage("  sweep: sideways\n");
+  const std::string bad_sweep = configMessage("  sweep: sideways\n");
+  EXPECT_NE(bad_sweep.find("cfg.yaml: laser.sweep: must be one of counterclockwise, clockwise"), std::string::npos)
+      << bad_sweep;
 }
 
 TEST(Laser, MountPoseFromConfig) {
