@@ -344,7 +344,7 @@ bool scanFromCounterClockwise(const laser_scan_t& m, const laser_scan_t& source,
       r.valid = ranges[i] >= range_min;
       continue;
     }
-    if (m.offset_us[i] < 0 || m.offset_us[i] > input_limits::kMaxLaserOffsetUs) {
+    if (!input_limits::offsetInSweep(m.offset_us[i])) {
       problems.push_back({"rejected.laser_offset", field("LASER_SCAN", "offset_us", sent(i)) + " = " +
                                                        std::to_string(m.offset_us[i]) + " (must be in [0, " +
                                                        std::to_string(input_limits::kMaxLaserOffsetUs) + "])"});

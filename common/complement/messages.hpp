@@ -37,6 +37,9 @@ inline constexpr double kMaxLaserRange = 1000.0;
 // (100-5 Hz), so a reading a second or more after the scan's first is not that scan's; it would
 // put the Radar Map's time, and the pose it is seen from, where no odometry is.
 inline constexpr int32_t kMaxLaserOffsetUs = 1000000;
+// Whether a reading's offset_us lies within its scan's sweep; a reading outside it is rejected
+// (and is neither a point nor a time of its scan, wherever the message is read).
+inline constexpr bool offsetInSweep(int64_t offset_us) { return offset_us >= 0 && offset_us <= kMaxLaserOffsetUs; }
 // [m] Positions (odometry, mounts, end points, sensor poses): 1000 km from the frame's origin is
 // beyond any robot's local frame, and keeps squares and products of coordinates (line fits,
 // intersections) far from overflow.

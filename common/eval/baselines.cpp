@@ -51,7 +51,7 @@ RawChannelReplay::RawChannelReplay(const RunLog& log) : log_(&log) {
     // sweep, complement::input_limits) delays nothing.
     int64_t last = 0;
     for (const int32_t off : s.offset_us)
-      if (off >= 0 && off <= complement::input_limits::kMaxLaserOffsetUs) last = std::max<int64_t>(last, off);
+      if (complement::input_limits::offsetInSweep(off)) last = std::max<int64_t>(last, off);
     events_.push_back({s.utime + last, 1, i});
   }
   for (size_t i = 0; i < log.sonar_rings.size(); ++i) events_.push_back({log.sonar_rings[i].utime, 2, i});

@@ -41,9 +41,7 @@ LaserSeen::LaserSeen(const RunLog& log, double cell) : cell_(cell > 0 ? cell : 0
     scan.done = s.utime;
     // A reading whose time offset the pipeline rejects (outside the scan's sweep) was not seen:
     // it neither completes the scan later (the Radar Map's time leaves it out) nor is a point.
-    const auto in_sweep = [&s](size_t i) {
-      return s.offset_us[i] >= 0 && s.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs;
-    };
+    const auto in_sweep = [&s](size_t i) { return complement::input_limits::offsetInSweep(s.offset_us[i]); };
     for (size_t i = 0; i < n; ++i)
       if (in_sweep(i)) scan.done = std::max<int64_t>(scan.done, s.utime + s.offset_us[i]);
     const geom::Pose2 mount = toPose(s.mount);

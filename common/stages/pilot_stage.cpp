@@ -302,10 +302,7 @@ void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
   const bool reversed = m.angle_increment < 0;
   for (size_t i = 0; i < n; ++i)
     mask[reversed ? n - 1 - i : i] = m.flags[i] == laser_scan_t::FLAG_NO_RETURN && i < m.offset_us.size() &&
-                                             m.offset_us[i] >= 0 &&
-                                             m.offset_us[i] <= complement::input_limits::kMaxLaserOffsetUs
-                                         ? 1
-                                         : 0;
+                                     complement::input_limits::offsetInSweep(m.offset_us[i]);
 }
 
 void validReturns(const std::vector<complement::ScanPoint>& placed, const std::vector<complement::LaserReading>& readings,
