@@ -93,6 +93,13 @@ class WorldCore {
   // [s] how long a person waits for a robot in the way before walking round it: long enough
   // for a robot driving by to pass (its diameter at 0.3 m/s), not for ever at a standing one.
   static constexpr double kPatienceS = 2.0;
+  // A person met head-on (the robot's centre within kHeadOnM of the line they walk, the robot
+  // standing — below kStandingMps — or coming the other way within 45 deg: it fills their way)
+  // steps back and aside, kSideStepRad (30 deg) off straight back: at 1 m/s they are round a
+  // standing MOBOT-IV-sized robot in about 1.5 s, as from 0.2 m off the line.
+  static constexpr double kHeadOnM = 0.1;
+  static constexpr double kSideStepRad = 0.5;
+  static constexpr double kStandingMps = 0.01;
   std::vector<double> waited_;           // [s] time each mover stood waiting for the robot
   std::vector<double> waiting_;          // [s] how long it has been waiting now
   std::vector<geom::Vec2> stepped_;      // [m] how far each mover stepped aside from its path

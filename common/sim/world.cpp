@@ -196,7 +196,22 @@ void WorldCore::giveWay(size_t i, double t, double dt, const geom::Pose2& robot,
   const double d = rel.norm();
   if (d < keep) {
     const geom::Vec2 heading(std::cos(robot.theta), std::sin(robot.theta));
-    const geom::Vec2 away = d > 1e-9 ? geom::Vec2(rel / d) : heading;
+    geom::Vec2 away = d > 1e-9 ? geom::Vec2(rel / d) : heading;
+    // Head-on: the robot ahead of the mover, its centre within kHeadOnM of the line the mover
+    // walks, and standing or coming the other way along it. Straight back is then (nearly)
+    // against the walk, so stepping back barely carries the mover round the robot — on the very
+    // line not at all: it would be held in front of the robot for ever. A person steps back and
+    // aside there, kSideStepRad off straight back, to the side they are on (on the line, their
+    // right). (A robot that drives across their way they wait for, or step back from, as before.)
+    const double walk = movers_[i].at(t - waited_[i]).pose.theta;
+    const geom::Vec2 dir(std::cos(walk), std::sin(walk));
+    const double lateral = dir.x() * rel.y() - dir.y() * rel.x();  // > 0: left of the robot, seen along the walk
+    const bool oncoming = std::abs(robot_.at(t).v) < kStandingMps || heading.dot(dir) < -std::cos(geom::kPi / 4);
+    if (oncoming && dir.dot(away) < 0 && std::abs(lateral) < kHeadOnM) {
+      const double a = lateral > 1e-3 ? -kSideStepRad : kSideStepRad;  // (away points back along the walk)
+      const double c = std::cos(a), s = std::sin(a);
+      away = geom::Vec2(c * away.x() - s * away.y(), s * away.x() + c * away.y());
+    }
     const double side = heading.x() * rel.y() - heading.y() * rel.x() >= 0 ? 1.0 : -1.0;
     for (const double turn : {0.0, 0.25 * side, -0.25 * side, 0.5 * side, -0.5 * side}) {
       const double c = std::cos(turn * geom::kPi), s = std::sin(turn * geom::kPi);

@@ -306,6 +306,26 @@ TEST(WorldCore, ABlockedPersonWaitsTwoSecondsThenWalksRoundTheRobot) {
   EXPECT_NEAR(states.back().movers[0].y, 0.2, 1e-6);
 }
 
+// The same person on the robot's very line (y = 0): straight back is exactly against their walk,
+// so they step to their right and walk round, as off the line (before, they were pushed back
+// along their path for ever).
+TEST(WorldCore, APersonBlockedHeadOnOnTheRobotsLineWalksRoundIt) {
+  std::string yaml = kStandingRobot;
+  for (size_t at; (at = yaml.find("0.2]")) != std::string::npos;) yaml.replace(at, 4, "0.0]");
+  const Scenario s = parse(yaml);
+  ASSERT_DOUBLE_EQ(s.movers[0].path[0].y(), 0.0);
+  std::vector<sim_state_t> states;
+  const std::vector<double> gap = closestGaps(s, &states);
+  EXPECT_GT(gap[0], 0.10 - 0.02);
+  ASSERT_GT(states.size(), 200u);
+  EXPECT_NEAR(states[200].movers[0].x, 1.2, 0.01);  // waited in front of it first (0.7 m from its centre)
+  double rightmost = 0;  // walking towards -x, their right is +y
+  for (const sim_state_t& st : states) rightmost = std::max(rightmost, static_cast<double>(st.movers[0].y));
+  EXPECT_GT(rightmost, 0.3);
+  EXPECT_NEAR(states.back().movers[0].x, -3.0, 1e-6);
+  EXPECT_NEAR(states.back().movers[0].y, 0.0, 1e-6);
+}
+
 // Once clear of the robot, a person walks back to their path at walking speed: the offset from
 // the path shrinks by at most speed x dt per step of the world, it does not jump back.
 TEST(WorldCore, APersonWalksBackToTheirPathAtWalkingSpeed) {
