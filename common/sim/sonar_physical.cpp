@@ -36,16 +36,20 @@ struct LocalHit {
   geom::Vec2 point, normal;  // normal faces the ray's origin
 };
 
-// Nearest hit among `prims` within max_range, ignoring up to three primitives.
+// Nearest hit among `prims` within max_range, ignoring up to three primitives. from_transducer:
+// the ray starts at a transducer, which a surface it is flush with meets at 0 (rangeAlong); a ray
+// from a point where it was reflected is not stopped by another surface drawn through that point
+// (a wall drawn twice).
 std::optional<LocalHit> cast(const std::vector<const Primitive*>& prims, const geom::Ray& ray, double max_range,
                              const Primitive* x1 = nullptr, const Primitive* x2 = nullptr,
-                             const Primitive* x3 = nullptr) {
+                             const Primitive* x3 = nullptr, bool from_transducer = false) {
   const Primitive* best = nullptr;
   double best_t = max_range;
   for (const Primitive* p : prims) {
     if (p == x1 || p == x2 || p == x3) continue;
     const std::optional<double> t =
-        p->kind == Primitive::Kind::Segment ? geom::intersect(ray, p->segment) : geom::intersect(ray, p->circle);
+        from_transducer ? rangeAlong(ray, *p)
+                        : p->kind == Primitive::Kind::Segment ? geom::intersect(ray, p->segment) : geom::intersect(ray, p->circle);
     if (t && *t <= best_t) {
       best_t = *t;
       best = p;
@@ -236,7 +240,8 @@ std::vector<const Primitive*> PhysicalSonar::near(const WorldGeometry& world, co
 }
 
 double PhysicalSonar::transmission(const std::vector<const Primitive*>& prims, const geom::Vec2& a,
-                                   const geom::Vec2& b, const Primitive* skip_a, const Primitive* skip_b) const {
+                                   const geom::Vec2& b, const Primitive* skip_a, const Primitive* skip_b,
+                                   bool from_transducer) const {
   const double dist = (b - a).norm();
   if (dist < 1e-9) return 0.0;
   const geom::Vec2 dir = (b - a) / dist;
@@ -244,7 +249,7 @@ double PhysicalSonar::transmission(const std::vector<const Primitive*>& prims, c
   double travelled = 0, loss = 0;
   const Primitive* last = nullptr;
   for (int k = 0; k < kMaxSurfacesPerRay; ++k) {
-    const auto h = cast(prims, {origin, dir}, dist - travelled - kJunctionEps, skip_a, skip_b, last);
+    const auto h = cast(prims, {origin, dir}, dist - travelled - kJunctionEps, skip_a, skip_b, last, k == 0 && from_transducer);
     if (!h) return loss;
     const double t = h->prim->material->sonar_transmit;
     if (t <= 0) return kNegInf;
@@ -286,7 +291,7 @@ void PhysicalSonar::rayEchoes(const std::vector<const Primitive*>& prims, const 
     const Primitive* first_mirror = nullptr;
     const Primitive* last = nullptr;
     for (int k = 0; k < kMaxSurfacesPerRay; ++k) {
-      const auto h = cast(prims, {origin, dir}, cfg_.range_max - path, last);
+      const auto h = cast(prims, {origin, dir}, cfg_.range_max - path, last, nullptr, nullptr, k == 0);
       if (!h) break;
       const double range = path + h->t;
       const double reach = budget_.planeMargin(range) + 2 * d + 2 * trans + 2 * mirrors;
@@ -355,7 +360,7 @@ std::vector<Echo> PhysicalSonar::ownEchoes(const WorldGeometry& world, const geo
     if (range < 1e-6 || range > cfg_.range_max) continue;
     double margin = budget_.planeMargin(range) + 2 * tx_.oneWayDb(offAxis(foot)) + term + extra;
     if (margin < 0) continue;
-    margin += 2 * transmission(prims, s, foot, p);
+    margin += 2 * transmission(prims, s, foot, p, nullptr, true);
     if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_DIRECT, reflectorOf(*p), p, foot});
   }
 
@@ -367,7 +372,7 @@ std::vector<Echo> PhysicalSonar::ownEchoes(const WorldGeometry& world, const geo
     double margin = budget_.planeMargin(range) + 2 * tx_.oneWayDb(offAxis(c.vertex)) + ma.sonar_reflect_db +
                     mb.sonar_reflect_db + coherentDb(ma) + coherentDb(mb);
     if (margin < 0) continue;
-    margin += 2 * transmission(prims, s, c.vertex, inWorld(world, c.a), inWorld(world, c.b));
+    margin += 2 * transmission(prims, s, c.vertex, inWorld(world, c.a), inWorld(world, c.b), true);
     if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_CORNER, c.a, c.vertex});
   }
 
@@ -377,7 +382,7 @@ std::vector<Echo> PhysicalSonar::ownEchoes(const WorldGeometry& world, const geo
     double margin = budget_.planeMargin(range) + 2 * tx_.oneWayDb(offAxis(e.point)) +
                     acoustics::edgeDb(tx_.wavelength(), range) + e.a->material->sonar_reflect_db;
     if (margin < 0) continue;
-    margin += 2 * transmission(prims, s, e.point, inWorld(world, e.a), inWorld(world, e.b));
+    margin += 2 * transmission(prims, s, e.point, inWorld(world, e.a), inWorld(world, e.b), true);
     if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_DIRECT, sonar_cause_t::REFLECTOR_EDGE, e.a, e.point});
   }
 
@@ -421,7 +426,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
       double margin = budget(L) + dirDb(ping.pose, hit) + dirDb(listener, hit) + m.sonar_reflect_db + coherentDb(m) +
                       fluctuation(q->obstacle, listener_id);
       if (margin < 0) continue;
-      margin += transmission(prims, e, hit, q) + transmission(prims, hit, p, q);
+      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, hit, p, q);
       if (margin >= 0) keep(L, margin, q, sonar_cause_t::REFLECTOR_PLANE, hit);
     } else {
       const geom::Vec2 c = q->circle.center;
@@ -435,7 +440,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
       double margin = budget(L) + dirDb(ping.pose, hit) + dirDb(listener, hit) + acoustics::cylinderDb(a, 0.5 * L) +
                       m.sonar_reflect_db + coherentDb(m) + fluctuation(q->obstacle, listener_id) + aspectDb(*q, p);
       if (margin < 0) continue;
-      margin += transmission(prims, e, hit, q) + transmission(prims, hit, p, q);
+      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, hit, p, q);
       if (margin >= 0) keep(L, margin, q, sonar_cause_t::REFLECTOR_CYLINDER, hit);
     }
   }
@@ -452,7 +457,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
                     mb.sonar_reflect_db + coherentDb(ma) + coherentDb(mb);
     if (margin < 0) continue;
     const Primitive *wa = inWorld(world, cr.a), *wb = inWorld(world, cr.b);
-    margin += transmission(prims, e, cr.vertex, wa, wb) + transmission(prims, cr.vertex, p, wa, wb);
+    margin += transmission(prims, e, cr.vertex, wa, wb, true) + transmission(prims, cr.vertex, p, wa, wb);
     if (margin >= 0) keep(L, margin, cr.a, sonar_cause_t::REFLECTOR_CORNER, cr.vertex);
   }
   return out;

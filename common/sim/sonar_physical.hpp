@@ -116,9 +116,11 @@ class PhysicalSonar {
   // A mover seen from the side is weaker than head-on.
   double aspectDb(const Primitive& p, const geom::Vec2& from) const;
   // Power lost [dB, <= 0] on the straight path a -> b: the transmitting surfaces on the way, or
-  // -inf behind an opaque one. `skip_*` (the reflector itself) are ignored.
+  // -inf behind an opaque one. `skip_*` (the reflector itself) are ignored. from_transducer: a is
+  // a transducer, stopped at once by a surface it is flush with (rangeAlong).
   double transmission(const std::vector<const Primitive*>& prims, const geom::Vec2& a, const geom::Vec2& b,
-                      const Primitive* skip_a = nullptr, const Primitive* skip_b = nullptr) const;
+                      const Primitive* skip_a = nullptr, const Primitive* skip_b = nullptr,
+                      bool from_transducer = false) const;
   // Static + mover primitives within `reach` of p.
   std::vector<const Primitive*> near(const WorldGeometry& world, const geom::Vec2& p, double reach) const;
   // A reflector's surface (one of the scenario's statics) as `world` holds it: the ray casts of

@@ -100,6 +100,19 @@ void WorldGeometry::setMovers(const std::vector<MoverPose>& movers) {
   }
 }
 
+std::optional<double> rangeAlong(const geom::Ray& ray, const Primitive& p) {
+  if (p.kind != Primitive::Kind::Segment) return geom::intersect(ray, p.circle);
+  if (const std::optional<double> t = geom::intersect(ray, p.segment)) return t;
+  // Only a start on the segment's line (within kOnSurfaceM) can have missed by rounding: then
+  // geom::intersect's test again with the start moved back by kOnSurfaceM.
+  const geom::Vec2 e = p.segment.b - p.segment.a, w = p.segment.a - ray.origin;
+  const double off = w.x() * e.y() - w.y() * e.x();  // the start's distance from the line x |e|
+  if (off * off > kOnSurfaceM * kOnSurfaceM * e.squaredNorm()) return std::nullopt;
+  const std::optional<double> t = geom::intersect({ray.origin - kOnSurfaceM * ray.dir, ray.dir}, p.segment);
+  if (!t) return std::nullopt;
+  return std::max(0.0, *t - kOnSurfaceM);
+}
+
 std::optional<Hit> WorldGeometry::castRay(const geom::Ray& ray, double max_range,
                                           const std::function<bool(const Material&)>& passes) const {
   // Brute force: scenario worlds hold a few hundred primitives at most.
@@ -107,8 +120,7 @@ std::optional<Hit> WorldGeometry::castRay(const geom::Ray& ray, double max_range
   double best_t = max_range;
   for (const Primitive& p : prims_) {
     if (passes && passes(*p.material)) continue;
-    const std::optional<double> t =
-        p.kind == Primitive::Kind::Segment ? geom::intersect(ray, p.segment) : geom::intersect(ray, p.circle);
+    const std::optional<double> t = rangeAlong(ray, p);
     if (t && *t <= best_t) {
       best_t = *t;
       best = &p;
@@ -123,8 +135,7 @@ std::optional<Hit> WorldGeometry::castRayAmong(const geom::Ray& ray, double max_
   const Primitive* best = nullptr;
   double best_t = max_range;
   auto test = [&](const Primitive& p) {
-    const std::optional<double> t =
-        p.kind == Primitive::Kind::Segment ? geom::intersect(ray, p.segment) : geom::intersect(ray, p.circle);
+    const std::optional<double> t = rangeAlong(ray, p);
     if (t && *t <= best_t) {
       best_t = *t;
       best = &p;

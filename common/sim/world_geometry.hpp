@@ -47,6 +47,13 @@ std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m = 0.02)
 // (t ≈ 4.2 s)" (README "Scenario format").
 std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o);
 
+// The range along `ray` to primitive p (geom::intersect), except that a ray from a point on a
+// segment — within kOnSurfaceM, rounding: a transducer flush with a box's face — meets it at 0
+// whichever way the rounding fell, as a ray from inside a circle does. Else half the rays from
+// such a point would start just beyond the face, pass into the solid and hear its far side.
+inline constexpr double kOnSurfaceM = 1e-9;
+std::optional<double> rangeAlong(const geom::Ray& ray, const Primitive& p);
+
 class WorldGeometry {
  public:
   explicit WorldGeometry(const Scenario& scenario);

@@ -342,6 +342,35 @@ TEST(SonarPhysical, BlankedEchoesAreLostAndTheNextOneIsRead) {
   EXPECT_EQ(fire(scenario("obstacles:\n" + pipeAt(0.06, 10)), c, {0, 0, 0}).truth.cause, kNoEcho);
 }
 
+// A transducer flush with a metal box's face (its robot's disc touching the box: 2.55 - 0.2 m
+// rounds to just below 2.35 m): the face meets its rays at 0, and the box's far face, behind it,
+// is heard by neither profile (before, half the rays started just beyond the near face, inside
+// the solid box). 1 mm off the face, the same.
+TEST(SonarPhysical, ATransducerFlushWithABoxDoesNotHearThroughIt) {
+  for (const double gap : {0.0, 0.001}) {
+    const Scenario s = scenario("obstacles:\n  - {shape: box, material: metal, center: [1.0, " + num(2.55 + gap) +
+                                "], size: [0.6, 0.4]}\n  - {shape: segment, material: wall, from: [-3, 4], to: [5, 4]}\n");
+    const geom::Pose2 sensor{1.0, 2.35, geom::kPi / 2};
+    const SonarConfig c = clean();
+    const SonarReading r = fire(s, c, sensor);
+    EXPECT_FALSE(r.truth.cause == kDirect && r.truth.hit_y > 2.5) << gap << ": heard at y = " << r.truth.hit_y;
+    SonarConfig ideal = c;
+    ideal.profile = SensorProfile::Ideal;
+    WorldGeometry w(s);
+    std::mt19937_64 rng(1);
+    const SonarReading i = fireSensor(w, sensor, deg2rad(30), ideal, rng);
+    EXPECT_FALSE(i.truth.cause == kDirect && i.truth.hit_y > 2.5) << gap << ": heard at y = " << i.truth.hit_y;
+    EXPECT_FALSE(!i.no_echo && i.range > 0.3) << gap << ": read " << i.range;
+  }
+  // The point meets a segment through it at 0; a ray from beside it, as before.
+  const Scenario s = scenario("obstacles:\n  - {shape: segment, material: wall, from: [0, 0.3], to: [1, 0.3]}\n");
+  const Primitive& wall = s.statics.at(0);
+  EXPECT_NEAR(rangeAlong({{0.5, 0.3 - 1e-12}, {0, 1}}, wall).value_or(-1), 0.0, 1e-11);
+  EXPECT_EQ(rangeAlong({{0.5, 0.3 + 1e-12}, {0, 1}}, wall), std::optional<double>(0.0));
+  EXPECT_EQ(rangeAlong({{0.5, 0.3 + 1e-6}, {0, 1}}, wall), std::nullopt);
+  EXPECT_NEAR(rangeAlong({{0.5, 0.0}, {0, 1}}, wall).value_or(-1), 0.3, 1e-15);
+}
+
 TEST(SonarPhysical, MeshLetsSoundThrough) {
   // A wire mesh 1 m ahead and a metal wall 2 m ahead: the wall's echo comes through the mesh
   // (85 % each way, -1.4 dB), which also answers itself (the nearer, the reading). Glass instead
