@@ -512,6 +512,7 @@ void evalAgmOperational(const RunLog& log, const sim::Scenario& sc, const LaserS
   setRatio(m, "agm_operational.precision", precision);
   setRatio(m, "agm_operational.recall", recall);
   m.set("agm_operational.samples.boundary", recall.den);
+  m.set("agm_operational.samples.occupied", precision.den);
 }
 
 EvalOptions evalOptions(const Config& config) {

@@ -284,6 +284,7 @@ TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
   Metrics m;
   evalAgmOperational(log, sc, EvalOptions{}, m);
   EXPECT_DOUBLE_EQ(m.number("agm_operational.precision"), 0.5);
+  EXPECT_EQ(m.number("agm_operational.samples.occupied"), 2);  // (the precision's denominator)
   // Only the near side of the circle is in the robot's line of sight; one cell covers part of it.
   const double recall = m.number("agm_operational.recall");
   EXPECT_GT(recall, 0.5);
@@ -295,6 +296,7 @@ TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
   evalAgmOperational(log, sc, EvalOptions{}, m2);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.recall"), 0.0);
   EXPECT_DOUBLE_EQ(m2.number("agm_operational.precision"), 0.0);
+  EXPECT_EQ(m2.number("agm_operational.samples.occupied"), 1);
 }
 
 // The evaluation holds a grid without its zero cells: every cell must still read as the message has it.
