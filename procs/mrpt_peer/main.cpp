@@ -177,7 +177,11 @@ int run(const std::string& log_path, const std::string& scenario_path, const Con
       if (!placed[i].valid) continue;
       points.push_back(placed[i].p);
       const geom::Vec2 local = sensor_ref.inverseTransform(placed[i].p);
-      auto k = static_cast<int64_t>(std::lround((std::atan2(local.y(), local.x()) - angle_min) / increment));
+      // The bearing from the first reading's, in [-increment/2, 2 pi - increment/2): a view that
+      // starts above -pi (a scanner whose angle_min is 0, say) reaches past atan2's pi.
+      double from_first = std::atan2(local.y(), local.x()) - angle_min;
+      from_first -= 2 * geom::kPi * std::floor((from_first + 0.5 * increment) / (2 * geom::kPi));
+      auto k = static_cast<int64_t>(std::lround(from_first / increment));
       if (scan.full_circle) k = ((k % static_cast<int64_t>(n)) + static_cast<int64_t>(n)) % static_cast<int64_t>(n);
       if (k < 0 || k >= static_cast<int64_t>(n)) continue;
       const auto d = static_cast<float>(local.norm());
