@@ -47,9 +47,9 @@ std::optional<LocalHit> cast(const std::vector<const Primitive*>& prims, const g
   double best_t = max_range;
   for (const Primitive* p : prims) {
     if (p == x1 || p == x2 || p == x3) continue;
-    const std::optional<double> t =
-        from_transducer ? rangeAlong(ray, *p)
-                        : p->kind == Primitive::Kind::Segment ? geom::intersect(ray, p->segment) : geom::intersect(ray, p->circle);
+    const std::optional<double> t = from_transducer                        ? rangeAlong(ray, *p)
+                                    : p->kind == Primitive::Kind::Segment ? geom::intersect(ray, p->segment)
+                                                                          : geom::intersect(ray, p->circle);
     if (t && *t <= best_t) {
       best_t = *t;
       best = p;
@@ -249,7 +249,8 @@ double PhysicalSonar::transmission(const std::vector<const Primitive*>& prims, c
   double travelled = 0, loss = 0;
   const Primitive* last = nullptr;
   for (int k = 0; k < kMaxSurfacesPerRay; ++k) {
-    const auto h = cast(prims, {origin, dir}, dist - travelled - kJunctionEps, skip_a, skip_b, last, k == 0 && from_transducer);
+    const auto h =
+        cast(prims, {origin, dir}, dist - travelled - kJunctionEps, skip_a, skip_b, last, k == 0 && from_transducer);
     if (!h) return loss;
     const double t = h->prim->material->sonar_transmit;
     if (t <= 0) return kNegInf;
