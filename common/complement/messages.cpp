@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include "core/pose_msg.hpp"
+
 // laserScanFromMessage's AVX2 loop: compiled on x86-64 whatever the build's baseline (a
 // function attribute), run only where the CPU has AVX2 (complement::vectorPath()).
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -70,18 +72,6 @@ std::string field(const char* channel, const char* name, size_t i) {
   return std::string(channel) + "." + name + "[" + std::to_string(i) + "]";
 }
 
-bool finitePose(const pose2d_t& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta);
-}
-
-pose2d_t toMsg(const geom::Pose2& p) {
-  pose2d_t m;
-  m.x = p.x;
-  m.y = p.y;
-  m.theta = p.theta;
-  return m;
-}
-
 using input_limits::kMaxCoordinate;
 using input_limits::kMaxLaserRange;
 using input_limits::kMaxSonarRange;
@@ -108,7 +98,7 @@ std::optional<OdometryInput> odometryFromMessage(const odometry_t& m, std::vecto
                                                      std::to_string(m.utime) + "): dropped"});
     return std::nullopt;
   }
-  return OdometryInput{m.utime, {m.pose.x, m.pose.y, m.pose.theta}, m.v, m.omega};
+  return OdometryInput{m.utime, toPose(m.pose), m.v, m.omega};
 }
 
 std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::vector<InputProblem>& problems) {
@@ -160,7 +150,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       // An outside-view echo's hypothesis: the newest lines' (the pilot tells an explained one).
       c.hypothetical_range = std::isfinite(r.hypothetical_range) ? r.hypothetical_range
                                                                  : std::numeric_limits<double>::quiet_NaN();
-      if (plausiblePose(r.sensor_pose)) c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+      if (plausiblePose(r.sensor_pose)) c.sensor_pose = toPose(r.sensor_pose);
       out.push_back(c);
       continue;
     }
@@ -176,7 +166,7 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
       if (!ok) return;
       c.range = range;
       c.hypothetical_range = r.hypothetical_range;
-      c.sensor_pose = geom::Pose2{r.sensor_pose.x, r.sensor_pose.y, r.sensor_pose.theta};
+      c.sensor_pose = toPose(r.sensor_pose);
       if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
     };
     if (c.cls == SonarClass::Redundant || c.cls == SonarClass::False) {
@@ -309,7 +299,7 @@ bool scanFromCounterClockwise(const laser_scan_t& m, const laser_scan_t& source,
     return false;
   }
   s.utime = m.utime;
-  s.mount = {m.mount.x, m.mount.y, m.mount.theta};
+  s.mount = toPose(m.mount);
   s.full_circle = static_cast<double>(n) * m.angle_increment >= 2.0 * geom::kPi - 1.5 * m.angle_increment;
   s.readings.resize(n);  // (every reading is written below: what an earlier scan left does not matter)
   // The arrays through local pointers: a problem appended below cannot make the compiler
@@ -423,7 +413,7 @@ line_map_t radarMapToMessage(const RadarMap& rm) {
   line_map_t m;
   m.utime = rm.utime;
   m.source_utime = rm.source_utime;
-  m.robot_pose = toMsg(rm.robot_pose);
+  m.robot_pose = toPoseMsg(rm.robot_pose);
   m.segments.reserve(rm.segments.size());  // (one allocation, not one per doubling)
   for (const RmSegment& s : rm.segments) {
     line_segment_t l;
@@ -473,7 +463,7 @@ void hypothesisToMessageInto(hypothetical_scan_t& m, const GroupComplement& g, c
   for (const ClassifiedReading& r : g.readings) {
     m.sensor_id.push_back(static_cast<int16_t>(r.sensor_id));
     m.range.push_back(static_cast<float>(r.hypothetical_range));
-    m.sensor_pose.push_back(toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan})));
+    m.sensor_pose.push_back(toPoseMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan})));
   }
   m.nreadings = static_cast<int32_t>(m.sensor_id.size());
 }
@@ -501,7 +491,7 @@ void complementToMessageInto(complement_t& m, const GroupComplement& g, const Co
     c.cls = static_cast<int8_t>(r.cls);
     c.range = static_cast<float>(r.range);
     c.hypothetical_range = static_cast<float>(r.hypothetical_range);
-    c.sensor_pose = toMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan}));
+    c.sensor_pose = toPoseMsg(r.sensor_pose.value_or(geom::Pose2{nan, nan, nan}));
     c.beam_width = static_cast<float>(r.beam_width > 0 ? r.beam_width : p.model.beam_width);
     const geom::Vec2 end = r.end.value_or(geom::Vec2(nan, nan));
     c.end_x = end.x();

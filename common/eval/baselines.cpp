@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "complement/messages.hpp"
+#include "core/pose_msg.hpp"
 #include "stages/pilot_stage.hpp"
 
 namespace lasonic::eval {
@@ -70,7 +71,7 @@ void RawChannelReplay::advanceTo(int64_t utime, const Handlers& h) {
       if (!std::isfinite(od.pose.x) || !std::isfinite(od.pose.y) || !std::isfinite(od.pose.theta) ||
           !std::isfinite(od.v))
         continue;
-      if (poses_.add(od.utime, {od.pose.x, od.pose.y, od.pose.theta}) == PoseHistory::AddResult::Ok) speed_ = od.v;
+      if (poses_.add(od.utime, toPose(od.pose)) == PoseHistory::AddResult::Ok) speed_ = od.v;
     } else if (ev.kind == 1) {
       const laser_scan_t& msg = log_->laser_scans[ev.i];
       if (last_scan_ && msg.utime <= *last_scan_) continue;

@@ -10,6 +10,7 @@
 
 #include "complement/complement.hpp"
 #include "core/geometry.hpp"
+#include "core/pose_msg.hpp"
 #include "eval/baselines.hpp"
 #include "eval/laser_seen.hpp"
 #include "eval/observability.hpp"
@@ -36,7 +37,6 @@ void decodeGrid(const LogRecord& r, std::vector<SparseGridMap>& out, int64_t& ba
   else ++bad;
 }
 
-geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
 
 void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
   if (r.valid()) m.set(key, r.value());

@@ -6,13 +6,11 @@
 #include <tuple>
 
 #include "complement/messages.hpp"
+#include "core/pose_msg.hpp"
 
 namespace lasonic::eval {
 
 namespace {
-geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
-
-bool finitePose(const pose2d_t& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
 
 // The number of readings a scan message really carries (its arrays may disagree when malformed).
 size_t readingsOf(const laser_scan_t& s) {

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 
+#include "core/pose_msg.hpp"
 #include "eval/evaluate.hpp"
 #include "eval/laser_seen.hpp"
 #include "tactical/line_generation.hpp"
@@ -17,7 +18,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
 
-geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
 void setRatio(Metrics& m, const std::string& key, const Ratio& r) {
   if (r.valid()) m.set(key, r.value());
 }

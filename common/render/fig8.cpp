@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/pose_msg.hpp"
 #include "lcmio/node.hpp"
 
 namespace lasonic::render {
@@ -50,7 +51,6 @@ void set(cairo_t* cr, const Rgba& c, double alpha = 1.0) { cairo_set_source_rgba
 bool finite(double v) { return std::isfinite(v); }
 bool finite(const geom::Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
 bool finite(const geom::Pose2& p) { return finite(p.x) && finite(p.y) && finite(p.theta); }
-geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
 
 // A pixel position Cairo can take (its fixed point covers about +-8e6).
 bool drawable(const geom::Vec2& px) { return finite(px) && std::abs(px.x()) < 1e6 && std::abs(px.y()) < 1e6; }

@@ -5,14 +5,14 @@
 #include <exception>
 #include <limits>
 
-#include "lcmio/node.hpp"
+#include "core/pose_msg.hpp"
 #include "core/utime.hpp"
+#include "lcmio/node.hpp"
 
 namespace lasonic::render {
 
 namespace {
 
-geom::Pose2 toPose(const pose2d_t& p) { return {p.x, p.y, p.theta}; }
 
 // decodeAs, but a message whose array counts are absurd (an allocation that fails) is
 // undecodable too, not a crash.

@@ -10,8 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "sim/drivers.hpp"
+#include "core/pose_msg.hpp"
 #include "core/utime.hpp"
+#include "sim/drivers.hpp"
 
 namespace lasonic::sim {
 
@@ -90,8 +91,7 @@ void LaserDriverCore::truthAt(int64_t utime, geom::Pose2& robot, std::vector<Mov
   const sim_state_t& sa = states_[b - 1];
   const sim_state_t& sb = states_[b];
   const double f = std::clamp(static_cast<double>(utime - sa.utime) / static_cast<double>(sb.utime - sa.utime), 0.0, 1.0);
-  robot = geom::interpolate({sa.robot_pose.x, sa.robot_pose.y, sa.robot_pose.theta},
-                            {sb.robot_pose.x, sb.robot_pose.y, sb.robot_pose.theta}, f);
+  robot = geom::interpolate(toPose(sa.robot_pose), toPose(sb.robot_pose), f);
   movers.clear();
   for (const mover_state_t& ma : sa.movers) {
     geom::Vec2 p(ma.x, ma.y);

@@ -5,11 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/pose_msg.hpp"
+#include "core/utime.hpp"
 #include "lcmio/lengths.hpp"
 #include "sim/drivers.hpp"
 #include "sim/sonar_model.hpp"
 #include "sim/sonar_physical.hpp"
-#include "core/utime.hpp"
 
 namespace lasonic::sim {
 
@@ -319,22 +320,13 @@ float reportedBeam(const SonarConfig& c, const SonarSensor& s) {
   return static_cast<float>(c.report_scaled_beam ? s.beam_width * c.beam_scale : s.beam_width);
 }
 
-pose2d_t toMsg(const geom::Pose2& p) {
-  pose2d_t m;
-  m.x = p.x;
-  m.y = p.y;
-  m.theta = p.theta;
-  return m;
-}
-
-geom::Pose2 fromMsg(const pose2d_t& m) { return {m.x, m.y, m.theta}; }
 
 // Truth at utime in [a.utime, b.utime]: robot pose and movers linear in between.
 sim_state_t interpolateState(const sim_state_t& a, const sim_state_t& b, int64_t utime) {
   const double s = b.utime > a.utime ? static_cast<double>(utime - a.utime) / static_cast<double>(b.utime - a.utime) : 1.0;
   sim_state_t out = b;
   out.utime = utime;
-  out.robot_pose = toMsg(geom::interpolate(fromMsg(a.robot_pose), fromMsg(b.robot_pose), s));
+  out.robot_pose = toPoseMsg(geom::interpolate(toPose(a.robot_pose), toPose(b.robot_pose), s));
   for (mover_state_t& m : out.movers)
     for (const mover_state_t& ma : a.movers)
       if (ma.id == m.id) {
@@ -407,7 +399,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
   std::vector<MoverPose> movers;
   for (const mover_state_t& m : truth.movers) movers.push_back({m.id, {m.x, m.y}, m.radius});
   world_.setMovers(movers);
-  const geom::Pose2 robot = fromMsg(truth.robot_pose);
+  const geom::Pose2 robot = toPose(truth.robot_pose);
 
   Output o;
   const int group = static_cast<int>(seq_ % static_cast<int32_t>(groups_.size()));
@@ -436,7 +428,7 @@ SonarDriverCore::Output SonarDriverCore::fire(int64_t utime, const sim_state_t& 
     o.ring.sensor_id.push_back(static_cast<int16_t>(id));
     o.ring.range.push_back(r.range);
     o.ring.no_echo.push_back(r.no_echo ? 1 : 0);
-    o.ring.mount.push_back(toMsg(s.mount));
+    o.ring.mount.push_back(toPoseMsg(s.mount));
     o.ring.beam_width.push_back(reportedBeam(config_, s));
     o.truth.causes.push_back(r.truth);
   }
@@ -448,7 +440,7 @@ sonar_geometry_t SonarDriverCore::geometry(int64_t utime) const {
   sonar_geometry_t g;
   g.utime = utime + secondsToUs(config_.clock_offset_s);
   for (const SonarSensor& s : config_.sensors) {
-    g.mount.push_back(toMsg(s.mount));
+    g.mount.push_back(toPoseMsg(s.mount));
     g.beam_width.push_back(reportedBeam(config_, s));
     g.group_of.push_back(static_cast<int16_t>(s.group));
   }

@@ -5,9 +5,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/pose_msg.hpp"
+#include "core/utime.hpp"
 #include "sim/drivers.hpp"
 #include "sim/path_follower.hpp"
-#include "core/utime.hpp"
 
 namespace lasonic::sim {
 
@@ -246,14 +247,6 @@ bool WorldCore::odometryDue(int64_t utime) const {
 
 bool WorldCore::finished(int64_t utime) const { return utime > end_utime_; }
 
-static pose2d_t toMsg(const geom::Pose2& p) {
-  pose2d_t m;
-  m.x = p.x;
-  m.y = p.y;
-  m.theta = p.theta;
-  return m;
-}
-
 sim_state_t WorldCore::stateAt(int64_t utime) {
   if (started_ && utime < last_utime_)
     throw std::invalid_argument("WorldCore::stateAt: time went backwards");
@@ -263,7 +256,7 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
   sim_state_t st;
   st.utime = utime;
   st.seq = seq_++;
-  st.robot_pose = toMsg(r.pose);
+  st.robot_pose = toPoseMsg(r.pose);
   st.v = r.v;
   st.omega = r.omega;
   const double dt = started_ ? static_cast<double>(utime - last_utime_) * 1e-6 : 0.0;
@@ -285,7 +278,7 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
   // so the stream never depends on the path taken.
   const double n_trans = gauss_(rng_), n_rot = gauss_(rng_), n_drift = gauss_(rng_);
   if (!started_) {
-    odom_.pose = toMsg(r.pose);
+    odom_.pose = toPoseMsg(r.pose);
   } else {
     const geom::Pose2 delta = last_true_.inverse().compose(r.pose);
     const double d = std::hypot(delta.x, delta.y);
@@ -298,8 +291,8 @@ sim_state_t WorldCore::stateAt(int64_t utime) {
     const double scale = d > 1e-12 ? measured_d / d : 0.0;
     const double measured_dtheta = read_dtheta + cfg_.rot_noise * std::sqrt(std::abs(delta.theta)) * n_rot +
                                    cfg_.drift_noise * std::sqrt(d) * n_drift;
-    const geom::Pose2 odom{odom_.pose.x, odom_.pose.y, odom_.pose.theta};
-    odom_.pose = toMsg(odom.compose({delta.x * scale, delta.y * scale, measured_dtheta}));
+    const geom::Pose2 odom = toPose(odom_.pose);
+    odom_.pose = toPoseMsg(odom.compose({delta.x * scale, delta.y * scale, measured_dtheta}));
     if (dt > 0) {
       odom_.v = measured_d / dt;
       odom_.omega = measured_dtheta / dt;

@@ -11,14 +11,15 @@
 #include <lasonic/sector_map_t.hpp>
 
 #include "complement/complement_config.hpp"
-#include "complement/messages.hpp"
 #include "complement/dark_continuation.hpp"
+#include "complement/messages.hpp"
 #include "complement/radar_map.hpp"
 #include "core/int_scan.hpp"
+#include "core/pose_msg.hpp"
+#include "core/utime.hpp"
 #include "operational/remembered_on_lines.hpp"
 #include "stages/inputs.hpp"
 #include "stages/stage_messages.hpp"
-#include "core/utime.hpp"
 
 namespace lasonic {
 
@@ -240,7 +241,7 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
     return;
   }
   last_tactical_utime_ = m.utime;
-  tactical_robot_pose_ = {m.robot_pose.x, m.robot_pose.y, m.robot_pose.theta};
+  tactical_robot_pose_ = toPose(m.robot_pose);
   std::vector<geom::Vec2>& points = tactical_points_;
   points.clear();
   const int threshold = std::max(1, m.gp_threshold);
