@@ -427,7 +427,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
       double margin = budget(L) + dirDb(ping.pose, hit) + dirDb(listener, hit) + m.sonar_reflect_db + coherentDb(m) +
                       fluctuation(q->obstacle, listener_id);
       if (margin < 0) continue;
-      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, hit, p, q);
+      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, p, hit, q, nullptr, true);
       if (margin >= 0) keep(L, margin, q, sonar_cause_t::REFLECTOR_PLANE, hit);
     } else {
       const geom::Vec2 c = q->circle.center;
@@ -441,7 +441,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
       double margin = budget(L) + dirDb(ping.pose, hit) + dirDb(listener, hit) + acoustics::cylinderDb(a, 0.5 * L) +
                       m.sonar_reflect_db + coherentDb(m) + fluctuation(q->obstacle, listener_id) + aspectDb(*q, p);
       if (margin < 0) continue;
-      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, hit, p, q);
+      margin += transmission(prims, e, hit, q, nullptr, true) + transmission(prims, p, hit, q, nullptr, true);
       if (margin >= 0) keep(L, margin, q, sonar_cause_t::REFLECTOR_CYLINDER, hit);
     }
   }
@@ -458,7 +458,7 @@ std::vector<Echo> PhysicalSonar::arrivals(const WorldGeometry& world, const Ping
                     mb.sonar_reflect_db + coherentDb(ma) + coherentDb(mb);
     if (margin < 0) continue;
     const Primitive *wa = inWorld(world, cr.a), *wb = inWorld(world, cr.b);
-    margin += transmission(prims, e, cr.vertex, wa, wb, true) + transmission(prims, cr.vertex, p, wa, wb);
+    margin += transmission(prims, e, cr.vertex, wa, wb, true) + transmission(prims, p, cr.vertex, wa, wb, true);
     if (margin >= 0) keep(L, margin, cr.a, sonar_cause_t::REFLECTOR_CORNER, cr.vertex);
   }
   return out;
@@ -486,7 +486,7 @@ std::vector<Echo> PhysicalSonar::emitterArrivals(const WorldGeometry& world, con
                       budget_.tvgDb(range) + tx_.oneWayDb(geom::angleDiff(heading(em.position - p), listener.theta));
       if (em.heading) margin += tx_.oneWayDb(geom::angleDiff(heading(p - em.position), *em.heading));
       if (margin < 0) continue;
-      margin += transmission(near(world, p, d), em.position, p);
+      margin += transmission(near(world, p, d), p, em.position, nullptr, nullptr, true);
       if (margin >= 0) out.push_back({range, margin, sonar_cause_t::CAUSE_FOREIGN, sonar_cause_t::REFLECTOR_NONE, nullptr, em.position});
     }
   }

@@ -117,7 +117,8 @@ class PhysicalSonar {
   double aspectDb(const Primitive& p, const geom::Vec2& from) const;
   // Power lost [dB, <= 0] on the straight path a -> b: the transmitting surfaces on the way, or
   // -inf behind an opaque one. `skip_*` (the reflector itself) are ignored. from_transducer: a is
-  // a transducer, stopped at once by a surface it is flush with (rangeAlong).
+  // a transducer, stopped at once by a surface it is flush with (rangeAlong). The loss is the same
+  // either way along the path, so a leg that ends at a listening transducer is cast from it.
   double transmission(const std::vector<const Primitive*>& prims, const geom::Vec2& a, const geom::Vec2& b,
                       const Primitive* skip_a = nullptr, const Primitive* skip_b = nullptr,
                       bool from_transducer = false) const;
