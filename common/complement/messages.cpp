@@ -75,6 +75,7 @@ std::string field(const char* channel, const char* name, size_t i) {
 using input_limits::kMaxCoordinate;
 using input_limits::kMaxLaserRange;
 using input_limits::kMaxSonarRange;
+using input_limits::kMinSonarRange;
 
 bool plausiblePose(const pose2d_t& p) {
   return finitePose(p) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate;
@@ -399,10 +400,18 @@ SonarGroup sonarGroupFromMessage(const sonar_ring_t& m, std::vector<InputProblem
       r.valid = false;
       problems.push_back({"rejected.sonar_mount", field("SONAR_RING", "mount", i) + " is not finite (or beyond " +
                                                       num(kMaxCoordinate) + " m)"});
-    } else if (!r.no_echo && !(std::isfinite(r.range) && r.range >= 0 && r.range <= range_max)) {
+    } else if (!r.no_echo && std::isinf(r.range) && r.range > 0) {
+      // +inf: nothing came back (ROS REP 117's convention for a range sensor): as no_echo = 1.
+      r.no_echo = true;
+      r.range = range_max;
+    } else if (!r.no_echo && !(std::isfinite(r.range) && r.range >= kMinSonarRange && r.range <= range_max)) {
       r.valid = false;
-      problems.push_back({"rejected.sonar_range", field("SONAR_RING", "range", i) + " = " + num(r.range) +
-                                                      " (range_max " + num(m.range_max) + ")"});
+      const bool too_near = std::isfinite(r.range) && r.range >= 0 && r.range < kMinSonarRange;
+      problems.push_back({"rejected.sonar_range",
+                          field("SONAR_RING", "range", i) + " = " + num(r.range) +
+                              (too_near ? " (nearer than any transducer hears, " + num(kMinSonarRange) +
+                                              " m: a driver's \"no reading\"? send no_echo = 1)"
+                                        : " (range_max " + num(m.range_max) + ")")});
     }
     g.readings.push_back(r);
   }

@@ -30,6 +30,10 @@ namespace input_limits {
 // [m] No sonar hears this far (the ring's own range_max is 3 m; a Polaroid transducer's 10.7 m):
 // a range beyond it is a malformed reading, whatever the message claims as range_max.
 inline constexpr double kMaxSonarRange = 50.0;
+// [m] No transducer hears an echo nearer than this: it rings after its own pulse (an HC-SR04's
+// 2 cm, a Polaroid 6500's 15 cm), so a nearer range (0, some drivers' "no reading") is no echo
+// and is refused, not put at the robot's skin.
+inline constexpr double kMinSonarRange = 0.02;
 // [m] The longest-range laser scanners reach a few hundred metres: a larger range_max is not a
 // scanner's.
 inline constexpr double kMaxLaserRange = 1000.0;

@@ -300,6 +300,34 @@ TEST(Messages, BadSonarReadingsAreInvalidAndNamed) {
   EXPECT_NE(problems[2].message.find("SONAR_RING.range[3] = -0.5"), std::string::npos);
 }
 
+// The ends of a range: 0 (some drivers' "no reading") is no echo a transducer can hear and is
+// refused, naming the flag to send; +inf without the flag is ROS's "nothing within range", so
+// no echo, as the flag says; -inf is refused.
+TEST(Messages, AZeroSonarRangeIsRefusedAndInfinityIsNoEcho) {
+  const float inf = std::numeric_limits<float>::infinity();
+  sonar_ring_t m = fixture::sonarGroup(0, 1, {0, 1, 2, 3, 4}, {0.0, 0.01, 0.025, 1.0, 1.0});
+  m.range[3] = inf;
+  m.range[4] = -inf;
+  std::vector<InputProblem> problems;
+  const SonarGroup g = sonarGroupFromMessage(m, problems);
+  ASSERT_EQ(g.readings.size(), 5u);
+  EXPECT_FALSE(g.readings[0].valid);
+  EXPECT_FALSE(g.readings[1].valid);
+  EXPECT_TRUE(g.readings[2].valid);
+  EXPECT_FALSE(g.readings[2].no_echo);
+  EXPECT_TRUE(g.readings[3].valid);
+  EXPECT_TRUE(g.readings[3].no_echo);
+  EXPECT_EQ(g.readings[3].range, m.range_max);
+  EXPECT_FALSE(g.readings[4].valid);
+  ASSERT_EQ(problems.size(), 3u);
+  for (const InputProblem& p : problems) EXPECT_EQ(p.counter, "rejected.sonar_range");
+  EXPECT_NE(problems[0].message.find("SONAR_RING.range[0] = 0 (nearer than any transducer hears"), std::string::npos)
+      << problems[0].message;
+  EXPECT_NE(problems[0].message.find("send no_echo = 1"), std::string::npos);
+  EXPECT_NE(problems[1].message.find("SONAR_RING.range[1] = 0.01"), std::string::npos);
+  EXPECT_NE(problems[2].message.find("SONAR_RING.range[4] = -inf (range_max"), std::string::npos) << problems[2].message;
+}
+
 TEST(Messages, BadLaserReadingsBecomeGapsBadScansAreRefused) {
   laser_scan_t m = fixture::simulateScan(fixture::fig4Room(), fixture::still({2, 1.8, 0}), 0, 100'000);
   m.ranges[10] = std::numeric_limits<float>::quiet_NaN();
