@@ -52,8 +52,9 @@ std::string StampAgreement::describe(const Finding& f, const char* channel) cons
   if (f.ahead)
     std::snprintf(buf, sizeof buf,
                   "%s stamped %.0f ms later than the newest ODOMETRY (which comes every %.0f ms): its computer's "
-                  "clock runs ahead of the odometry's (or the odometry stalls); its readings are placed with poses "
-                  "of the wrong time (README \"Clocks\")",
+                  "clock runs ahead of the odometry's, or the odometry arrives that late or stalls; its readings are "
+                  "placed with poses extrapolated past the newest odometry, of the wrong time if the clocks disagree "
+                  "(README \"Clocks\")",
                   channel, ms, static_cast<double>(f.odometry_period_us) * 1e-3);
   else
     std::snprintf(buf, sizeof buf,
