@@ -5,7 +5,7 @@
 namespace lasonic::complement {
 
 ComplementConfig complementConfig(const Config& c) {
-  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "radar_map", "outside_laser_view", "poles",
+  c.allowOnly({"tolerance", "beam_width_deg", "range_limit", "rm_max_age_s", "rm_max_age_scans", "radar_map", "outside_laser_view", "poles",
                "crosstalk", "late_echoes", "late_echo_window_s", "radar_map_memory"});
   ComplementConfig cfg;
   ComplementParams& p = cfg.params;
@@ -19,6 +19,7 @@ ComplementConfig complementConfig(const Config& c) {
                             std::to_string(p.model.range_limit) + " m): every echo would be redundant");
   p.max_rm_age_us = std::llround(
       1e6 * c.get("rm_max_age_s", static_cast<double>(p.max_rm_age_us) * 1e-6, Range::positiveDuration()));
+  cfg.rm_max_age_scans = c.get("rm_max_age_scans", cfg.rm_max_age_scans, Range::between(0, 100));
 
   p.outside_view_complementary = c.getChoice("outside_laser_view", p.outside_view_complementary,
                                               {{"complementary", true}, {"paper", false}});

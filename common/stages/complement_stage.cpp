@@ -18,7 +18,8 @@ ComplementStage::ComplementStage(Node& node, const ComplementConfig& cfg)
     : node_(node),
       cfg_(cfg),
       poles_(cfg.poles),
-      rm_memory_(cfg.radar_map_memory_s, cfg.radar_map_memory_max_incidence, cfg.radar_map_memory_min_length) {
+      rm_memory_(cfg.radar_map_memory_s, cfg.radar_map_memory_max_incidence, cfg.radar_map_memory_min_length),
+      rm_max_age_base_us_(cfg.params.max_rm_age_us) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<sonar_ring_t>(channels::SONAR_RING, [this](const sonar_ring_t& m) { onSonarRing(m); });
@@ -37,6 +38,9 @@ bool ComplementStage::timeOk(int64_t utime, const char* channel) {
     pings_.clear();
     laser_stamps_.reset();
     sonar_stamps_.reset();
+    scan_period_ = ScanPeriod{};
+    cfg_.params.max_rm_age_us = rm_max_age_base_us_;
+    laser_outage_.reset();
   }
   return c == ClockCheck::Ok || c == ClockCheck::Restarted;
 }
@@ -80,6 +84,12 @@ void ComplementStage::onLaserScan(const laser_scan_t& m) {
   reportProblems(node_, problems);
   if (!scan) return;
   last_scan_utime_ = m.utime;
+  // A 1 Hz scanner's newest Radar Map is up to a second old at every firing: its age limit in
+  // its own scan periods, as the pilot's staleness (2.5 of 5 Hz: the configured 0.5 s).
+  scan_period_.scanned(m.utime);
+  cfg_.params.max_rm_age_us = secondsToUs(std::min(
+      ComplementConfig::kMaxRmAgeS,
+      scan_period_.scans(cfg_.rm_max_age_scans, static_cast<double>(rm_max_age_base_us_) * 1e-6)));
 
   int returns = 0, no_pose = 0;
   for (const auto& r : scan->readings) returns += r.valid ? 1 : 0;
@@ -152,6 +162,9 @@ void ComplementStage::onSonarRing(const sonar_ring_t& m) {
                                                            pings_.before(m.utime, cfg_.params.late_echo_window_us),
                                                            rm_memory_.enabled() ? &rm_memory_ : nullptr);
   pings_.add(result);
+  laser_outage_.update(node_, m.utime, radar_map_ ? std::optional<int64_t>(radar_map_->utime) : std::nullopt,
+                       result.radar_map_stale, "laser.lost", channels::LASER_SCAN,
+                       "every sonar reading is unverifiable (no Radar Map recent enough to verify it)");
   for (const auto& r : result.readings) {
     node_.count(classCounter(r.cls));
     if (result.radar_map_stale && r.cls == cp::SonarClass::Unverifiable) node_.count("unverifiable.stale_radar_map");

@@ -16,11 +16,13 @@
 // Time comes only from the messages, never from the wall clock, so a replay is deterministic.
 //
 // Policies:
-// - Before the first laser scan, or when the newest Radar Map is more than rm_max_age_s away
-//   from a firing, the Radar Map is stale: the group is published with radar_map_stale = 1 and
-//   every reading is Unverifiable (counted under unverifiable.stale_radar_map). Without the laser
-//   nothing can be verified, and treating "no map" as "empty map" would make every echo
-//   complementary.
+// - Before the first laser scan, or when the newest Radar Map is more than rm_max_age_s (or
+//   rm_max_age_scans of the laser's own periods, where longer) away from a firing, the Radar Map
+//   is stale: the group is published with radar_map_stale = 1 and every reading is Unverifiable
+//   (counted under unverifiable.stale_radar_map). Without the laser nothing can be verified, and
+//   treating "no map" as "empty map" would make every echo complementary. A laser that had been
+//   scanning and goes stale so is an outage: laser.lost, once (an error), and a log line when
+//   it is back.
 // - Bad input is reported (node.reportError, naming the field) and never stops the process:
 //   ODOMETRY older than the newest is dropped; a LASER_SCAN not newer than the previous one is
 //   dropped; bad laser readings become gaps; a scan with no usable reading (e.g. no odometry
@@ -35,10 +37,12 @@
 #include "complement/complement_config.hpp"
 #include "complement/radar_map.hpp"
 #include "complement/shared_placement.hpp"
+#include "core/interval_window.hpp"
 #include "core/pose_history.hpp"
 #include "core/stamp_agreement.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
+#include "stages/inputs.hpp"
 
 #include <lasonic/complement_t.hpp>
 #include <lasonic/hypothetical_scan_t.hpp>
@@ -79,7 +83,11 @@ class ComplementStage {
   complement::PoleTracker poles_;
   complement::RadarMapMemory rm_memory_;  // earlier scans' lines where the newest does not look
   std::optional<int64_t> last_scan_utime_;
-  std::optional<int64_t> last_ring_utime_;  // (groups fire one after another: each is newer)
+  std::optional<int64_t> last_ring_utime_;
+  // The Radar Map's age limit: the configured one, or rm_max_age_scans of the laser's periods.
+  ScanPeriod scan_period_;
+  int64_t rm_max_age_base_us_ = 0;
+  SensorOutage laser_outage_;  // (reported once per outage: laser.lost)  // (groups fire one after another: each is newer)
   TimeReset clock_;
   StampAgreement laser_stamps_, sonar_stamps_;  // each driver's clock against the odometry's
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here

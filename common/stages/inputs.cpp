@@ -48,6 +48,25 @@ void OdometryOutage::present(int64_t utime) {
   missed_ = 0;
 }
 
+void SensorOutage::update(Node& node, int64_t utime, std::optional<int64_t> newest, bool stale, const char* counter,
+                          const char* channel, const char* meanwhile) {
+  if (!newest) return;
+  if (!seen_ || *newest > *seen_) {
+    if (seen_ && !since_) interval_us_ = *newest - *seen_;  // (not the outage's own gap)
+    seen_ = newest;
+  }
+  if (stale) {
+    if (since_ || interval_us_ <= 0 || utime - *newest <= 2 * interval_us_) return;
+    since_ = *newest;
+    node.reportError(counter, std::string("no ") + channel + " since utime " + std::to_string(*newest) + " (" +
+                                  std::to_string((utime - *newest) / 1000) + " ms before " + std::to_string(utime) +
+                                  "): " + meanwhile + " until it returns");
+  } else if (since_ && *newest > *since_) {
+    spdlog::warn("{} back after {:.3f} s without", channel, static_cast<double>(*newest - *since_) * 1e-6);
+    since_.reset();
+  }
+}
+
 bool isNewer(Node& node, const std::optional<int64_t>& last, int64_t utime, const char* channel, const char* what) {
   if (last && utime <= *last) {
     node.reportError(std::string("rejected.") + what + "_backwards",

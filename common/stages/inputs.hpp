@@ -56,6 +56,27 @@ class OdometryOutage {
   int64_t missed_ = 0;
 };
 
+// SensorOutage: a sensor that was delivering and has gone stale for the stage (older than the
+// stage's limit for it: SECTOR_MAP's laser_stale, a Radar Map too old to verify a ring) and
+// silent for more than two of its own latest intervals (it missed a datum at its own pace: a
+// 1 Hz scanner is not lost while the stage still times it against the 5 Hz limit) is an outage,
+// reported once as an error (`counter`, e.g. laser.lost, saying what the stage does meanwhile)
+// and logged when the sensor is back, so a dead driver is not only a flag in the output or a
+// count per reading. Before the sensor's second datum (no interval yet) nothing is reported.
+class SensorOutage {
+ public:
+  // At `utime` the sensor's newest datum is from `newest` (none yet: nullopt) and `stale` says
+  // whether the stage finds it too old.
+  void update(Node& node, int64_t utime, std::optional<int64_t> newest, bool stale, const char* counter,
+              const char* channel, const char* meanwhile);
+  void reset() { *this = SensorOutage{}; }
+
+ private:
+  std::optional<int64_t> since_;  // the newest datum's time when the outage was reported
+  std::optional<int64_t> seen_;   // the newest datum's time at the last update
+  int64_t interval_us_ = 0;       // between the last two data (0: not yet two)
+};
+
 // SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading
 // is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
 // seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's).

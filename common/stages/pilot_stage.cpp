@@ -261,6 +261,8 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   if (c != ClockCheck::Restarted) return c == ClockCheck::Ok;
   poses_.clear();
   odometry_outage_ = OdometryOutage{};
+  laser_outage_.reset();
+  sonar_outage_.reset();
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.agm);
   sector_map_ = SectorMap(cfg_.sector_map);
@@ -554,6 +556,13 @@ void PilotStage::publishSectorMap() {
   msg.remembered_age_s = static_cast<float>(s.remembered_age_s);
   node_.publish(channels::SECTOR_MAP, msg);
   last_map_utime_ = s.utime;
+  const auto newest = [&](double age_s) {
+    return age_s >= 0 ? std::optional<int64_t>(s.utime - secondsToUs(age_s)) : std::nullopt;
+  };
+  laser_outage_.update(node_, s.utime, newest(s.laser_age_s), s.laser_stale, "laser.lost", channels::LASER_SCAN,
+                       "the sector map holds the laser's last distances, flagged laser_stale");
+  sonar_outage_.update(node_, s.utime, newest(s.sonar_age_s), s.sonar_stale, "sonar.lost", channels::SONAR_COMPLEMENT,
+                       "the sector map holds the sonar's last distances, flagged sonar_stale");
 }
 
 void PilotStage::publishAgm(int64_t utime) {

@@ -14,7 +14,9 @@
 // whose surface the laser's returns report in their sector: onComplement),
 // agm.outside_view_redundant_left_out (outside-view echoes the newest scan's lines explain, in a
 // sector where the laser reports something: onComplement),
-// sector_map.no_odometry, rejected.* for every kind of bad input.
+// sector_map.no_odometry, rejected.* for every kind of bad input; laser.lost and sonar.lost
+// (errors, once per outage: a sensor that had been delivering is stale in the sector map, which
+// holds its last values meanwhile, flagged laser_stale / sonar_stale; logged when it is back).
 //
 // Definitions:
 // - One AGM update cycle = one SONAR_COMPLEMENT message (one firing group, every 0.03 s with the
@@ -217,6 +219,7 @@ class PilotStage {
   int64_t now_ = 0;  // newest sensor time: the sector map's time
   TimeReset clock_;
   OdometryOutage odometry_outage_;  // (reported once per outage)
+  SensorOutage laser_outage_, sonar_outage_;  // (each reported once per outage)
   std::shared_ptr<complement::SharedPlacement> placement_;  // null: placed here
   sector_map_t map_msg_{};  // (the SECTOR_MAP message, every field set per map; storage reused)
   // The newest AGM_TACTICAL's occupied cells and the newest AGM_LINES' segments (the navigator's frame); the

@@ -102,6 +102,53 @@ TEST_F(StageTest, AStaleRadarMapIsFlaggedNotTrusted) {
   EXPECT_EQ(node.counter("unverifiable.stale_radar_map"), 1);
 }
 
+// A laser that had been scanning and stops is an outage: laser.lost once (an error), however many
+// groups go unverifiable; back, it is fresh again, and another stop is another outage.
+TEST_F(StageTest, ALaserOutageIsReportedOnce) {
+  odometry(0, 5'000'000);
+  ring(50'000, {kDoor}, {1.5});  // before the first scan: not an outage
+  scan(100'000);                  // its last reading at 0.2 s
+  for (int64_t t = 250'000; t < 800'000; t += 30'000) ring(t, {kDoor}, {1.5});
+  EXPECT_EQ(comps.back().radar_map_stale, 1);
+  EXPECT_EQ(node.counter("laser.lost"), 0);  // one scan: no pace it has missed yet
+  scan(800'000);                              // 0.7 s later: fresh
+  for (int64_t t = 950'000; t < 2'500'000; t += 30'000) ring(t, {kDoor}, {1.5});
+  EXPECT_EQ(comps.back().radar_map_stale, 1);
+  EXPECT_EQ(node.counter("laser.lost"), 1);  // silent for more than twice its 0.7 s
+  scan(2'500'000);
+  ring(2'650'000, {kDoor}, {1.5});
+  EXPECT_EQ(comps.back().radar_map_stale, 0);
+  ring(4'200'000, {kDoor}, {1.5});  // 1.6 s after it: the 0.7 s pace again, not the outage's gap
+  EXPECT_EQ(node.counter("laser.lost"), 2);
+  EXPECT_EQ(node.errors(), 2);
+}
+
+// The Radar Map's age limit in the laser's own periods: a 1 Hz scanner's map verifies the rings
+// up to 2.5 s after it (rm_max_age_scans 2.5), where 0.5 s would leave most of them unverifiable;
+// the configured 0.5 s holds until the scans are timed, and with rm_max_age_scans 0.
+TEST(ComplementStageRate, TheRadarMapAgeLimitFollowsASlowScanner) {
+  const fixture::Trajectory traj = fixture::still(fixture::fig4RobotPose());
+  for (const double scans : {2.5, 0.0}) {
+    Node node("test-complement", "memq://", Node::Options{false, false});
+    ComplementStage stage(node, complementConfig(Config::fromString("rm_max_age_scans: " + std::to_string(scans))));
+    std::vector<complement_t> comps;
+    node.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [&](const complement_t& m) { comps.push_back(m); });
+    auto send = [&](const char* channel, const auto& msg) {
+      node.publish(channel, msg);
+      while (node.spinOnce(0) > 0) {
+      }
+    };
+    for (int64_t t = 0; t <= 8'000'000; t += 20'000) send(channels::ODOMETRY, fixture::odometryAt(traj, t));
+    for (int64_t t = 0; t <= 4'000'000; t += 1'000'000)  // 1 Hz: timed after the fourth scan
+      send(channels::LASER_SCAN, fixture::simulateScan(fixture::fig4Room(), traj, t, 100'000));
+    send(channels::SONAR_RING, fixture::sonarGroup(5'000'000, 0, {kDoor}, {1.5}));  // 0.9 s after the map
+    ASSERT_FALSE(comps.empty());
+    EXPECT_EQ(comps.back().radar_map_stale, scans > 0 ? 0 : 1) << scans;
+    send(channels::SONAR_RING, fixture::sonarGroup(7'000'000, 0, {kDoor}, {1.5}));  // 2.9 s after: stale
+    EXPECT_EQ(comps.back().radar_map_stale, 1) << scans;
+  }
+}
+
 TEST_F(StageTest, BadSonarReadingsAreInvalidAndTheStageGoesOn) {
   odometry(0, 200'000);
   scan(0);

@@ -218,7 +218,35 @@ TEST_F(PilotFixture, LaserThenSonarMapsAndAgmRate) {
   EXPECT_EQ(occupied, 1);
   EXPECT_EQ(node.counter("agm.cycles"), 34);
   EXPECT_EQ(node.counter("agm.recentred"), 1);
+  EXPECT_EQ(node.counter("laser.lost"), 0);  // stale, but one scan has no pace to have missed
   EXPECT_EQ(node.errors(), 0);
+}
+
+// A sensor that was delivering and goes stale is an outage, an error once per outage; one that
+// never delivered is not (start-up in any order); back, it can be lost again.
+TEST_F(PilotFixture, ASensorOutageIsReportedOncePerOutage) {
+  odometry();  // poses from 0 to 2 s
+  for (int64_t t = 300'000; t < 500'000; t += 30'000) complement(t);  // sonar only: no laser yet
+  EXPECT_EQ(node.counter("laser.lost"), 0);
+  laserScan(300'000);  // 5 Hz: its last readings at 0.5 and 0.7 s
+  laserScan(500'000);
+  for (int64_t t = 720'000; t < 1'200'000; t += 30'000) complement(t);
+  EXPECT_EQ(maps.back().laser_stale, 1);
+  EXPECT_EQ(node.counter("laser.lost"), 1);
+  EXPECT_EQ(node.counter("sonar.lost"), 0);
+  laserScan(1'100'000);  // back (its last reading at 1.3 s): fresh, not reported again
+  EXPECT_EQ(maps.back().laser_stale, 0);
+  complement(1'320'000);
+  EXPECT_EQ(node.counter("laser.lost"), 1);
+  // Now the sonar stops (its last group at 1.32 s) while the laser goes on: stale after 0.36 s.
+  laserScan(1'400'000);
+  EXPECT_EQ(maps.back().sonar_stale, 0);
+  EXPECT_EQ(node.counter("sonar.lost"), 0);
+  laserScan(1'600'000);
+  EXPECT_EQ(maps.back().sonar_stale, 1);
+  EXPECT_EQ(node.counter("sonar.lost"), 1);
+  EXPECT_EQ(node.counter("laser.lost"), 1);
+  EXPECT_EQ(node.errors(), 2);
 }
 
 // AGM_OPERATIONAL goes out again as soon as 1/agm_publish_hz (0.5 s) of message time has passed
