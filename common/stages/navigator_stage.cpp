@@ -507,15 +507,30 @@ void NavigatorStage::learnBeams(const std::vector<complement::ComplementInput>& 
   std::optional<geom::Pose2> robot;
   bool added = false;
   for (const auto& r : readings) {
-    if (r.cls == complement::SonarClass::Invalid || !r.sensor_pose || beams_.count(r.sensor_id)) continue;
+    if (r.cls == complement::SonarClass::Invalid || !r.sensor_pose) continue;
+    if (!robot && !(robot = poses_.at(utime))) return;
+    const double beam = geom::plausibleBeamWidth(r.beam_width) ? r.beam_width : cfg_.placement.params.beam_width;
+    const BeamAxis b{geom::normalizeAngle(r.sensor_pose->theta - robot->theta), beam};
+    if (const auto known = beams_.find(r.sensor_id); known != beams_.end()) {
+      const BeamAxis& k = known->second;
+      if (std::abs(geom::angleDiff(b.axis, k.axis)) <= geom::deg2rad(kRingChangeDeg) &&
+          std::abs(b.beam - k.beam) <= geom::deg2rad(kRingChangeDeg))
+        continue;
+      // Another ring under the same ids (a driver restarted with another ring, or recalibrated):
+      // its beams are learnt afresh, and G_T follows them.
+      spdlog::warn("{}: sonar {}'s axis {:.1f} -> {:.1f} deg, beam {:.1f} -> {:.1f} deg: another ring; its beams "
+                   "learnt afresh",
+                   node_.name(), r.sensor_id, geom::rad2deg(k.axis), geom::rad2deg(b.axis), geom::rad2deg(k.beam),
+                   geom::rad2deg(b.beam));
+      node_.count("ring.relearnt");
+      beams_.clear();
+    }
     // (a message naming thousands of sensors must not make the count below quadratic in them)
     if (beams_.size() >= kMaxRingSensors) {
       node_.count("ring.sensors_ignored");
       continue;
     }
-    if (!robot && !(robot = poses_.at(utime))) return;
-    const double beam = geom::plausibleBeamWidth(r.beam_width) ? r.beam_width : cfg_.placement.params.beam_width;
-    beams_[r.sensor_id] = BeamAxis{geom::normalizeAngle(r.sensor_pose->theta - robot->theta), beam};
+    beams_[r.sensor_id] = b;
     added = true;
   }
   if (!added) return;

@@ -197,6 +197,9 @@ class NavigatorStage {
   // Transducers whose beams are learnt (no ring has more; a further sensor id is counted,
   // ring.sensors_ignored, and left out).
   static constexpr size_t kMaxRingSensors = 256;
+  // A learnt transducer whose axis or beam moves by more than this is another ring (remounted,
+  // recalibrated): two interpolations of the same odometry at one firing agree far closer.
+  static constexpr double kRingChangeDeg = 2.0;
   bool timeOk(int64_t utime, const char* channel);  // as ComplementStage::timeOk
   void integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime);
   void joinToLaserLines(std::vector<geom::Vec2>& hits);
@@ -208,7 +211,8 @@ class NavigatorStage {
   void followRing();
   // Each transducer's axis in the robot frame and its beam, from the first of its readings whose
   // firing the odometry has passed (sensor pose less the robot's heading then); beam_overlap_
-  // follows.
+  // follows. A reading that puts a learnt one elsewhere (kRingChangeDeg) starts the ring afresh
+  // (counted: ring.relearnt).
   void learnBeams(const std::vector<complement::ComplementInput>& readings, int64_t utime);
 
   Node& node_;

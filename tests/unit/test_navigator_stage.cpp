@@ -831,7 +831,7 @@ namespace {
 // AGM_TACTICAL (lines: the line candidates' threshold, as the map carries it).
 struct RingRun {
   int g_threshold = 0, published = 0, lines = 0;
-  int64_t changes = 0;
+  int64_t changes = 0, relearnt = 0;
 };
 // A ring's transducers: axis [deg] in the robot frame, beam [deg], firing group.
 struct RingSensor {
@@ -852,18 +852,22 @@ std::vector<RingSensor> pioneerRing() {
   return r;
 }
 // The ring fires its groups in turn every period_us plus 0-8 ms, while the robot turns on the
-// spot (0.5 rad/s: each sensor's pose in the messages is its mount turned by the robot's heading).
-RingRun ringRun(const std::vector<RingSensor>& ring, int64_t period_us, const NavigatorConfig& cfg) {
+// spot (0.5 rad/s: each sensor's pose in the messages is its mount turned by the robot's heading);
+// from switch_us on, `then` fires in its place under the same ids (another ring).
+RingRun ringRun(const std::vector<RingSensor>& first, int64_t period_us, const NavigatorConfig& cfg,
+                const std::vector<RingSensor>& then = {}, int64_t switch_us = 9'000'000) {
   Node node{"t", "memq://", Node::Options{false, false}};
   NavigatorStage stage{node, cfg};
   RingRun r;
   node.subscribe<grid_map_t>(channels::AGM_TACTICAL, [&](const grid_map_t& m) { r.published = m.gp_threshold; });
-  int groups = 0;
-  for (const RingSensor& s : ring) groups = std::max(groups, s.group + 1);
-  if (groups == 0) groups = 8;  // (no sensors: 8 groups of messages without readings)
   std::mt19937 rng(5);
   std::uniform_int_distribution<int64_t> jitter(0, 8000);
-  for (int64_t t = 1'000'000, k = 0; t < 9'000'000; t += period_us + jitter(rng), ++k) {
+  const int64_t end = switch_us < 9'000'000 ? switch_us + 8'000'000 : 9'000'000;
+  for (int64_t t = 1'000'000, k = 0; t < end; t += period_us + jitter(rng), ++k) {
+    const std::vector<RingSensor>& ring = t < switch_us ? first : then;
+    int groups = 0;
+    for (const RingSensor& s : ring) groups = std::max(groups, s.group + 1);
+    if (groups == 0) groups = 8;  // (no sensors: 8 groups of messages without readings)
     const double heading = geom::normalizeAngle(0.5 * static_cast<double>(t) * 1e-6);
     odometry_t o{};
     o.utime = t;
@@ -894,6 +898,7 @@ RingRun ringRun(const std::vector<RingSensor>& ring, int64_t period_us, const Na
   }
   r.g_threshold = stage.agm().params().g_threshold;
   r.changes = node.counter("agm.g_threshold_changes");
+  r.relearnt = node.counter("ring.relearnt");
   return r;
 }
 }  // namespace
@@ -934,6 +939,23 @@ TEST(NavigatorStage, TheTacticalGThresholdFollowsTheRingsTimingAndBeams) {
   const RingRun p4 = ringRun(pioneerRing(), 40'000, lines4);
   EXPECT_EQ(p4.g_threshold, 3);
   EXPECT_EQ(p4.published, 4);
+}
+
+// A driver restarted with another ring under the same ids (the navigator running on): the ring is
+// learnt afresh, once, and G_T ends where it would for that ring alone; the same ring turning
+// with the robot is never taken for another.
+TEST(NavigatorStage, AnotherRingUnderTheSameIdsIsLearntAfresh) {
+  const NavigatorConfig shipped = navigatorConfig(Config{});
+  const RingRun pioneer = ringRun(pioneerRing(), 40'000, shipped), mobot = ringRun(evenRing(24, 30, 6), 40'000, shipped);
+  ASSERT_NE(pioneer.g_threshold, mobot.g_threshold);
+  EXPECT_EQ(pioneer.relearnt, 0);
+  EXPECT_EQ(mobot.relearnt, 0);
+  const RingRun to_mobot = ringRun(pioneerRing(), 40'000, shipped, evenRing(24, 30, 6), 5'000'000);
+  EXPECT_EQ(to_mobot.relearnt, 1);
+  EXPECT_EQ(to_mobot.g_threshold, mobot.g_threshold);
+  const RingRun to_pioneer = ringRun(evenRing(24, 30, 6), 40'000, shipped, pioneerRing(), 5'000'000);
+  EXPECT_EQ(to_pioneer.relearnt, 1);
+  EXPECT_EQ(to_pioneer.g_threshold, pioneer.g_threshold);
 }
 
 // Made-up sensor ids: the beams of at most 256 are learnt, the rest counted; nothing else changes.
