@@ -201,6 +201,19 @@ std::vector<ComplementInput> complementFromMessage(const complement_t& m, std::v
         ok = false;
       }
       asSounding(ok, c.echo ? static_cast<double>(r.range) : static_cast<double>(r.hypothetical_range));
+    } else if (c.cls == SonarClass::Unverifiable) {
+      // No recent Radar Map: nothing verified, but the echo is what the sonar heard (the pilot
+      // may take it while the laser is lost). A malformed one is only not taken.
+      c.echo = std::isfinite(r.end_x) && std::isfinite(r.end_y);
+      const double limit = std::isfinite(m.range_limit) && m.range_limit > 0 ? m.range_limit : 0.0;
+      if (c.echo && std::isfinite(r.range) && r.range >= 0 && r.range <= limit &&
+          std::abs(r.end_x) <= kMaxCoordinate && std::abs(r.end_y) <= kMaxCoordinate && plausiblePose(r.sensor_pose)) {
+        c.unverified_echo = true;
+        c.range = r.range;
+        c.end = geom::Vec2(r.end_x, r.end_y);
+        c.sensor_pose = toPose(r.sensor_pose);
+        if (geom::plausibleBeamWidth(r.beam_width)) c.beam_width = r.beam_width;
+      }
     }
     out.push_back(c);
   }

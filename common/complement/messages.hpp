@@ -80,6 +80,11 @@ struct ComplementInput {
   // none (then `range` is the hypothesis: as far as the sound is known to have gone).
   bool usable = false;
   bool echo = true;  // false: an unverifiable reading without an echo
+  // An unverifiable echo of a group without a recent Radar Map (radar_map_stale: the laser lost,
+  // or not yet scanning) within the hypothesis' range limit, with a finite range, end point and
+  // plausible pose, all kept; `usable` stays false (no hypothesis: no sound known to have passed
+  // anything).
+  bool unverified_echo = false;
   double range = 0;
   double hypothetical_range = 0;  // [m] (all classes; an outside-view echo's: the newest lines')
   geom::Vec2 end{0, 0};

@@ -133,7 +133,7 @@ bool laserInSector(const std::vector<geom::Vec2>& laser, const geom::Pose2& sens
 }
 
 std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
-                                          bool seen_before) {
+                                          bool seen_before, bool unverified) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::vector<GroupReading> group;
   group.reserve(readings.size());
@@ -142,9 +142,10 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
     g.sensor_id = r.sensor_id;
     g.utime = utime;
     // An echo from beyond the laser's view is used as a complementary one (complement.hpp).
-    g.echo = (r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView ||
-              (seen_before && r.cls == complement::SonarClass::SeenBefore)) &&
-             r.usable;
+    g.echo = ((r.cls == complement::SonarClass::Complementary || r.cls == complement::SonarClass::OutsideView ||
+               (seen_before && r.cls == complement::SonarClass::SeenBefore)) &&
+              r.usable) ||
+             (unverified && r.unverified_echo);
     if (g.echo) {
       g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN}), r.beam_width};
       g.axis_end = r.end;

@@ -79,9 +79,10 @@ class SensorOutage {
 
 // SONAR_COMPLEMENT's readings as the AGM's EchoPlacer takes them: a usable complementary reading
 // is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
-// seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's).
+// seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's);
+// unverified: whether an unverified echo (no recent Radar Map) is (the pilot's stale_radar_map).
 std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
-                                          bool seen_before = false);
+                                          bool seen_before = false, bool unverified = false);
 
 // True if one of `laser` (global returns: the sector map's) lies within half of `sector_width`
 // [rad] of the axis of `sensor` (global pose) and within `tolerance` of `range` from it: the

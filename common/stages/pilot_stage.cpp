@@ -75,7 +75,8 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
                                    "laser_memory_seam", "dark_continuation_m", "motion_confirmation",
-                                   "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans"};
+                                   "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans",
+                                   "stale_radar_map"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -112,6 +113,8 @@ PilotConfig pilotConfig(const Config& c) {
   p.remembered = c.get<bool>("remembered", p.remembered);
   p.outside_view_redundant_laser = c.getChoice("outside_view_redundant", p.outside_view_redundant_laser,
                                                {{"laser_sector", true}, {"echo", false}});
+  p.stale_radar_map_echoes = c.getChoice("stale_radar_map", p.stale_radar_map_echoes,
+                                         {{"echoes", true}, {"paper", false}});
   s.remembered_stale_s = c.get("remembered_stale_s", s.remembered_stale_s, Range::positiveDuration());
   s.remembered_explains_radius =
       c.get("remembered_explains_radius", s.remembered_explains_radius, Range::between(0, 1));
@@ -483,7 +486,10 @@ void PilotStage::onComplement(const complement_t& m) {
   // within the complement's tolerance (the message's): the echo adds nothing there. Elsewhere
   // it is the only report of that surface (the memory keeps only returns known to stand still)
   // and goes in.
-  std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true);
+  // Without the laser, what the sonar hears is the only report of what is near: a person who
+  // walks up while the laser is lost is otherwise in no map (the held laser distances do not see
+  // them), so a group without a recent Radar Map has its echoes in (stale_radar_map: echoes).
+  std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true, cfg_.stale_radar_map_echoes);
   const double tol = std::isfinite(m.tolerance) && m.tolerance >= 0 ? m.tolerance : 0.0;
   const double sector = 2 * geom::kPi / std::max(1, sector_map_.params().sectors);
   for (size_t i = 0; i < group.size() && i < readings.size(); ++i) {
@@ -504,6 +510,7 @@ void PilotStage::onComplement(const complement_t& m) {
       group[i].echo = false;
       node_.count("agm.outside_view_redundant_left_out");
     }
+    if (group[i].echo && r.unverified_echo) node_.count("agm.unverified_echoes");
   }
   // The AGM's memory in ring cycles: this group's firing counted, h_max follows the ring.
   ring_groups_.fired(m.group);

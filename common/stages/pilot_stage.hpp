@@ -103,6 +103,11 @@ struct PilotConfig {
   // a laser return in the echo's own sector (the pilot's onComplement); false: every outside-view
   // echo goes in.
   bool outside_view_redundant_laser = true;
+  // Beyond the paper: a group the complement could not verify for want of a recent Radar Map (the
+  // laser lost, or not scanning yet) has its echoes within the hypothesis' range limit put in the
+  // AGM as complementary ones (onComplement; G_T still asks for two); false: the paper, such echoes
+  // are unverifiable and unused.
+  bool stale_radar_map_echoes = true;
   // [m] A remembered cell within this of one of the navigator's AGM_LINES is taken at its foot on
   // the line (operational/remembered_on_lines.hpp); 0: cells at their centres, AGM_LINES not
   // subscribed.

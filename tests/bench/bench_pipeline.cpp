@@ -294,7 +294,8 @@ class Replayer {
     auto& all = prepared();
     if (i >= all.size()) {
       const complement_t msg = cp::complementToMessage(result, ccfg_.params);
-      all.push_back(toGroupReadings(cp::complementFromMessage(msg, problems_), msg.utime));
+      all.push_back(toGroupReadings(cp::complementFromMessage(msg, problems_), msg.utime, false,
+                                    pcfg_.stale_radar_map_echoes));
     }
     return all[i];
   }

@@ -222,6 +222,60 @@ TEST_F(PilotFixture, LaserThenSonarMapsAndAgmRate) {
   EXPECT_EQ(node.errors(), 0);
 }
 
+// Without a recent Radar Map the complement verifies nothing; its echoes within the range limit
+// go in as complementary ones (stale_radar_map: echoes), so an obstacle that comes near while the
+// laser is lost is in the sector map; the paper's pilot leaves them out. Beyond the limit, or in
+// a group with a fresh map (an echo beyond the limit), they stay out.
+struct StaleRadarMapRun {
+  std::vector<sector_map_t> maps;
+  int64_t unverified = 0;
+};
+StaleRadarMapRun staleRadarMapRun(const PilotConfig& cfg, bool stale, float range) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage(node, cfg);
+  StaleRadarMapRun run;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&](const sector_map_t& m) { run.maps.push_back(m); });
+  standStill(node, 0, 2'000'000);
+  drainAll(node);
+  for (int64_t t = 300'000; t < 600'000; t += 30'000) {
+    complement_t c{};
+    c.utime = t;
+    c.radar_map_stale = stale ? 1 : 0;
+    c.range_limit = 2.2f;
+    c.tolerance = 0.1f;
+    complement_reading_t r{};
+    r.cls = complement_reading_t::CLASS_UNVERIFIABLE;
+    r.range = range;  // from the front transducer at (1.35, 2.0) facing +x
+    r.hypothetical_range = 2.2f;
+    r.sensor_pose = {1.35, 2.0, 0.0};
+    r.end_x = 1.35 + range;
+    r.end_y = 2.0;
+    r.beam_width = 0.5236f;
+    c.readings.push_back(r);
+    c.nreadings = 1;
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drainAll(node);
+  }
+  run.unverified = node.counter("agm.unverified_echoes");
+  return run;
+}
+
+TEST(PilotStage, WithoutARecentRadarMapTheSonarsEchoesAreTheMap) {
+  const int ahead = 24;
+  PilotConfig cfg = nearestPointPilot();
+  const StaleRadarMapRun lost = staleRadarMapRun(cfg, true, 0.8f);
+  ASSERT_FALSE(lost.maps.empty());
+  EXPECT_EQ(lost.unverified, 10);
+  EXPECT_EQ(lost.maps.back().source[ahead], kSonar);
+  EXPECT_NEAR(lost.maps.back().sonar_distance[ahead], 0.8, 0.11);  // (its cell's nearest point)
+  EXPECT_EQ(staleRadarMapRun(cfg, true, 2.5f).unverified, 0);   // beyond the 2.2 m limit
+  EXPECT_EQ(staleRadarMapRun(cfg, false, 2.5f).unverified, 0);  // a fresh map's echo beyond it
+  cfg.stale_radar_map_echoes = false;                           // the paper
+  const StaleRadarMapRun paper = staleRadarMapRun(cfg, true, 0.8f);
+  EXPECT_EQ(paper.unverified, 0);
+  EXPECT_EQ(paper.maps.back().source[ahead], kNone);
+}
+
 // A sensor that was delivering and goes stale is an outage, an error once per outage; one that
 // never delivered is not (start-up in any order); back, it can be lost again.
 TEST_F(PilotFixture, ASensorOutageIsReportedOncePerOutage) {
