@@ -517,12 +517,15 @@ void NavigatorStage::learnBeams(const std::vector<complement::ComplementInput>& 
           std::abs(b.beam - k.beam) <= geom::deg2rad(kRingChangeDeg))
         continue;
       // Another ring under the same ids (a driver restarted with another ring, or recalibrated):
-      // its beams are learnt afresh, and G_T follows them.
-      spdlog::warn("{}: sonar {}'s axis {:.1f} -> {:.1f} deg, beam {:.1f} -> {:.1f} deg: another ring; its beams "
-                   "learnt afresh",
-                   node_.name(), r.sensor_id, geom::rad2deg(k.axis), geom::rad2deg(b.axis), geom::rad2deg(k.beam),
-                   geom::rad2deg(b.beam));
+      // its beams are learnt afresh, and G_T follows them. (Logged the 1st, 2nd, 4th, ... time: a
+      // stream whose poses keep jumping must not flood the log.)
       node_.count("ring.relearnt");
+      const int64_t n = node_.counter("ring.relearnt");
+      if ((n & (n - 1)) == 0)
+        spdlog::warn("{}: sonar {}'s axis {:.1f} -> {:.1f} deg, beam {:.1f} -> {:.1f} deg: another ring; its beams "
+                     "learnt afresh [ring.relearnt so far: {}]",
+                     node_.name(), r.sensor_id, geom::rad2deg(k.axis), geom::rad2deg(b.axis), geom::rad2deg(k.beam),
+                     geom::rad2deg(b.beam), n);
       beams_.clear();
     }
     // (a message naming thousands of sensors must not make the count below quadratic in them)
