@@ -125,7 +125,7 @@ TEST_F(StageTest, ALaserOutageIsReportedOnce) {
 
 // The Radar Map's age limit in the laser's own periods: a 1 Hz scanner's map verifies the rings
 // up to 2.5 s after it (rm_max_age_scans 2.5), where 0.5 s would leave most of them unverifiable;
-// the configured 0.5 s holds until the scans are timed, and with rm_max_age_scans 0.
+// with rm_max_age_scans 0 the configured 0.5 s holds.
 TEST(ComplementStageRate, TheRadarMapAgeLimitFollowsASlowScanner) {
   const fixture::Trajectory traj = fixture::still(fixture::fig4RobotPose());
   for (const double scans : {2.5, 0.0}) {
