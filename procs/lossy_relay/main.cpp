@@ -11,14 +11,24 @@
 // By default the robot's own channels lose messages and the simulator's truth (SIM_STATE,
 // SONAR_TRUTH, LASER_TRUTH: evaluation only, not part of a robot's network) passes untouched;
 // --lossy REGEX chooses otherwise.
+//
+// --outage START:END (seconds, repeatable) drops every message of the lossy channels from START
+// to END seconds after the first message relayed (offline: the log's timestamps; live: this
+// host's clock): a driver that dies and comes back, e.g. a laser on a flaky USB link.
+//
+//   lasonic-lossy-relay --in-log raw.lcmlog --out-log outage.lcmlog --lossy LASER_SCAN --outage 15:25
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "core/cli.hpp"
 #include "core/same_file.hpp"
@@ -40,18 +50,44 @@ uint64_t hashString(const std::string& s) {
   return h;
 }
 
+struct Outage {
+  int64_t start_us = 0, end_us = 0;  // after the first message, [start, end)
+};
+
+// "START:END" in seconds, 0 <= START < END.
+std::optional<Outage> parseOutage(const std::string& text) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  try {
+    size_t used_a = 0, used_b = 0;
+    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
+    const double s = std::stod(a, &used_a), e = std::stod(b, &used_b);
+    if (used_a != a.size() || used_b != b.size() || !(s >= 0) || !(e > s) || !(e < 1e9)) return std::nullopt;
+    return Outage{static_cast<int64_t>(std::llround(s * 1e6)), static_cast<int64_t>(std::llround(e * 1e6))};
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 struct Dropper {
   double loss = 0;
   uint64_t seed = 1;
   std::regex lossy;
+  std::vector<Outage> outages;
+  std::optional<int64_t> first_us;
   std::map<std::string, int64_t> index, passed, dropped;
-  // True: drop this message.
-  bool drop(const std::string& channel) {
+  // True: drop this message, which arrived (or was logged) at time_us.
+  bool drop(const std::string& channel, int64_t time_us) {
     const int64_t i = index[channel]++;
+    if (!first_us) first_us = time_us;
     bool d = false;
-    if (loss > 0 && std::regex_match(channel, lossy)) {
-      const uint64_t r = mix(mix(seed ^ hashString(channel)) + static_cast<uint64_t>(i));
-      d = static_cast<double>(r >> 11) * 0x1.0p-53 < loss;
+    if (std::regex_match(channel, lossy)) {
+      for (const Outage& o : outages)
+        if (time_us - *first_us >= o.start_us && time_us - *first_us < o.end_us) d = true;
+      if (!d && loss > 0) {
+        const uint64_t r = mix(mix(seed ^ hashString(channel)) + static_cast<uint64_t>(i));
+        d = static_cast<double>(r >> 11) * 0x1.0p-53 < loss;
+      }
     }
     ++(d ? dropped : passed)[channel];
     return d;
@@ -72,7 +108,9 @@ struct Relay {
   lcm::LCM* to = nullptr;
   Dropper* dropper = nullptr;
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    if (channel == "LCM_SELF_TEST" || dropper->drop(channel)) return;
+    if (channel == "LCM_SELF_TEST") return;
+    const auto now = std::chrono::steady_clock::now().time_since_epoch();
+    if (dropper->drop(channel, std::chrono::duration_cast<std::chrono::microseconds>(now).count())) return;
     to->publish(channel, rbuf->data, rbuf->data_size);
   }
 };
@@ -80,7 +118,7 @@ struct Relay {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"lasonic-lossy-relay: relay LCM messages (live or log to log), dropping a seeded share of them"};
+  CLI::App app{"lasonic-lossy-relay: relay LCM messages (live or log to log), dropping a seeded share of them or an outage"};
   std::string from, to, in_log, out_log, lossy = "^(?!SIM_STATE$|SONAR_TRUTH$|LASER_TRUTH$).*";
   Dropper d;
   app.add_option("--from", from, "LCM URL to listen on (live)");
@@ -89,6 +127,11 @@ int main(int argc, char** argv) {
   app.add_option("--out-log", out_log, "output log (offline)");
   app.add_option("--loss", d.loss, "share of the lossy channels' messages to drop")->check(lasonic::FiniteNumberIn(0.0, 1.0));
   app.add_option("--seed", d.seed, "seed of the drops")->capture_default_str();
+  std::vector<std::string> outage_text;
+  app.add_option("--outage", outage_text,
+                 "START:END in seconds after the first message: drop every message of the lossy channels then "
+                 "(repeatable)")
+      ->allow_extra_args(false);
   app.add_option("--lossy", lossy, "regex of the channels that lose messages (default: all but the truth)")
       ->capture_default_str();
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
@@ -97,6 +140,15 @@ int main(int argc, char** argv) {
   } catch (const std::regex_error& e) {
     std::fprintf(stderr, "lasonic-lossy-relay: --lossy %s: %s\n", lossy.c_str(), e.what());
     return 2;
+  }
+  for (const auto& t : outage_text) {
+    const auto o = parseOutage(t);
+    if (!o) {
+      std::fprintf(stderr, "lasonic-lossy-relay: --outage %s: expected START:END in seconds, 0 <= START < END\n",
+                   t.c_str());
+      return 2;
+    }
+    d.outages.push_back(*o);
   }
   const bool live = !from.empty() || !to.empty();
   const bool offline = !in_log.empty() || !out_log.empty();
@@ -116,7 +168,7 @@ int main(int argc, char** argv) {
       lasonic::LogReader in(in_log);
       lasonic::LogWriter out(out_log);
       while (auto ev = in.next())
-        if (!d.drop(ev->channel)) out.writeRaw(ev->channel, ev->timestamp, ev->data);
+        if (!d.drop(ev->channel, ev->timestamp)) out.writeRaw(ev->channel, ev->timestamp, ev->data);
     } catch (const lasonic::LogError& e) {
       std::fprintf(stderr, "lasonic-lossy-relay: %s\n", e.what());
       return 1;
