@@ -799,8 +799,8 @@ void SectorMap::sonarValues(const geom::Pose2& pose, double ct, double st, const
                   });
 }
 
-void SectorMap::hold(bool stale, std::vector<Value>& now, std::vector<Value>& held) {
-  if (stale) {
+void SectorMap::hold(bool stale, std::vector<Value>& now, std::vector<Value>& held) const {
+  if (stale && p_.stale_values == StaleValues::HeldMin) {
     for (size_t k = 0; k < now.size(); ++k)
       if (known(held[k].d) && (!known(now[k].d) || held[k].d < now[k].d)) now[k] = held[k];
   }

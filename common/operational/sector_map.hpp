@@ -33,9 +33,12 @@
 // - the sector value is the smallest of laser, sonar and remembered (ties: laser, then sonar),
 //   with its source recorded.
 // Staleness: a sensor whose newest data is more than its limit older than the map's time is
-// stale; its values are then held: each sector takes the min of the newly computed value and
-// the held one, and the held values only ever get shorter, so stale data never makes a sector
-// look freer than the last fresh data did. A sensor never heard from is stale with age -1.
+// stale. Its values are then its last data moved with odometry (StaleValues::Moved: the laser's
+// last scan points and the AGM's cells are in the odometry frame, so a static obstacle stays
+// where it was seen), or held (StaleValues::HeldMin): each sector takes the min of the newly
+// computed value and the held one, and the held values only ever get shorter, so stale data
+// never makes a sector look freer than the last fresh data did, also where the robot has
+// moved or turned away since. A sensor never heard from is stale with age -1.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -55,6 +58,8 @@ enum class SectorSource : int8_t { None = 0, Laser = 1, Sonar = 2, SonarCopied =
 enum class CellPoint { Nearest, Centre };
 // Which own sonar values are copied into the neighbours (see the file comment).
 enum class CopyRule { Paper, UnlessLaserConfirmed, CellExtent };
+// What a stale sensor's sector values are (see the file comment).
+enum class StaleValues { Moved, HeldMin };
 
 struct SectorMapParams {
   int sectors = 48;             // paper: 48 sectors of 7.5 deg
@@ -68,6 +73,7 @@ struct SectorMapParams {
   bool copy_over_own = false;            // copies also into sectors with sonar data of their own
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
+  StaleValues stale_values = StaleValues::HeldMin;
   double remembered_stale_s = 2.0;  // [s] a remembered (tactical) map older than this is not used
   // [m] a remembered cell within this of a point of the newest (not stale) scan is the obstacle
   // the laser reports already (0: laser_explains_radius, as for the AGM's cells).
@@ -200,8 +206,8 @@ class SectorMap {
   template <typename Grid>
   const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);
-  // Staleness: fresh -> remember; stale -> min with what is held (which only shrinks).
-  static void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held);
+  // Staleness (HeldMin): fresh -> remember; stale -> min with what is held (which only shrinks).
+  void hold(bool stale, std::vector<Value>& now, std::vector<Value>& held) const;
 
   SectorMapParams p_;
   double reach_root_bound_ = 0;  // the largest r^2 whose root is <= robot_radius + max_range

@@ -76,7 +76,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
                                    "laser_memory_seam", "dark_continuation_m", "motion_confirmation",
                                    "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans",
-                                   "stale_radar_map"};
+                                   "stale_radar_map", "stale_values"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
@@ -91,6 +91,8 @@ PilotConfig pilotConfig(const Config& c) {
   s.laser_stale_s = c.get("laser_stale_s", s.laser_stale_s, Range::positiveDuration());
   p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positiveDuration());
+  s.stale_values = c.getChoice("stale_values", s.stale_values,
+                               {{"held_min", StaleValues::HeldMin}, {"moved", StaleValues::Moved}});
   // (Bounded: a period or interval in µs must fit an int64; a display rate below one per 100 s or
   // a map interval of a minute has no use on a moving robot.)
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::between(0.01, 1000));
@@ -566,10 +568,13 @@ void PilotStage::publishSectorMap() {
   const auto newest = [&](double age_s) {
     return age_s >= 0 ? std::optional<int64_t>(s.utime - secondsToUs(age_s)) : std::nullopt;
   };
+  const bool held = cfg_.sector_map.stale_values == StaleValues::HeldMin;
   laser_outage_.update(node_, s.utime, newest(s.laser_age_s), s.laser_stale, "laser.lost", channels::LASER_SCAN,
-                       "the sector map holds the laser's last distances, flagged laser_stale");
+                       held ? "the sector map holds the laser's last distances, flagged laser_stale"
+                            : "the sector map moves the laser's last scan with odometry, flagged laser_stale");
   sonar_outage_.update(node_, s.utime, newest(s.sonar_age_s), s.sonar_stale, "sonar.lost", channels::SONAR_COMPLEMENT,
-                       "the sector map holds the sonar's last distances, flagged sonar_stale");
+                       held ? "the sector map holds the sonar's last distances, flagged sonar_stale"
+                            : "the sector map moves the operational AGM with odometry, flagged sonar_stale");
 }
 
 void PilotStage::publishAgm(int64_t utime) {

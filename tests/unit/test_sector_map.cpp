@@ -248,6 +248,41 @@ TEST(SectorMap, StaleLaserIsHeldNeverFreer) {
   EXPECT_NEAR(m.laser[24], 2.0, 1e-6);
 }
 
+// StaleValues::Moved: the stale scan's points move with odometry like fresh ones; nothing is
+// held, so backing off makes the sector freer and turning away leaves nothing behind.
+TEST(SectorMap, StaleLaserMovedWithOdometryIsNotHeld) {
+  SectorMapParams p;
+  p.stale_values = StaleValues::Moved;
+  SectorMap s(p);
+  AccumulativeGridMap agm(agmParams01());
+  s.setLaserPoints(0, {pointAt({0.0, 0.0, 0.0}, 0.0, 1.0)});  // 1.0 ahead
+  auto m = s.update(0, {0.0, 0.0, 0.0}, agm);
+  EXPECT_NEAR(m.laser[24], 1.0, 1e-6);
+  // Driving towards it while stale, the value shrinks as with held_min...
+  m = s.update(600'000, {0.3, 0.0, 0.0}, agm);
+  ASSERT_TRUE(m.laser_stale);
+  EXPECT_NEAR(m.laser[24], 0.7, 1e-6);
+  // ... but backing off it grows again: the obstacle stays where it was seen.
+  m = s.update(700'000, {-0.5, 0.0, 0.0}, agm);
+  EXPECT_TRUE(m.laser_stale);
+  EXPECT_NEAR(m.laser[24], 1.5, 1e-6);
+  EXPECT_EQ(m.source[24], SectorSource::Laser);
+  // Turned left by 87 deg, the obstacle is on the right (sector 12, -90..-82.5 deg) and nothing is
+  // ahead.
+  const double turn = 87.0 * kDeg;
+  m = s.update(800'000, {-0.5, 0.0, turn}, agm);
+  EXPECT_FLOAT_EQ(m.laser[24], -1.0f);
+  EXPECT_NEAR(m.laser[12], 1.5, 1e-6);
+  // The same turn with held_min keeps the nearest value the sector had (0.7) ahead.
+  SectorMap h({});
+  h.setLaserPoints(0, {pointAt({0.0, 0.0, 0.0}, 0.0, 1.0)});
+  h.update(0, {0.0, 0.0, 0.0}, agm);
+  h.update(600'000, {0.3, 0.0, 0.0}, agm);
+  const auto& held = h.update(800'000, {-0.5, 0.0, turn}, agm);
+  EXPECT_NEAR(held.laser[24], 0.7, 1e-6);
+  EXPECT_NEAR(held.laser[12], 1.5, 1e-6);
+}
+
 TEST(SectorMap, StaleSonarIsHeldNeverFreer) {
   SectorMap s({});
   AccumulativeGridMap agm(agmParams01());
