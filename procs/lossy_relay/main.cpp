@@ -13,8 +13,9 @@
 // --lossy REGEX chooses otherwise.
 //
 // --outage START:END (seconds, repeatable) drops every message of the lossy channels from START
-// to END seconds after the first message relayed (offline: the log's timestamps; live: this
-// host's clock): a driver that dies and comes back, e.g. a laser on a flaky USB link.
+// to END seconds after the first message (offline: by the log's timestamps; live: by this host's
+// clock since the first message received): a driver that dies and comes back, e.g. a laser on a
+// flaky USB link.
 //
 //   lasonic-lossy-relay --in-log raw.lcmlog --out-log outage.lcmlog --lossy LASER_SCAN --outage 15:25
 #include <CLI/CLI.hpp>
