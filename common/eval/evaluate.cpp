@@ -193,15 +193,33 @@ std::vector<sim::MoverPose> TruthTrack::moversAt(int64_t utime) const {
 
 // ------------------------------------------------------------------------------ sensors
 
+namespace {
+constexpr int kNumCauses = 6;  // sonar_cause_t::CAUSE_*
+const char* causeName(int cause) {
+  static const char* kCauses[kNumCauses] = {"direct", "specular_long", "no_echo", "crosstalk", "foreign", "late_echo"};
+  return cause >= 0 && cause < kNumCauses ? kCauses[cause] : "unknown";
+}
+
+// The material of a SONAR_TRUTH obstacle index (a mover: -(id)-2; none: -1); empty without the
+// scenario or for none.
+std::string obstacleMaterial(const sim::Scenario* sc, int obstacle) {
+  if (!sc) return {};
+  if (obstacle >= 0 && static_cast<size_t>(obstacle) < sc->obstacles.size())
+    return sc->obstacles[static_cast<size_t>(obstacle)].material;
+  if (obstacle <= -2 && static_cast<size_t>(-obstacle - 2) < sc->movers.size())
+    return sc->movers[static_cast<size_t>(-obstacle - 2)].material;
+  return {};
+}
+}  // namespace
+
 void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m) {
   m.set("sensors.laser_scans", static_cast<int64_t>(log.laser_scans.size()));
   int64_t readings = 0;
   for (const auto& r : log.sonar_rings) readings += static_cast<int64_t>(r.range.size());
   m.set("sensors.sonar_readings", readings);
   if (!log.sonar_truths.empty()) {
-    static const char* kCauses[] = {"direct", "specular_long", "no_echo", "crosstalk", "foreign", "late_echo"};
     static const char* kReflectors[] = {"none", "plane", "corner", "edge", "cylinder"};
-    constexpr int kNumCauses = 6, kNumReflectors = 5;
+    constexpr int kNumReflectors = 5;
     int64_t counts[kNumCauses] = {}, reflectors[kNumReflectors] = {}, total = 0, direct = 0;
     for (const auto& t : log.sonar_truths)
       for (const auto& c : t.causes) {
@@ -213,7 +231,7 @@ void evalSensors(const RunLog& log, const sim::Scenario& sc, Metrics& m) {
         ++total;
       }
     for (int i = 0; i < kNumCauses; ++i)
-      m.set(std::string("sensors.sonar_causes.") + kCauses[i],
+      m.set(std::string("sensors.sonar_causes.") + causeName(i),
             total > 0 ? static_cast<double>(counts[i]) / static_cast<double>(total) : 0.0);
     // Which geometry answered the direct echoes (shares of the direct readings).
     if (direct > 0)
@@ -271,6 +289,11 @@ double operationalMemory(const RunLog& log, const EvalOptions& o) {
   for (const sonar_ring_t& r : log.sonar_rings) ring.fired(r.group);
   const int h_max = ring.hMax(o.operational_h_max_ring_cycles, o.operational_h_max);
   return static_cast<double>(h_max) * static_cast<double>(gaps[gaps.size() / 2]) * 1e-6;
+}
+
+void writeComplementSampleHeader(std::ostream& out) {
+  out << "t_s,sensor_id,range_m,cause,true_range_m,obstacle,material,hit_x,hit_y,laser_saw,laser_nearest_m,"
+         "hypothetical_m,class,invisible,informative,specular_long,redundant,complementary\n";
 }
 
 void evalLaserTruth(const LaserSeen& seen, Metrics& m) {
@@ -359,8 +382,38 @@ void evalComplement(const RunLog& log, const LaserSeen& seen, const EvalOptions&
       // thus not held, and its complementary echo counts as correct, not as a failed drop.
       const bool rm_holds = std::isfinite(rd.hypothetical_range) && c.true_range >= 0 &&
                             rd.hypothetical_range <= c.true_range + cm.tolerance;
-      if (direct && !no_scan && laser_saw && rm_holds) redundant.add(!comp);
+      const bool counts_redundant = direct && !no_scan && laser_saw && rm_holds;
+      if (counts_redundant) redundant.add(!comp);
       if (comp) precision.add(direct && c.true_range >= 0 && !rm_holds);
+      if (o.complement_samples_csv) {
+        std::ostream& out = *o.complement_samples_csv;
+        const int64_t t0 = log.sim_states.empty() ? log.complements.front().utime : log.sim_states.front().utime;
+        out << static_cast<double>(cm.utime - t0) * 1e-6 << ',' << rd.sensor_id << ',';
+        if (echo) out << range;
+        out << ',' << causeName(c.cause) << ',';
+        if (c.true_range >= 0) out << c.true_range;
+        out << ',' << c.obstacle << ',' << obstacleMaterial(sc, c.obstacle) << ',';
+        if (c.true_range >= 0) out << c.hit_x << ',' << c.hit_y;
+        else out << ',';
+        out << ',';
+        if (!no_scan) out << (laser_saw ? 1 : 0);
+        out << ',' << visible << ',';
+        if (std::isfinite(rd.hypothetical_range)) out << rd.hypothetical_range;
+        out << ','
+            << (rd.cls >= 0 && rd.cls < kClasses ? complement::className(static_cast<complement::SonarClass>(rd.cls))
+                                                 : "unknown");
+        // Per rate: empty when the reading does not count in it, else 1 where it counted as right.
+        const auto field = [&out](bool counts, bool right) {
+          out << ',';
+          if (counts) out << (right ? 1 : 0);
+        };
+        field(direct && !no_scan && !laser_saw && range <= limit, comp);
+        field(informative_echo, comp);
+        field(c.cause == sonar_cause_t::CAUSE_SPECULAR_LONG, !comp);
+        field(counts_redundant, !comp);
+        field(comp, direct && c.true_range >= 0 && !rm_holds);
+        out << '\n';
+      }
     }
   }
   setRatio(m, "complement.invisible_recall", invisible);

@@ -109,6 +109,10 @@ struct EvalOptions {
   // (writeTacticalSampleHeader first): whether the map holds it, and else why not; whether a sonar
   // line covers it, and else why not. Not owned.
   std::ostream* tactical_samples_csv = nullptr;
+  // Also every classified sonar reading of SONAR_COMPLEMENT joined with its truth as one CSV row
+  // (writeComplementSampleHeader first): its cause, class and hypothetical range, and for each
+  // complement.* rate it counts in, whether it counted as right there. Not owned.
+  std::ostream* complement_samples_csv = nullptr;
   // The breakdown redoes the navigator's line generation and its forgetting by distance, so it
   // needs the run's `navigator:` keys (evalOptions(config); defaults: the code's).
   LineGenerationParams lines;
@@ -126,6 +130,8 @@ EvalOptions evalOptions(const Config& config);
 void writeSectorSampleHeader(std::ostream& out);
 // The CSV columns of EvalOptions::tactical_samples_csv.
 void writeTacticalSampleHeader(std::ostream& out);
+// The CSV columns of EvalOptions::complement_samples_csv.
+void writeComplementSampleHeader(std::ostream& out);
 
 struct SectorTruthTable;  // eval/observability.hpp
 class LaserSeen;          // eval/laser_seen.hpp

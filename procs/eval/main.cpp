@@ -38,6 +38,11 @@ int main(int argc, char** argv) {
                  "also write every sample of the tactical breakdown as CSV to FILE (time, true position, "
                  "obstacle and material of a located laser-invisible boundary point; whether the tactical AGM "
                  "holds it and else why not; whether a sonar line covers it and else why not); implies --breakdown");
+  std::string complement_samples_path;
+  app.add_option("--complement-samples", complement_samples_path,
+                 "also write every classified sonar reading of SONAR_COMPLEMENT as CSV to FILE (time, sensor, "
+                 "range, true cause, range and surface, what the laser saw, hypothetical range, class; for each "
+                 "complement.* rate it counts in, 1 if it counted as right, 0 if not)");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
   // No output over an input (README "Scenario format", *Physical bounds*): --json naming the log
   // would truncate it before it is read.
@@ -47,7 +52,8 @@ int main(int argc, char** argv) {
     const std::pair<const char*, std::string> outputs[] = {
         {"--json", json_path == "-" ? std::string() : json_path},
         {"--samples", samples_path},
-        {"--tactical-samples", tactical_samples_path}};
+        {"--tactical-samples", tactical_samples_path},
+        {"--complement-samples", complement_samples_path}};
     for (const auto& [option, out] : outputs)
       for (const auto& [input_option, input] : inputs)
         if (!out.empty() && lasonic::sameExistingFile(out, input)) {
@@ -102,10 +108,12 @@ int main(int argc, char** argv) {
       target = &out;
       return true;
     };
-    std::ofstream tactical_samples, samples;
+    std::ofstream tactical_samples, samples, complement_samples;
     if (!openCsv(tactical_samples_path, tactical_samples, lasonic::eval::writeTacticalSampleHeader,
                  opts.tactical_samples_csv) ||
-        !openCsv(samples_path, samples, lasonic::eval::writeSectorSampleHeader, opts.samples_csv))
+        !openCsv(samples_path, samples, lasonic::eval::writeSectorSampleHeader, opts.samples_csv) ||
+        !openCsv(complement_samples_path, complement_samples, lasonic::eval::writeComplementSampleHeader,
+                 opts.complement_samples_csv))
       return 1;
     const auto metrics = lasonic::eval::evaluate(log, scenario, opts, &baselines);
     // Never silently: without the laser's truth "laser-invisible" falls back to the material.

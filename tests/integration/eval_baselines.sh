@@ -4,7 +4,8 @@
 #  1. lasonic-sim -> lasonic-replay -> lasonic-eval --config (the shipped file): exit 0, the
 #     observability keys and every baseline's keys are in the JSON, all rates in [0, 1], and
 #     laser-invisibility decided per scan (sensors.laser_truth = 1, no fallback warning);
-#  2. the same twice gives identical JSON (deterministic);
+#  2. the same twice gives identical JSON (deterministic); --complement-samples' columns average to
+#     the complement's rates;
 #  3. a missing config file, a bad baselines value and a misspelt section exit 2 and name the file
 #     and key path; an empty log, and a log scored against a scenario it was not simulated from
 #     (other movers, other obstacles, or a robot's path 1.5 m away from the log's track), exit 2
@@ -49,6 +50,16 @@ for name in laser_only sonar_himm naive_fusion log_odds; do
     "false alarms $(value "baselines.$name.sector_map.false_alarm_rate")"
 done
 cmp -s "$tmp/eval1.json" "$tmp/eval2.json" || die "two evaluations of the same log differ"
+# --complement-samples: a row per classified reading; a rate's column, averaged, is the rate.
+"$bin/lasonic-eval" --log "$tmp/out.lcmlog" --scenario "$scenario" --config "$config" \
+  --complement-samples "$tmp/complement.csv" >/dev/null 2>&1 || die "lasonic-eval --complement-samples failed"
+for k in invisible:invisible_recall redundant:redundant_drop complementary:precision; do
+  column_mean=$(awk -F, -v c="${k%%:*}" 'NR == 1 {for (i = 1; i <= NF; ++i) if ($i == c) col = i; next}
+    $col != "" {n += 1; s += $col} END {if (col && n) printf "%.6f", s / n}' "$tmp/complement.csv")
+  rate=$(value "complement.${k#*:}")
+  [[ -n $column_mean && -n $rate ]] && awk -v a="$column_mean" -v b="$rate" 'BEGIN {exit !(a - b < 1e-3 && b - a < 1e-3)}' ||
+    die "--complement-samples: column ${k%%:*} averages '$column_mean', complement.${k#*:} is '$rate'"
+done
 echo "$test_name: (1, 2) ok: observability and baseline keys present, deterministic"
 
 expect_error() {  # CASE WANT ARGS...
@@ -111,6 +122,8 @@ not_overwritten "$tmp/scene.yaml" "--samples $tmp/scene.yaml is the --scenario f
   lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --samples "$tmp/scene.yaml"
 not_overwritten "$tmp/cfg.yaml" "--tactical-samples $tmp/cfg.yaml is the --config file" \
   lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --config "$tmp/cfg.yaml" --tactical-samples "$tmp/cfg.yaml"
+not_overwritten "$tmp/keep.lcmlog" "--complement-samples $tmp/keep.lcmlog is the --log file" \
+  lasonic-eval --log "$tmp/keep.lcmlog" --scenario "$tmp/scene.yaml" --complement-samples "$tmp/keep.lcmlog"
 if [[ -x $bin/lasonic-lossy-relay ]]; then
   not_overwritten "$tmp/keep.lcmlog" "--out-log $tmp/keep.lcmlog is the --in-log file" \
     lasonic-lossy-relay --in-log "$tmp/keep.lcmlog" --out-log "$tmp/keep.lcmlog" --loss 0.2

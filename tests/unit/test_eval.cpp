@@ -198,7 +198,9 @@ TEST(EvalSectorMap, SamplesCsvRowPerSectorAgreeingWithTheRates) {
   EXPECT_NE(row0.find(",0.5,sonar_copied,"), std::string::npos) << row0;
 }
 
-TEST(EvalComplement, JoinsTruthAndClasses) {
+// Three readings of one firing: a glass echo called complementary, a specular one called false,
+// a wall echo the Radar Map holds called complementary.
+RunLog complementLog() {
   RunLog log;
   sonar_ring_t ring{};
   ring.utime = 100;
@@ -228,6 +230,14 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
                  reading(1, complement_reading_t::CLASS_FALSE, 1.2f),
                  reading(2, complement_reading_t::CLASS_COMPLEMENTARY, 1.5f)};
   log.complements.push_back(cm);
+  return log;
+}
+
+TEST(EvalComplement, JoinsTruthAndClasses) {
+  RunLog log = complementLog();
+  const sonar_ring_t ring = log.sonar_rings.front();
+  const sonar_truth_t tr = log.sonar_truths.front();
+  const complement_t cm = log.complements.front();
   Metrics m;
   evalComplement(log, EvalOptions{}, m);
   EXPECT_DOUBLE_EQ(m.number("complement.invisible_recall"), 1.0);
@@ -258,6 +268,46 @@ TEST(EvalComplement, JoinsTruthAndClasses) {
   EXPECT_DOUBLE_EQ(lost.number("complement.invisible_by_class.redundant"), 0.0);
   EXPECT_DOUBLE_EQ(lost.number("complement.informative_by_class.seen_before"), 0.5);
   EXPECT_DOUBLE_EQ(lost.number("complement.informative_by_class.outside_view"), 0.5);
+}
+
+// --complement-samples: one CSV row per classified reading; each rate's column agrees with it.
+TEST(EvalComplement, SamplesCsvRowPerReadingAgreeingWithTheRates) {
+  const RunLog log = complementLog();
+  std::ostringstream csv;
+  writeComplementSampleHeader(csv);
+  EvalOptions o;
+  o.complement_samples_csv = &csv;
+  Metrics m;
+  evalComplement(log, o, m);
+  std::istringstream in(csv.str());
+  std::string header, line;
+  std::getline(in, header);
+  const std::string rates = "class,invisible,informative,specular_long,redundant,complementary";
+  ASSERT_GE(header.size(), rates.size());
+  EXPECT_EQ(header.substr(header.size() - rates.size()), rates);
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 3u);
+  // Each row: ...,class,invisible,informative,specular_long,redundant,complementary.
+  const auto tail = [](const std::string& row, int fields) {
+    size_t at = row.size();
+    for (int i = 0; i < fields; ++i) at = row.rfind(',', at - 1);
+    return row.substr(at + 1);
+  };
+  EXPECT_EQ(rows[0].rfind("0,0,1,direct,1,3,,", 0), 0u) << rows[0];  // no scenario: no material
+  EXPECT_EQ(tail(rows[0], 6), "complementary,1,1,,,1") << rows[0];
+  EXPECT_NE(rows[1].find(",specular_long,,-1,,"), std::string::npos) << rows[1];  // no true range, no hit
+  EXPECT_EQ(tail(rows[1], 6), "false,,,1,,") << rows[1];
+  EXPECT_EQ(tail(rows[2], 6), "complementary,,,,0,0") << rows[2];  // the RM held the wall
+  // The columns' means are the rates.
+  EXPECT_DOUBLE_EQ(m.number("complement.specular_rejection"), 1.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.redundant_drop"), 0.0);
+  EXPECT_DOUBLE_EQ(m.number("complement.precision"), 0.5);
+
+  // The same rows with or without the CSV: asking for it changes no metric.
+  Metrics plain;
+  evalComplement(log, EvalOptions{}, plain);
+  EXPECT_EQ(plain.toJson(), m.toJson());
 }
 
 TEST(EvalAgmOperational, PrecisionAndRecallAgainstInvisibleBoundary) {
