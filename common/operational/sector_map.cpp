@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "operational/laser_shadow.hpp"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -133,6 +135,10 @@ void SectorMap::setLaserMovers(std::vector<MovingPoint> movers, double horizon_s
 
 std::vector<geom::Vec2> SectorMap::setLaserPoints(int64_t utime, std::vector<geom::Vec2> points) {
   laser_movers_.clear();
+  scan_returns_.clear();
+  scan_valid_.clear();
+  laser_shadow_.clear();
+  shadow_made_ = false;
   std::swap(laser_points_, points);
   points.clear();
   laser_x_.resize(laser_points_.size());
@@ -146,6 +152,16 @@ std::vector<geom::Vec2> SectorMap::setLaserPoints(int64_t utime, std::vector<geo
   explained_cell_size_ = 0;  // rebuilt for the AGM's cell size at the next update
   laser_bucket_size_ = 0;
   return points;
+}
+
+void SectorMap::setLaserScan(std::vector<geom::Vec2>& returns, std::vector<uint8_t>& valid, const geom::Vec2& origin,
+                             bool full_circle) {
+  std::swap(scan_returns_, returns);
+  std::swap(scan_valid_, valid);
+  scan_origin_ = origin;
+  scan_full_circle_ = full_circle;
+  laser_shadow_.clear();
+  shadow_made_ = false;
 }
 
 void SectorMap::rebuildLaserBuckets(double rho) {
@@ -522,7 +538,7 @@ void SectorMap::rememberedValues(const geom::Pose2& pose, double ct, double st, 
   }
 }
 
-void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, std::vector<Value>& out) const {
+void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, bool shadow, std::vector<Value>& out) const {
   std::fill(out.begin(), out.end(), Value{});
   // "Moved into the current pose": global -> robot frame (Pose2::inverseTransform, with the
   // rotation c = cos(theta), s = sin(theta) computed once per map instead of once per point).
@@ -741,6 +757,15 @@ void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, std::ve
     if (!(r2 <= reach2)) continue;  // (also NaN: a mover is never put at the robot)
     take(exact(c * dx + s * dy, -s * dx + c * dy), r2);
   }
+  // The last scan's shadow edges, only while it is stale (StaleValues::Frontier): fresh, the next
+  // scan looks into them within a scan period.
+  if (shadow)
+    for (const geom::Vec2& q : laser_shadow_) {
+      const double dx = q.x() - pose.x, dy = q.y() - pose.y;
+      const double r2 = dx * dx + dy * dy;
+      if (!(r2 <= reach2)) continue;
+      take(exact(c * dx + s * dy, -s * dx + c * dy), r2);
+    }
   for (size_t j = 0; j < out.size(); ++j)
     if (laser_r2_[j] >= 0)
       out[j] = {static_cast<float>(std::max(0.0, std::sqrt(laser_r2_[j]) - p_.robot_radius)), SectorSource::Laser};
@@ -832,7 +857,14 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
 
   // The rotation into the robot frame, once for the three parts.
   const double ct = std::cos(pose.theta), st = std::sin(pose.theta);
-  laserValues(pose, ct, st, laser_now_);
+  const bool shadow = s_.laser_stale && p_.stale_values == StaleValues::Frontier;
+  if (shadow && !shadow_made_) {  // once per scan, and only for the scan that became the last one
+    LaserShadowParams sp;
+    sp.reach = 2 * (p_.robot_radius + p_.max_range);
+    laserShadow(scan_returns_, scan_valid_, scan_origin_, scan_full_circle_, sp, laser_shadow_);
+    shadow_made_ = true;
+  }
+  laserValues(pose, ct, st, shadow, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
   // A stale scan no longer says what is where: it explains nothing away.
   sonarValues(pose, ct, st, agm, !s_.laser_stale, sonar_own_, sonar_reach_);

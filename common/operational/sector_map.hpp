@@ -38,7 +38,10 @@
 // where it was seen), or held (StaleValues::HeldMin): each sector takes the min of the newly
 // computed value and the held one, and the held values only ever get shorter, so stale data
 // never makes a sector look freer than the last fresh data did, also where the robot has
-// moved or turned away since. A sensor never heard from is stale with age -1.
+// moved or turned away since; or (StaleValues::Frontier) moved as with Moved, the laser's last
+// scan together with its shadow edges (setLaserShadow, operational/laser_shadow.hpp), so that a
+// sector reports the nearest place the last scan did not see free. A sensor never heard from is
+// stale with age -1.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -59,7 +62,7 @@ enum class CellPoint { Nearest, Centre };
 // Which own sonar values are copied into the neighbours (see the file comment).
 enum class CopyRule { Paper, UnlessLaserConfirmed, CellExtent };
 // What a stale sensor's sector values are (see the file comment).
-enum class StaleValues { Moved, HeldMin };
+enum class StaleValues { Moved, HeldMin, Frontier };
 
 struct SectorMapParams {
   int sectors = 48;             // paper: 48 sectors of 7.5 deg
@@ -158,6 +161,13 @@ class SectorMap {
     int64_t utime = 0;
   };
   void setLaserMovers(std::vector<MovingPoint> movers, double horizon_s);
+  // The newest scan's readings in scan order (returns, global frame; valid 0: a reading that came
+  // back empty) and the scanner's position then: under StaleValues::Frontier, once the laser is
+  // stale, its shadow edges (operational/laser_shadow.hpp, as far as twice the map's reach) are
+  // made from them and reported with its returns. Cleared by setLaserPoints. (Storage swapped:
+  // the arguments get the previous scan's.)
+  void setLaserScan(std::vector<geom::Vec2>& returns, std::vector<uint8_t>& valid, const geom::Vec2& origin,
+                    bool full_circle);
   // Time of the newest sonar data the AGM holds (the newest complement message).
   void setSonarTime(int64_t utime);
   // The newest remembered obstacles (the tactical map's occupied cells, global frame) and the
@@ -189,8 +199,8 @@ class SectorMap {
   int sectorOfDirection(double x, double y, Exact&& exact) const;
   // Direction (x, y) lies inside sector k by a relative margin of 1e-9 (then k is its sector).
   bool clearlyInside(int k, double x, double y) const;
-  // (ct, st: cos and sin of pose.theta.)
-  void laserValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out) const;
+  // (ct, st: cos and sin of pose.theta; shadow: the shadow edges too.)
+  void laserValues(const geom::Pose2& pose, double ct, double st, bool shadow, std::vector<Value>& out) const;
   void rememberedValues(const geom::Pose2& pose, double ct, double st, std::vector<Value>& out, bool check_laser) const;
   bool explained(const geom::Vec2& p) const;
   // A point of the newest scan within rho of p (buckets of size rho, rebuilt once per scan).
@@ -234,6 +244,11 @@ class SectorMap {
   std::vector<std::pair<std::pair<int64_t, int64_t>, geom::Vec2>> laser_buckets_;  // sorted by bucket
   double laser_bucket_size_ = 0;                                                   // 0: to be rebuilt
   std::vector<MovingPoint> laser_movers_;
+  std::vector<geom::Vec2> scan_returns_;  // setLaserScan's
+  std::vector<uint8_t> scan_valid_;
+  geom::Vec2 scan_origin_ = geom::Vec2::Zero();
+  bool scan_full_circle_ = false, shadow_made_ = false;
+  std::vector<geom::Vec2> laser_shadow_;  // made from them when first needed
   double movers_horizon_s_ = 0;
   std::vector<geom::Vec2> remembered_points_;
   int64_t laser_utime_ = 0, sonar_utime_ = 0, remembered_utime_ = 0;

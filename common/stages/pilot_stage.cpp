@@ -92,7 +92,8 @@ PilotConfig pilotConfig(const Config& c) {
   p.laser_stale_scans = c.get("laser_stale_scans", p.laser_stale_scans, Range::between(0, 1000));
   s.sonar_stale_s = c.get("sonar_stale_s", s.sonar_stale_s, Range::positiveDuration());
   s.stale_values = c.getChoice("stale_values", s.stale_values,
-                               {{"held_min", StaleValues::HeldMin}, {"moved", StaleValues::Moved}});
+                               {{"held_min", StaleValues::HeldMin}, {"moved", StaleValues::Moved},
+                                {"frontier", StaleValues::Frontier}});
   // (Bounded: a period or interval in µs must fit an int64; a display rate below one per 100 s or
   // a map interval of a minute has no use on a moving robot.)
   p.agm_publish_hz = c.get("agm_publish_hz", p.agm_publish_hz, Range::between(0.01, 1000));
@@ -303,6 +304,18 @@ void PilotStage::onOdometry(const odometry_t& m) {
   }
 }
 
+void giveScanForShadow(SectorMap& sector_map, const complement::LaserScan& scan,
+                       const std::vector<complement::ScanPoint>& placed, const geom::Pose2& robot,
+                       std::vector<geom::Vec2>& xy, std::vector<uint8_t>& valid) {
+  xy.resize(placed.size());
+  valid.resize(placed.size());
+  for (size_t i = 0; i < placed.size(); ++i) {
+    xy[i] = placed[i].p;
+    valid[i] = placed[i].valid ? 1 : 0;
+  }
+  sector_map.setLaserScan(xy, valid, complement::laserViewOf(scan, robot).sensor.position(), scan.full_circle);
+}
+
 void noReturnMask(const laser_scan_t& m, std::vector<uint8_t>& mask) {
   const size_t n = m.flags.size();
   mask.resize(n);
@@ -467,6 +480,10 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     }
   }
   laser_points_ = sector_map_.setLaserPoints(newest, std::move(points));
+  // What this scan did not see free, for when it is the last one (every return, movers' too).
+  if (cfg_.sector_map.stale_values == StaleValues::Frontier)
+    if (const auto robot = poses_.at(newest))
+      giveScanForShadow(sector_map_, *scan, placed, *robot, shadow_points_, shadow_valid_);
   sector_map_.setLaserMovers(std::move(moving),
                              scan_period_.scans(cfg_.mover_prediction.horizon_scans, cfg_.mover_prediction.horizon_s));
   now_ = std::max(now_, newest);
@@ -568,10 +585,14 @@ void PilotStage::publishSectorMap() {
   const auto newest = [&](double age_s) {
     return age_s >= 0 ? std::optional<int64_t>(s.utime - secondsToUs(age_s)) : std::nullopt;
   };
-  const bool held = cfg_.sector_map.stale_values == StaleValues::HeldMin;
+  const StaleValues rule = cfg_.sector_map.stale_values;
+  const bool held = rule == StaleValues::HeldMin;
   laser_outage_.update(node_, s.utime, newest(s.laser_age_s), s.laser_stale, "laser.lost", channels::LASER_SCAN,
                        held ? "the sector map holds the laser's last distances, flagged laser_stale"
-                            : "the sector map moves the laser's last scan with odometry, flagged laser_stale");
+                       : rule == StaleValues::Frontier
+                           ? "the sector map moves the laser's last scan, and where it did not see free, with "
+                             "odometry, flagged laser_stale"
+                           : "the sector map moves the laser's last scan with odometry, flagged laser_stale");
   sonar_outage_.update(node_, s.utime, newest(s.sonar_age_s), s.sonar_stale, "sonar.lost", channels::SONAR_COMPLEMENT,
                        held ? "the sector map holds the sonar's last distances, flagged sonar_stale"
                             : "the sector map moves the operational AGM with odometry, flagged sonar_stale");

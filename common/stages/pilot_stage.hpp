@@ -172,6 +172,14 @@ void validReturns(const std::vector<complement::ScanPoint>& placed, const std::v
 void takeOutMovers(const std::vector<TimedPoint>& scan, const std::vector<MoverPrediction::MovingRun>& runs,
                    std::vector<geom::Vec2>& points, std::vector<SectorMap::MovingPoint>& moving);
 
+// StaleValues::Frontier: a placed scan's readings, in scan order, to `sector_map` for the shadow
+// edges it makes once the laser is stale (SectorMap::setLaserScan), seen from the scanner at the
+// scan's last reading (`robot`: the robot's pose then). (`xy`, `valid`: storage swapped with the
+// sector map's.)
+void giveScanForShadow(SectorMap& sector_map, const complement::LaserScan& scan,
+                       const std::vector<complement::ScanPoint>& placed, const geom::Pose2& robot,
+                       std::vector<geom::Vec2>& xy, std::vector<uint8_t>& valid);
+
 // The readings of `m` that came back empty (1), in the order of the LaserScan made from it (a
 // clockwise scan reversed) -- the gaps the dark continuation may go into; a
 // reading the message layer rejected (a time offset outside the scan's sweep) is no gap,
@@ -240,6 +248,8 @@ class PilotStage {
   std::vector<geom::Vec2> still_;         // (the returns the laser memory may keep: storage reused)
   std::vector<uint8_t> still_cluster_;    // (per still_ return: of a still person-sized cluster)
   std::vector<complement::ScanPoint> own_placed_;  // (without placement_: the scan's points, storage reused)
+  std::vector<geom::Vec2> shadow_points_;  // (StaleValues::Frontier: the scan's returns in order; storage reused)
+  std::vector<uint8_t> shadow_valid_;
   std::vector<uint8_t> no_return_;  // (per reading of the scan: FLAG_NO_RETURN; storage reused)
 };
 

@@ -224,6 +224,9 @@ class Replayer {
         points.insert(points.end(), remembered.begin(), remembered.end());
       }
       points_ = sector_map_.setLaserPoints(newest, std::move(points));
+      if (pcfg_.sector_map.stale_values == StaleValues::Frontier)  // (as PilotStage: for when it is the last)
+        if (const auto robot = poses_.at(newest))
+          giveScanForShadow(sector_map_, *scan, placed, *robot, shadow_xy_, shadow_valid_);
       sector_map_.setLaserMovers(std::move(moving),
                                  scan_period_.scans(pcfg_.mover_prediction.horizon_scans, pcfg_.mover_prediction.horizon_s));
       now_ = std::max(now_, newest);
@@ -325,6 +328,8 @@ class Replayer {
   std::optional<cp::LaserScan> own_scan_;  // (as the stages without SharedPlacement: storage reused)
   std::vector<cp::ScanPoint> own_placed_;
   std::vector<geom::Vec2> points_;  // (handed back by SectorMap::setLaserPoints)
+  std::vector<geom::Vec2> shadow_xy_;  // (giveScanForShadow's storage)
+  std::vector<uint8_t> shadow_valid_;
   std::vector<uint8_t> no_return_;
   std::vector<geom::Vec2> still_;
   std::vector<geom::Vec2> tactical_points_;

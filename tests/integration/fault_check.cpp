@@ -40,6 +40,11 @@
 //                                    used_while_stale (a sector sourced REMEMBERED, or a remembered
 //                                    distance, in a map flagging it stale), fresh_during_cut (fresh
 //                                    again before the restore, after it had gone stale)
+//   laser-nearer LOG_A LOG_B T0 T1   SECTOR_MAP of two logs matched by utime, the maps of [T0, T1)
+//                                    (utime) that flag the laser stale in both: matched, and of
+//                                    their sectors' laser distances (none: infinitely far)
+//                                    a_nearer and a_farther than B's; exit 1 if any is farther or
+//                                    none nearer (A's stale laser values are B's plus more)
 //   slice LOG OUT T0 [T1]            OUT = the events of LOG from log time T0 on (before T1)
 //   starts LOG T0 T1                 the log times of LOG's events in [T0, T1), one per line
 //   record URL OUT REGEX             records the channels matching REGEX to OUT (receive times,
@@ -245,6 +250,29 @@ int compareMaps(const std::string& a_file, const std::string& b_file, const std:
   return 0;
 }
 
+int laserNearer(const std::string& a_file, const std::string& b_file, int64_t t0, int64_t t1) {
+  const auto a = byUtime(a_file, channels::SECTOR_MAP, t0), b = byUtime(b_file, channels::SECTOR_MAP, t0);
+  int64_t matched = 0, nearer = 0, farther = 0;
+  const auto far = [](float d) { return d < 0 ? std::numeric_limits<double>::infinity() : static_cast<double>(d); };
+  for (const auto& [t, da] : a) {
+    if (t >= t1) break;
+    const auto it = b.find(t);
+    if (it == b.end()) continue;
+    const auto ma = decodeAs<sector_map_t>(da), mb = decodeAs<sector_map_t>(it->second);
+    if (!ma || !mb || !ma->laser_stale || !mb->laser_stale || ma->laser_distance.size() != mb->laser_distance.size())
+      continue;
+    ++matched;
+    for (size_t k = 0; k < ma->laser_distance.size(); ++k) {
+      const double x = far(ma->laser_distance[k]), y = far(mb->laser_distance[k]);
+      nearer += x < y;
+      farther += x > y;
+    }
+  }
+  std::printf("matched %lld\na_nearer %lld\na_farther %lld\n", static_cast<long long>(matched),
+              static_cast<long long>(nearer), static_cast<long long>(farther));
+  return matched > 0 && nearer > 0 && farther == 0 ? 0 : 1;
+}
+
 int remembered(const std::string& file, int64_t t_cut, int64_t t_restore, int64_t t_end) {
   LogReader log(file);
   int64_t before = 0, fresh_before = 0, sectors_before = 0, stale_at = -1, fresh_again = -1, used_stale = 0,
@@ -339,6 +367,7 @@ int main(int argc, char** argv) {
       return stale(argv[2], arg64(argv[3]), arg64(argv[4]), std::string(argv[5]) == "laser");
     if ((mode == "maps" || mode == "same" || mode == "nearest") && (argc == 5 || argc == 6))
       return compareMaps(argv[2], argv[3], argv[4], argc == 6 ? arg64(argv[5]) : 0, mode != "same", mode == "nearest");
+    if (mode == "laser-nearer" && argc == 6) return laserNearer(argv[2], argv[3], arg64(argv[4]), arg64(argv[5]));
     if (mode == "remembered" && argc == 6) return remembered(argv[2], arg64(argv[3]), arg64(argv[4]), arg64(argv[5]));
     if (mode == "record" && argc == 5) return record(argv[2], argv[3], argv[4]);
     if (mode == "starts" && argc == 5) return starts(argv[2], arg64(argv[3]), arg64(argv[4]));
@@ -351,7 +380,8 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "usage: lasonic-fault-check window LOG CHANNEL T0 T1 | recovery LOG T_KILL T_END CHANNEL |\n"
                "       stale LOG T_STOP T_RESUME laser|sonar | maps|nearest|same LOG_A LOG_B CHANNEL [FROM_UTIME] |\n"
-               "       remembered LOG T_CUT T_RESTORE T_END | slice LOG OUT T0 [T1] | starts LOG T0 T1 |\n"
+               "       laser-nearer LOG_A LOG_B T0 T1 | remembered LOG T_CUT T_RESTORE T_END |\n"
+               "       slice LOG OUT T0 [T1] | starts LOG T0 T1 |\n"
                "       record URL OUT REGEX\n"
                "       (times: log timestamps, us)\n");
   return 2;

@@ -9,7 +9,9 @@
 #     more free space in any sector than the last fresh one (lasonic-fault-check stale).
 #  3. With stale_values: moved the same outage is flagged and reported alike, and the stale maps
 #     do report more free space somewhere (the robot drives on, the last scan moves with it): the
-#     key changes what a stale map holds.
+#     key changes what a stale map holds. With stale_values: frontier (the moved scan and the
+#     edges of what it saw free) fewer stale maps than moved's report more free space, and in every
+#     stale map each sector's laser distance is moved's or nearer, and some are nearer.
 #  4. Bad --outage values exit 2 naming the option.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -58,6 +60,20 @@ freer=$(awk '$1 == "maps_freer" {print $2}' "$tmp/moved.stale")
   die "moved: expected flagged stale maps freer than the last fresh one: $(cat "$tmp/moved.stale")"
 grep -q "moves the laser's last scan with odometry" "$tmp/moved-replay.err" || die "moved: the outage's message"
 
+# frontier: the moved scan and where it did not see free. Its laser distances are those of moved
+# or nearer (the shadows' edges), so fewer of its stale maps are freer.
+printf 'pilot:\n  stale_values: frontier\n' >"$tmp/frontier.yaml"
+replay frontier "$tmp/frontier.yaml"
+rc=0
+"$bin/lasonic-fault-check" stale "$tmp/frontier.out" "$t_stop" "$t_resume" laser >"$tmp/frontier.stale" 2>/dev/null || rc=$?
+frontier_freer=$(awk '$1 == "maps_freer" {print $2}' "$tmp/frontier.stale")
+[[ $(awk '$1 == "stale_flagged" {print $2}' "$tmp/frontier.stale") == 1 && ${frontier_freer:-0} -lt $freer ]] ||
+  die "frontier: expected flagged stale maps, fewer of them freer than moved's $freer: $(cat "$tmp/frontier.stale")"
+"$bin/lasonic-fault-check" laser-nearer "$tmp/frontier.out" "$tmp/moved.out" "$t_stop" "$((t_resume + 1000000))" \
+  >"$tmp/nearer.txt" 2>&1 || die "frontier: a stale laser distance farther than moved's, or none nearer: $(cat "$tmp/nearer.txt")"
+grep -q "moves the laser's last scan, and where it did not see free, with odometry" "$tmp/frontier-replay.err" ||
+  die "frontier: the outage's message"
+
 for bad in 7:4 x:3 -1:2 3 4:4; do
   rc=0
   "$bin/lasonic-lossy-relay" --in-log "$tmp/raw.lcmlog" --out-log "$tmp/bad.lcmlog" --outage "$bad" \
@@ -65,4 +81,4 @@ for bad in 7:4 x:3 -1:2 3 4:4; do
   [[ $rc -eq 2 ]] && grep -qF -- "--outage" "$tmp/bad.txt" ||
     die "--outage $bad: exit status $rc: $(cat "$tmp/bad.txt")"
 done
-echo "$test_name: PASS (held_min: $(tr '\n' ' ' <"$tmp/held.stale"); moved: $freer stale maps freer)"
+echo "$test_name: PASS (held_min: $(tr '\n' ' ' <"$tmp/held.stale"); moved: $freer stale maps freer; frontier: $frontier_freer, $(tr '\n' ' ' <"$tmp/nearer.txt"))"

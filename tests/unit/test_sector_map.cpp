@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "operational/laser_shadow.hpp"
 #include "operational/sector_map.hpp"
 
 using namespace lasonic;
@@ -281,6 +282,122 @@ TEST(SectorMap, StaleLaserMovedWithOdometryIsNotHeld) {
   const auto& held = h.update(800'000, {-0.5, 0.0, turn}, agm);
   EXPECT_NEAR(held.laser[24], 0.7, 1e-6);
   EXPECT_NEAR(held.laser[12], 1.5, 1e-6);
+}
+
+// laserShadow: points only where the last scan has a shadow edge.
+// The distance from p to the segment a..b.
+double toSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+TEST(LaserShadow, ReturnsOfOneSurfaceGiveNoPoints) {
+  // A wall 2 m ahead seen over +-30 deg, a reading every 0.5 deg: neighbours 2-2.4 cm apart.
+  std::vector<Vec2> pts;
+  for (int i = -60; i <= 60; ++i) pts.push_back({2.0, 2.0 * std::tan(i * 0.5 * kDeg)});
+  std::vector<Vec2> out;
+  laserShadow(pts, std::vector<uint8_t>(pts.size(), 1), {0, 0}, false, {}, out);
+  EXPECT_TRUE(out.empty()) << out.size();
+}
+
+TEST(LaserShadow, JumpFromAnOccluderToTheWallBehindIsAnEdge) {
+  const Vec2 wall{2.0, -0.5}, edge{1.0, 0.0}, occluder{1.0, 0.04};
+  std::vector<Vec2> out;
+  laserShadow({wall, edge, occluder}, {1, 1, 1}, {0, 0}, false, {}, out);
+  // 1.118 m at most 5 cm apart: 22 points inside; the occluder's own 4 cm: none.
+  ASSERT_EQ(out.size(), 22u);
+  for (const Vec2& q : out) EXPECT_LT(toSegment(q, wall, edge), 1e-9) << q.transpose();
+  for (size_t i = 1; i < out.size(); ++i) EXPECT_LE((out[i] - out[i - 1]).norm(), 0.05 + 1e-12);
+  // The last reading does not neighbour the first unless the scan is a full circle.
+  std::vector<Vec2> wrapped;
+  laserShadow({edge, occluder, wall}, {1, 1, 1}, {0, 0}, false, {}, wrapped);
+  EXPECT_EQ(wrapped.size(), 22u);
+  wrapped.clear();
+  laserShadow({occluder, wall, edge}, {1, 1, 1}, {0, 0}, true, {}, wrapped);
+  EXPECT_EQ(wrapped.size(), 44u);  // occluder..wall and wall..edge (the wrap, edge..occluder, is 4 cm)
+}
+
+TEST(LaserShadow, BesideAnEmptyReadingTheRayBeyondTheReturnIsAnEdge) {
+  LaserShadowParams p;
+  p.reach = 2.0;
+  std::vector<Vec2> out;
+  laserShadow({{1.0, 0.0}, {0.0, 0.0}}, {1, 0}, {0, 0}, false, p, out);
+  ASSERT_EQ(out.size(), 20u);  // 1.05 .. 2.00 m on the ray
+  for (const Vec2& q : out) {
+    EXPECT_NEAR(q.y(), 0.0, 1e-12);
+    EXPECT_GT(q.x(), 1.0);
+    EXPECT_LE(q.x(), 2.0 + 1e-9);
+  }
+  // Two empty readings, or a return beyond the reach: nothing; a NaN return is no return.
+  out.clear();
+  laserShadow({{1.0, 0.0}, {1.0, 0.1}}, {0, 0}, {0, 0}, false, p, out);
+  laserShadow({{3.0, 0.0}, {0.0, 0.0}}, {1, 0}, {0, 0}, false, p, out);
+  laserShadow({{std::nan(""), 0.0}, {0.0, 0.0}}, {1, 0}, {0, 0}, false, p, out);
+  EXPECT_TRUE(out.empty());
+  // No spacing, no reach, or no origin: nothing.
+  for (const auto& [spacing, reach] : {std::pair{0.0, 2.0}, std::pair{0.05, 0.0}}) {
+    LaserShadowParams q;
+    q.spacing = spacing;
+    q.reach = reach;
+    laserShadow({{1.0, 0.0}, {0.0, 0.0}}, {1, 0}, {0, 0}, false, q, out);
+  }
+  laserShadow({{1.0, 0.0}, {0.0, 0.0}}, {1, 0}, {std::nan(""), 0.0}, false, p, out);
+  EXPECT_TRUE(out.empty());
+}
+
+// StaleValues::Frontier: once the laser is stale, a sector that looks into a shadow of the last
+// scan (here behind a post, seen from the side after driving on) reports its edge, where moved
+// reports nothing; while fresh, the shadow counts for nothing.
+TEST(SectorMap, StaleLaserFrontierReportsWhatTheLastScanDidNotSeeFree) {
+  // A scan from the origin, a reading per degree over +-60 deg: a post of 0.3 m at x = 1
+  // (|y| <= 0.15) in front of a wall at x = 3.
+  std::vector<Vec2> returns;
+  for (int i = -60; i <= 60; ++i) {
+    const double t = std::tan(i * kDeg);
+    returns.push_back(std::abs(t) <= 0.15 ? Vec2{1.0, t} : Vec2{3.0, 3.0 * t});
+  }
+  std::vector<Vec2> shadow;
+  laserShadow(returns, std::vector<uint8_t>(returns.size(), 1), {0, 0}, false, {}, shadow);
+  ASSERT_FALSE(shadow.empty());
+  AccumulativeGridMap agm(agmParams01());
+  const auto give = [&](SectorMap& s) {
+    std::vector<Vec2> xy = returns;
+    std::vector<uint8_t> valid(returns.size(), 1);
+    s.setLaserScan(xy, valid, {0, 0}, false);
+  };
+  const auto run = [&](StaleValues rule, int64_t t, const Pose2& pose) {
+    SectorMapParams p;
+    p.stale_values = rule;
+    SectorMap s(p);
+    s.setLaserPoints(0, returns);
+    give(s);
+    s.update(0, {0.0, 0.0, 0.0}, agm);
+    return s.update(t, pose, agm);
+  };
+  // Driven on to (1.5, 1.0), facing -y: straight ahead (sector 24) runs down x = 1.5 into the
+  // post's shadow, whose edge from (1, 0.15) to (3, 0.45) it meets at y = 0.225.
+  const Pose2 side{1.5, 1.0, -kPi / 2};
+  const auto frontier = run(StaleValues::Frontier, kSec, side);
+  ASSERT_TRUE(frontier.laser_stale);
+  const double edge = 1.0 - 0.225 - 0.35;
+  EXPECT_LE(frontier.laser[24], edge + 0.01);
+  EXPECT_GT(frontier.laser[24], edge - 0.06);  // (the sector is 7.5 deg wide)
+  EXPECT_EQ(frontier.source[24], SectorSource::Laser);
+  const auto moved = run(StaleValues::Moved, kSec, side);
+  EXPECT_TRUE(moved.laser[24] < 0 || moved.laser[24] > edge + 0.5) << moved.laser[24] << " " << frontier.laser[24];
+  // Fresh (0.1 s), the same pose: the shadow is not reported.
+  const auto fresh = run(StaleValues::Frontier, 100'000, side);
+  ASSERT_FALSE(fresh.laser_stale);
+  EXPECT_FLOAT_EQ(fresh.laser[24], moved.laser[24]);
+  // A new scan clears the shadow: stale again, nothing of the old edges is left.
+  SectorMapParams p;
+  p.stale_values = StaleValues::Frontier;
+  SectorMap s(p);
+  s.setLaserPoints(0, returns);
+  give(s);
+  s.setLaserPoints(10'000, returns);
+  EXPECT_FLOAT_EQ(s.update(kSec, side, agm).laser[24], moved.laser[24]);
 }
 
 TEST(SectorMap, StaleSonarIsHeldNeverFreer) {
