@@ -39,7 +39,7 @@
 // computed value and the held one, and the held values only ever get shorter, so stale data
 // never makes a sector look freer than the last fresh data did, also where the robot has
 // moved or turned away since; or (StaleValues::Frontier) moved as with Moved, the laser's last
-// scan together with its shadow edges (setLaserShadow, operational/laser_shadow.hpp), so that a
+// scan together with its shadow edges (setLaserScan, operational/laser_shadow.hpp), so that a
 // sector reports the nearest place the last scan did not see free. A sensor never heard from is
 // stale with age -1.
 #include <algorithm>
