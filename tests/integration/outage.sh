@@ -51,23 +51,28 @@ age=$(awk '$1 == "stale_age_s" {print $2}' "$tmp/held.stale")
 awk -v a="$age" 'BEGIN { exit !(a > 0 && a <= 0.52) }' || die "held_min: flagged stale at an age of $age s"
 grep -q "holds the laser's last distances" "$tmp/held-replay.err" || die "held_min: the outage's message"
 
-printf 'pilot:\n  stale_values: moved\n' >"$tmp/moved.yaml"
-replay moved "$tmp/moved.yaml"
-rc=0
-"$bin/lasonic-fault-check" stale "$tmp/moved.out" "$t_stop" "$t_resume" laser >"$tmp/moved.stale" 2>/dev/null || rc=$?
-freer=$(awk '$1 == "maps_freer" {print $2}' "$tmp/moved.stale")
-[[ $rc -eq 1 && $(awk '$1 == "stale_flagged" {print $2}' "$tmp/moved.stale") == 1 && ${freer:-0} -gt 0 ]] ||
+# stale_rule RULE: the replay with pilot.stale_values: RULE -> $tmp/RULE.out, and its stale maps
+# (lasonic-fault-check stale) in $tmp/RULE.stale: exit status in stale_rc, maps_freer in stale_freer.
+stale_rule() {
+  printf 'pilot:\n  stale_values: %s\n' "$1" >"$tmp/$1.yaml"
+  replay "$1" "$tmp/$1.yaml"
+  stale_rc=0
+  "$bin/lasonic-fault-check" stale "$tmp/$1.out" "$t_stop" "$t_resume" laser >"$tmp/$1.stale" 2>/dev/null || stale_rc=$?
+  stale_freer=$(awk '$1 == "maps_freer" {print $2}' "$tmp/$1.stale")
+}
+flagged() { [[ $(awk '$1 == "stale_flagged" {print $2}' "$tmp/$1.stale") == 1 ]]; }
+
+stale_rule moved
+freer=$stale_freer
+[[ $stale_rc -eq 1 ]] && flagged moved && [[ ${freer:-0} -gt 0 ]] ||
   die "moved: expected flagged stale maps freer than the last fresh one: $(cat "$tmp/moved.stale")"
 grep -q "moves the laser's last scan with odometry" "$tmp/moved-replay.err" || die "moved: the outage's message"
 
 # frontier: the moved scan and where it did not see free. Its laser distances are those of moved
 # or nearer (the shadows' edges), so fewer of its stale maps are freer.
-printf 'pilot:\n  stale_values: frontier\n' >"$tmp/frontier.yaml"
-replay frontier "$tmp/frontier.yaml"
-rc=0
-"$bin/lasonic-fault-check" stale "$tmp/frontier.out" "$t_stop" "$t_resume" laser >"$tmp/frontier.stale" 2>/dev/null || rc=$?
-frontier_freer=$(awk '$1 == "maps_freer" {print $2}' "$tmp/frontier.stale")
-[[ $(awk '$1 == "stale_flagged" {print $2}' "$tmp/frontier.stale") == 1 && ${frontier_freer:-0} -lt $freer ]] ||
+stale_rule frontier
+frontier_freer=$stale_freer
+flagged frontier && [[ ${frontier_freer:-0} -lt $freer ]] ||
   die "frontier: expected flagged stale maps, fewer of them freer than moved's $freer: $(cat "$tmp/frontier.stale")"
 "$bin/lasonic-fault-check" laser-nearer "$tmp/frontier.out" "$tmp/moved.out" "$t_stop" "$((t_resume + 1000000))" \
   >"$tmp/nearer.txt" 2>&1 || die "frontier: a stale laser distance farther than moved's, or none nearer: $(cat "$tmp/nearer.txt")"
