@@ -7,6 +7,7 @@
 #include "core/cli.hpp"
 #include "core/config.hpp"
 #include "core/logging.hpp"
+#include "scratch_dir.hpp"
 
 using lasonic::Config;
 using lasonic::ConfigError;
@@ -88,7 +89,8 @@ TEST(Config, RejectsNonFinite) {
 }
 
 TEST(Config, LayeredFilesMergeKeyByKey) {
-  const std::string dir = ::testing::TempDir();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string& dir = scratch.path();
   const std::string a = dir + "/layer_a.yaml", b = dir + "/layer_b.yaml";
   {
     std::ofstream(a) << "pilot: {robot_radius: 0.25, agm: {g_t: 5, h_max: 12}}\nsonar: {beam: 30}\nlist: [1, 2]\n";
@@ -108,7 +110,8 @@ TEST(Config, LayeredFilesMergeKeyByKey) {
 // A misspelt section in a --config file is an error naming the file and the key: each process
 // reads only its own sections, so it would otherwise change nothing anywhere.
 TEST(Config, ConfigurationFilesAllowOnlyTheKnownSections) {
-  const std::string dir = ::testing::TempDir();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string& dir = scratch.path();
   const std::string good = dir + "/sections_good.yaml", typo = dir + "/sections_typo.yaml";
   {
     std::ofstream(good) << "pilot: {robot_radius: 0.27}\nnavigator: {}\n";
@@ -200,7 +203,8 @@ TEST(Config, AKeyThatIsNotAStringIsAnError) {
   EXPECT_EQ(errorOf([] { Config::fromString("pilot: {: 1}\n", "my.yaml"); }).rfind("my.yaml: pilot: an empty key", 0),
             0u);
   // Through the --config loader, and for a map that did not come from a file.
-  const std::string f = ::testing::TempDir() + "/list_key.yaml";
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string f = scratch.file("list_key.yaml");
   std::ofstream(f) << "pilot:\n  robot_radius: 0.3\n  [a, b]: 1\n";
   EXPECT_EQ(errorOf([&] { Config::loadConfiguration({f}); }).rfind(f + ": pilot: a key that is not a string", 0), 0u);
   const Config raw(YAML::Load("{[a]: 1}"), "sec", "raw.yaml");
@@ -222,7 +226,8 @@ TEST(Config, AKeyGivenTwiceInOneMapIsAnError) {
             0u);
   // The same key in different maps, or in different files, is fine.
   EXPECT_EQ(errorOf([] { Config::fromString("a: {r: 1}\nb: {r: 2}\n"); }), "");
-  const std::string dir = ::testing::TempDir();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string& dir = scratch.path();
   const std::string base = dir + "/dup_base.yaml", twice = dir + "/dup_twice.yaml";
   {
     std::ofstream(base) << "pilot: {robot_radius: 0.3}\n";
@@ -240,7 +245,8 @@ TEST(Config, AKeyGivenTwiceInOneMapIsAnError) {
 // A section whose keys are all commented out (`pilot:` alone: a null) in a later --config layer
 // says nothing: the earlier layer's section stays. A key with no value is an error, not the default.
 TEST(Config, ANullSectionKeepsTheEarlierLayerAndANullKeyIsAnError) {
-  const std::string dir = ::testing::TempDir();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string& dir = scratch.path();
   const std::string base = dir + "/null_base.yaml", commented = dir + "/null_commented.yaml",
                     novalue = dir + "/null_novalue.yaml";
   {
@@ -287,7 +293,8 @@ TEST(Config, ANullSectionKeepsTheEarlierLayerAndANullKeyIsAnError) {
 // A directory given as a configuration file is an error (std::ifstream reads it as an empty
 // file); a pipe (`--config <(...)`, /dev/fd/N) is read.
 TEST(Config, ADirectoryIsNotAFileAPipeIs) {
-  const std::string dir = ::testing::TempDir();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string& dir = scratch.path();
   EXPECT_NE(errorOf([&] { Config::loadFile(dir); }).find(": is a directory, not a YAML file"), std::string::npos);
   EXPECT_NE(errorOf([&] { Config::loadConfiguration({dir}); }).find("is a directory"), std::string::npos);
   int fds[2];

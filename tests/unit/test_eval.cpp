@@ -13,6 +13,7 @@
 #include "eval/observability.hpp"
 #include "lcmio/eventlog.hpp"
 #include "sim_state_fixture.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 using namespace lasonic::eval;
@@ -464,7 +465,8 @@ TEST(EvalSensors, CausesReflectorsAndLaserReturnsByMaterial) {
 // under lcm-logger) the passes' spans add up (it was the span of the sorted times: 9 s for two
 // passes of 9 s, or 10 s when the second pass started a second later).
 TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
-  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_eval_looped.lcmlog").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_eval_looped.lcmlog");
   {
     LogWriter w(path);
     int64_t event = 0;

@@ -7,6 +7,7 @@
 
 #include "launch/profile.hpp"
 #include "launch/supervisor.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 using namespace lasonic::launch;
@@ -222,12 +223,6 @@ TEST(RunToEnd, ExitStatusSignalAndOutput) {
 }
 
 namespace {
-// A fresh directory for a supervisor's logs.
-std::string logDir() {
-  std::string dir = ::testing::TempDir() + "lasonic-launch-XXXXXX";
-  if (!::mkdtemp(dir.data())) ADD_FAILURE() << "mkdtemp failed";
-  return dir;
-}
 // How many times the supervisor started `name`: its log has a launcher line before each start.
 int startsIn(const std::string& dir, const std::string& name) {
   std::ifstream log(dir + "/" + name + ".txt");
@@ -240,7 +235,8 @@ int startsIn(const std::string& dir, const std::string& name) {
 // Exit status 2 is a bad command line or configuration: starting the process again cannot help,
 // so it is not restarted (whatever its policy) and the launcher exits 2 once nothing runs.
 TEST(Supervisor, AProcessThatExitsTwoIsNotRestartedAndTheLauncherExitsTwo) {
-  const std::string dir = logDir();
+  const lasonic::fixture::ScratchDir log_dir{"lasonic-launch"};  // the supervisor's logs
+  const std::string& dir = log_dir.path();
   const HostProfile profile = load("lcm_url: u\nprocesses: [{name: bad, command: [/bin/sh, -c, 'exit 2'], restart: always}]\n");
   Supervisor supervisor(profile, dir, {});
   ASSERT_TRUE(supervisor.prepare());
@@ -251,7 +247,8 @@ TEST(Supervisor, AProcessThatExitsTwoIsNotRestartedAndTheLauncherExitsTwo) {
 // A process that ran for reset_after_s before it failed was healthy: its restart waits the
 // initial delay again, not the doubled one of a process that keeps dying.
 TEST(Supervisor, AfterAHealthyRunTheRestartDelayStartsAfresh) {
-  const std::string dir = logDir();
+  const lasonic::fixture::ScratchDir log_dir{"lasonic-launch"};  // the supervisor's logs
+  const std::string& dir = log_dir.path();
   const HostProfile profile = load(
       "lcm_url: u\nrestart: {initial_delay_s: 0.05, max_delay_s: 10, reset_after_s: 0.1}\n"
       "processes: [{name: flaky, command: [/bin/sh, -c, 'sleep 0.15; exit 1'], restart: always}]\n");

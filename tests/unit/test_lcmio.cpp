@@ -9,6 +9,7 @@
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
+#include "scratch_dir.hpp"
 
 #include <lasonic/odometry_t.hpp>
 #include <lasonic/laser_scan_t.hpp>
@@ -74,7 +75,8 @@ TEST(Node, HandlerExceptionsAreCaught) {
 }
 
 TEST(EventLog, WriteThenReadBack) {
-  const std::string path = (std::filesystem::temp_directory_path() / "lasonic_test_eventlog.lcmlog").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_eventlog.lcmlog");
   {
     LogWriter w(path);
     for (int i = 0; i < 3; ++i) {

@@ -14,6 +14,7 @@
 #include "lcmio/node.hpp"
 #include "render/fig8.hpp"
 #include "render/snapshot.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 using namespace lasonic::render;
@@ -264,7 +265,8 @@ TEST(SnapshotCollector, TruthInterpolatedAndOdometryFromTrue) {
 }
 
 TEST(ScanLog, SpanChannelsAndUndecodable) {
-  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_render_scan.lcmlog").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_render_scan.lcmlog");
   {
     LogWriter w(path);
     auto o = odom(5'000'000, 0, 0, 0);
@@ -309,7 +311,8 @@ TEST(ScanLog, MostSonarSectors) {
   const int8_t L = sector_map_t::SOURCE_LASER, S = sector_map_t::SOURCE_SONAR,
                C = sector_map_t::SOURCE_SONAR_COPIED, R = sector_map_t::SOURCE_REMEMBERED,
                N = sector_map_t::SOURCE_NONE;
-  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_render_most_sonar.lcmlog").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_render_most_sonar.lcmlog");
   {
     LogWriter w(path);
     auto a = sectors(1'000'000, {L, L, L, L, S, N});  // 1
@@ -528,7 +531,8 @@ TEST(Fig8, BadNumbersDoNotBreakTheDrawing) {
 }
 
 TEST(Fig8, PngWrittenAndReadBack) {
-  const auto path = (std::filesystem::temp_directory_path() / "lasonic_test_render.png").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_render.png");
   Snapshot s;
   s.utime = 1;
   s.robot = geom::Pose2{0, 0, 0};

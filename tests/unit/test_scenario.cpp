@@ -10,6 +10,7 @@
 #include "sim/drivers.hpp"
 #include "sim/scenario.hpp"
 #include "sim/world_geometry.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -426,7 +427,8 @@ TEST(Scenario, NameIsAFileName) {
 }
 
 TEST(Scenario, FileErrorsNameTheFile) {
-  const std::string path = (std::filesystem::temp_directory_path() / "lasonic_test_bad_scenario.yaml").string();
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string path = scratch.file("lasonic_test_bad_scenario.yaml");
   {
     std::ofstream f(path);
     f << minimal("obstacles:\n  - {shape: circle, material: wall, center: [1,1], radius: -2}\n");

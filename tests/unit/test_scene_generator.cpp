@@ -9,6 +9,7 @@
 
 #include "sim/scene_generator.hpp"
 #include "sim/setup.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 using namespace lasonic::sim;
@@ -54,8 +55,8 @@ TEST(SceneGenerator, SameIndexSameScene) {
 // 0.25 m from every obstacle and 0.7 m from the room's walls; people keep off the furniture and
 // off the robot's path; the duration covers the drive up to the 90 s cap.
 TEST(SceneGenerator, EverySceneLoadsAndKeepsItsClearances) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "lasonic_scenegen_test";
-  std::filesystem::create_directories(dir);
+  const lasonic::fixture::ScratchDir scratch;
+  const std::filesystem::path dir = scratch.path();
   const std::string config = std::string(LASONIC_SOURCE_DIR) + "/deploy/config/lasonic.yaml";
   int generated = 0;
   for (uint64_t index = 1; index <= kScenes; ++index) {

@@ -19,6 +19,7 @@
 #include "sim/setup.hpp"
 #include "stages/navigator_stage.hpp"
 #include "stages/pilot_stage.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 
@@ -179,7 +180,8 @@ TEST(ShippedConfig, OneRingCycleHoldsEverySuiteScenesRingWithItsJitter) {
   EXPECT_GE(scenes, 30);
   // The check can fail: the Pioneer's 8 groups of 40 ms run 0.32-0.384 s, so a limit of 0.25 s
   // would drop the neighbours fired 6 and 7 groups before.
-  const std::string tmp = ::testing::TempDir() + "/max_age_025.yaml";
+  const fixture::ScratchDir scratch;
+  const std::string tmp = scratch.file("max_age_025.yaml");
   std::ofstream(tmp) << "pilot: {neighbour_bearing: {max_age_s: 0.25}}\n";
   EXPECT_NE(oneRingCycleProblem({root + "deploy/config/lasonic.yaml", root + "deploy/config/pioneer.yaml", tmp},
                                 root + "deploy/scenarios/suite/pioneer_lab.yaml")

@@ -12,6 +12,8 @@
 #include <iterator>
 #include <string>
 
+#include "scratch_dir.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -24,10 +26,10 @@ struct ToolRun {
   std::string output;
 };
 
+// One scratch directory for the test program, removed when it exits.
 fs::path tmpDir() {
-  const fs::path d = fs::temp_directory_path() / ("lasonic_test_sim_cli_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const lasonic::fixture::ScratchDir d{"lasonic-test-sim-cli"};
+  return d.path();
 }
 
 std::string slurp(const fs::path& p) {
