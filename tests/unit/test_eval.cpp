@@ -477,7 +477,6 @@ TEST(EvalRunLog, DurationSumsTheLoggedPasses) {
       }
   }
   const RunLog log = loadRunLog(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(log.sim_states.size(), 20u);
   EXPECT_EQ(log.sim_time.passes(), 2);
   EXPECT_DOUBLE_EQ(evaluate(log, boxRoom()).number("duration_s"), 18.0);

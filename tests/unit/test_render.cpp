@@ -279,7 +279,6 @@ TEST(ScanLog, SpanChannelsAndUndecodable) {
     w.writeRaw("LCM_SELF_TEST", 5, {1});
   }
   const auto info = scanLog(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(info.events, 5);
   EXPECT_EQ(info.start_utime, 2'000'000);
   EXPECT_EQ(info.end_utime, 9'000'000);
@@ -343,7 +342,6 @@ TEST(ScanLog, MostSonarSectors) {
     w.write(channels::ODOMETRY, 1, o);
   }
   info = scanLog(path);
-  std::filesystem::remove(path);
   EXPECT_EQ(info.most_sonar_sectors, -1);
 }
 
@@ -545,6 +543,5 @@ TEST(Fig8, PngWrittenAndReadBack) {
   EXPECT_EQ(cairo_image_surface_get_width(png), fig8Size(o).width);
   EXPECT_EQ(cairo_image_surface_get_height(png), fig8Size(o).height);
   cairo_surface_destroy(png);
-  std::filesystem::remove(path);
   EXPECT_THROW(writeFig8Png("/nonexistent-dir/x.png", s, nullptr, o), RenderError);
 }

@@ -16,6 +16,7 @@
 #include "complement_fixture.hpp"
 #include "lcmio/eventlog.hpp"
 #include "lcmio/node.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 namespace fs = std::filesystem;
@@ -58,8 +59,8 @@ std::string slurp(const std::string& path) {
 }  // namespace
 
 TEST(Replay, DeterministicAndRecomputesDerivedChannels) {
-  const fs::path dir = fs::temp_directory_path() / ("lasonic_test_replay_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const lasonic::fixture::ScratchDir scratch;
+  const fs::path dir = scratch.path();
   const std::string in = (dir / "in.lcmlog").string();
   writeFixtureLog(in);
   // Twice with the default threads, then with the stages on one, two and three threads
@@ -99,5 +100,4 @@ TEST(Replay, DeterministicAndRecomputesDerivedChannels) {
   EXPECT_EQ(groups, 100);
   EXPECT_GT(complementary, 0);   // the door and the obstacle
   EXPECT_GT(stale, 0);           // the groups before the first scan
-  fs::remove_all(dir);
 }

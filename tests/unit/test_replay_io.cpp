@@ -17,14 +17,17 @@
 #include "lcmio/local_bus.hpp"
 #include "lcmio/node.hpp"
 #include "lcmio/replay_meter.hpp"
+#include "scratch_dir.hpp"
 
 using namespace lasonic;
 namespace fs = std::filesystem;
 
 namespace {
 
+// A file NAME in the test program's scratch directory, removed when it exits.
 std::string tmpPath(const std::string& name) {
-  return (fs::temp_directory_path() / ("lasonic_test_replay_io_" + std::to_string(::getpid()) + "_" + name)).string();
+  static const lasonic::fixture::ScratchDir d{"lasonic-test-replay-io"};
+  return d.file(name);
 }
 
 std::string slurp(const std::string& path) {
@@ -95,8 +98,6 @@ TEST(ReplayIo, LogWriterWritesWhatLcmWrites) {
   const std::string a = slurp(ours);
   EXPECT_GT(a.size(), 700000u);
   EXPECT_TRUE(a == slurp(theirs)) << "LogWriter's bytes differ from lcm::LogFile's";
-  fs::remove(ours);
-  fs::remove(theirs);
 }
 
 // Large events taken whole (writeOwned) are written in their place among copied ones, with the
@@ -138,8 +139,6 @@ TEST(ReplayIo, LogWriterWritesTakenBuffersInPlace) {
   const std::string a = slurp(ours);
   EXPECT_GT(a.size(), 5000000u);
   EXPECT_TRUE(a == slurp(theirs)) << "LogWriter's bytes differ from lcm::LogFile's";
-  fs::remove(ours);
-  fs::remove(theirs);
 }
 
 TEST(ReplayIo, LogReaderReadsWhatLcmReadsAlsoWhenCorrupt) {
@@ -208,7 +207,6 @@ TEST(ReplayIo, LogReaderReadsWhatLcmReadsAlsoWhenCorrupt) {
     EXPECT_EQ(n, 1);
     EXPECT_NE(r.stopReason().find("more than the"), std::string::npos) << r.stopReason();
   }
-  fs::remove(path);
 }
 
 TEST(ReplayIo, LocalBusDeliversInMemqOrder) {

@@ -439,7 +439,6 @@ TEST(Scenario, FileErrorsNameTheFile) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(std::string(e.what()), path + ": obstacles[0].radius: must be > 0");
   }
-  std::remove(path.c_str());
   EXPECT_THROW(loadScenario("/nonexistent/scenario.yaml"), ConfigError);
 }
 

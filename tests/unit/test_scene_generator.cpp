@@ -104,7 +104,6 @@ TEST(SceneGenerator, EverySceneLoadsAndKeepsItsClearances) {
     }
   }
   EXPECT_GE(generated, kScenes * 9 / 10);
-  std::filesystem::remove_all(dir);
 }
 
 // The scenes vary in what the issue of generalisation is about: every material, both robots,
