@@ -94,7 +94,7 @@ echo "$test_name: (1) ok: the demo ran ${#procs[@]} processes and recorded ${#ex
 start recorder "$bin/lasonic-fault-check" record "$url" "$tmp/replayed.lcmlog" '.*'
 recorder=$!
 wait_ready recorder
-lcm-logplayer --lcm-url="$url" "$tmp/live.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+play_log 60 "$tmp/live.lcmlog"
 sleep 0.5
 kill -INT "$recorder"
 wait "$recorder" || true
@@ -173,7 +173,7 @@ PY
     ready+=(navigator)
   fi
   wait_ready "${ready[@]}"
-  lcm-logplayer --lcm-url="$url" -e "$raw" "$tmp/live.lcmlog" >"$tmp/player2.err" 2>&1 || die "lcm-logplayer failed"
+  play_log 60 "$tmp/live.lcmlog" player2.err -e "$raw"
   sleep 0.5
   kill -INT "${live[@]}"
   wait "${live[@]}" || true

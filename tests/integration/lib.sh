@@ -60,6 +60,18 @@ stop_logger() {
   ((rc != 124)) || die "lcm-logger still running 10 s after SIGINT"
 }
 
+# play_log SECONDS LOG [ERR [ARGS...]]: lcm-logplayer plays LOG on $url in real time (ARGS
+# before the log, e.g. -e REGEX), output to $tmp/ERR (default player.err); dies when it fails
+# or is still playing SECONDS after its start (so a stuck player fails its test with a message
+# naming it, not by ctest's timeout with none). SECONDS: the log's length plus a margin.
+play_log() {
+  local limit=$1 log=$2 err=${3:-player.err} rc=0
+  shift 3 2>/dev/null || shift $#
+  timeout -k 5 "$limit" lcm-logplayer --lcm-url="$url" "$@" "$log" >"$tmp/$err" 2>&1 || rc=$?
+  ((rc != 124)) || die "lcm-logplayer still playing $(basename "$log") $limit s after its start"
+  ((rc == 0)) || die "lcm-logplayer failed (exit status $rc) on $(basename "$log")"
+}
+
 # wait_ready ERR...: waits until each process started as `start ERR ...` has logged that it is
 # running (a lasonic process does once its subscriptions are up) and, if a logger was started,
 # until lcm-logger has opened its log; at most 60 s in all, else dies naming the one that has

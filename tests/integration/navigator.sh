@@ -43,7 +43,7 @@ start navigator "$bin/lasonic-navigator" --config "$config" --lcm-url "$url"
 navigator=$!
 start_logger run1.lcmlog logger1.err
 wait_ready complement pilot navigator
-lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+play_log 30 "$tmp/raw.lcmlog"
 sleep 1.5  # the last outputs and a heartbeat
 kill -0 "$navigator" 2>/dev/null || die "the navigator died during the run"
 stop_logger
@@ -77,7 +77,7 @@ start pilot2 "$bin/lasonic-pilot" --config "$config" --lcm-url "$url"
 pilot2=$!
 start_logger run2.lcmlog logger2.err
 wait_ready complement2 pilot2
-lcm-logplayer --lcm-url="$url" "$tmp/raw.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+play_log 30 "$tmp/raw.lcmlog"
 sleep 1.5
 stop_logger
 "$bin/lasonic-log-stats" "$tmp/run2.lcmlog" >"$tmp/stats" || die "cannot read the second log"
@@ -112,7 +112,7 @@ for variant in shipped off; do
   n=$!
   start_logger "glass_$variant.lcmlog" "logger_glass_$variant.err"
   wait_ready "complement_$variant" "navigator_$variant"
-  lcm-logplayer --lcm-url="$url" "$tmp/glass.lcmlog" >"$tmp/player.err" 2>&1 || die "lcm-logplayer failed"
+  play_log 30 "$tmp/glass.lcmlog"
   sleep 1.5
   stop_logger
   expect_term_exit "$n" lasonic-navigator

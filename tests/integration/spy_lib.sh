@@ -22,7 +22,7 @@ play_into_spy() {
     sleep 0.2
   done
   sleep 1   # the spy's subscription is up before the first message
-  lcm-logplayer --lcm-url="$url" "$log" >>"$out" 2>&1 || echo "lcm-logplayer failed" >>"$out"
+  timeout -k 5 60 lcm-logplayer --lcm-url="$url" "$log" >>"$out" 2>&1 || echo "lcm-logplayer failed or still playing after 60 s" >>"$out"
   touch "$tmp/done"
   rc=0; wait "$pid" || rc=$?
   ((rc == 0)) || echo "$name exited with status $rc" >>"$out"
