@@ -47,17 +47,20 @@ bool inside(const std::vector<geom::Vec2>& poly, const geom::Vec2& q) {
 
 }  // namespace
 
-std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m) {
-  const PathFollower robot(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate);
-  // One cycle of a repeating path is all of it; at most 200 000 samples of an absurdly long one.
-  const double end = std::min(s.duration_s, robot.cycleDuration());
-  const double dt = std::max(step_m / s.robot.speed, end / 200'000);
+namespace {
+
+// Where a disc of radius r carried by `f` from t = 0 to `end` first overlaps each static obstacle
+// (robotOverlaps' rule), sampled every step_m at `speed`.
+std::vector<RobotOverlap> discOverlaps(const Scenario& s, const PathFollower& f, double radius, double speed,
+                                       double end, double step_m) {
+  // At most 200 000 samples of an absurdly long path.
+  const double dt = std::max(step_m / speed, end / 200'000);
   std::vector<bool> met(s.obstacles.size(), false);
   std::vector<RobotOverlap> out;
-  const double r = s.robot.radius - 1e-9;  // (touching is not overlapping)
-  geom::Vec2 prev = robot.at(0).pose.position();
+  const double r = radius - 1e-9;  // (touching is not overlapping)
+  geom::Vec2 prev = f.at(0).pose.position();
   for (double t = 0;; t = std::min(t + dt, end)) {
-    const geom::Vec2 q = robot.at(t).pose.position();
+    const geom::Vec2 q = f.at(t).pose.position();
     const geom::Segment way{prev, q};
     for (const Primitive& p : s.statics) {
       if (met[p.obstacle] || !(clearance(p, way) < r)) continue;
@@ -75,13 +78,49 @@ std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m) {
   return out;
 }
 
-std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o) {
-  const ObstacleSpec& spec = s.obstacles.at(static_cast<size_t>(o.obstacle));
-  std::string what = "obstacles[" + std::to_string(o.obstacle) + "]";
+// "obstacles[3]", or "obstacles[5] (a jamb of obstacles[3]'s frame)".
+std::string obstacleName(const Scenario& s, int obstacle) {
+  const ObstacleSpec& spec = s.obstacles.at(static_cast<size_t>(obstacle));
+  std::string what = "obstacles[" + std::to_string(obstacle) + "]";
   if (spec.frame_of >= 0) what += " (a jamb of obstacles[" + std::to_string(spec.frame_of) + "]'s frame)";
+  return what;
+}
+
+}  // namespace
+
+std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m) {
+  const PathFollower robot(s.robot.path, s.robot.mode, s.robot.speed, s.robot.turn_rate);
+  // One cycle of a repeating path is all of it.
+  return discOverlaps(s, robot, s.robot.radius, s.robot.speed, std::min(s.duration_s, robot.cycleDuration()), step_m);
+}
+
+std::vector<MoverOverlap> moverOverlaps(const Scenario& s, double step_m) {
+  std::vector<MoverOverlap> out;
+  for (size_t i = 0; i < s.movers.size(); ++i) {
+    const MoverSpec& m = s.movers[i];
+    // As the world moves it (WorldCore): turning on the spot, after its start delay.
+    const PathFollower f(m.path, m.mode, m.speed, std::numeric_limits<double>::infinity(), m.start_delay_s);
+    const double end = std::min(s.duration_s, m.start_delay_s + f.cycleDuration());
+    for (const RobotOverlap& o : discOverlaps(s, f, m.radius, m.speed, end, step_m))
+      out.push_back({static_cast<int>(i), o});
+  }
+  return out;
+}
+
+std::string describeMoverOverlap(const Scenario& s, const MoverOverlap& o) {
+  const MoverSpec& m = s.movers.at(static_cast<size_t>(o.mover));
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "the mover (radius %.2f) overlaps %s at (%.2f, %.2f) (t \u2248 %.1f s%s)", m.radius,
+                obstacleName(s, o.where.obstacle).c_str(), o.where.at.x(), o.where.at.y(), o.where.t,
+                o.where.t <= m.start_delay_s ? ", where it starts" : ", later if it waits for the robot");
+  return "movers[" + std::to_string(o.mover) + "].path: " + std::string(buf);
+}
+
+std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "the robot (radius %.2f) overlaps %s at (%.2f, %.2f) (t \u2248 %.1f s%s)",
-                s.robot.radius, what.c_str(), o.at.x(), o.at.y(), o.t, o.t == 0 ? ", where it starts" : "");
+                s.robot.radius, obstacleName(s, o.obstacle).c_str(), o.at.x(), o.at.y(), o.t,
+                o.t == 0 ? ", where it starts" : "");
   return "robot.path: " + std::string(buf);
 }
 

@@ -47,6 +47,18 @@ std::vector<RobotOverlap> robotOverlaps(const Scenario& s, double step_m = 0.02)
 // (t ≈ 4.2 s)" (README "Scenario format").
 std::string describeRobotOverlap(const Scenario& s, const RobotOverlap& o);
 
+// The same for each mover's disc along its own path (its start delay counted; a mover that waits
+// for the robot meets the place later, never elsewhere): a person drawn walking through a pane or
+// a wall, whom the simulator would carry through it as it does the robot.
+struct MoverOverlap {
+  int mover = -1;  // index into Scenario::movers
+  RobotOverlap where;
+};
+std::vector<MoverOverlap> moverOverlaps(const Scenario& s, double step_m = 0.02);
+// "movers[1].path: the mover (radius 0.25) overlaps obstacles[3] at (4.00, 3.15) (t ≈ 5.3 s, later
+// if it waits for the robot)".
+std::string describeMoverOverlap(const Scenario& s, const MoverOverlap& o);
+
 // The range along `ray` to primitive p (geom::intersect), except that a ray from a point on a
 // segment — within kOnSurfaceM, rounding: a transducer flush with a box's face — meets it at 0
 // whichever way the rounding fell, as a ray from inside a circle does. Else half the rays from

@@ -122,10 +122,12 @@ int main(int argc, char** argv) {
     }
   }
   if (seed) scenario.seed = *seed;
-  // A path through an obstacle is driven through it (the robot follows its path blind): said,
-  // not refused, since a robot may be meant to pass close (README "Scenario format").
+  // A path through an obstacle is driven through it (the robot follows its path blind, a mover
+  // too): said, not refused, since a robot may be meant to pass close (README "Scenario format").
   for (const sim::RobotOverlap& o : sim::robotOverlaps(scenario))
     std::cerr << "lasonic-sim: warning: " << scenario_file << ": " << sim::describeRobotOverlap(scenario, o) << "\n";
+  for (const sim::MoverOverlap& o : sim::moverOverlaps(scenario))
+    std::cerr << "lasonic-sim: warning: " << scenario_file << ": " << sim::describeMoverOverlap(scenario, o) << "\n";
   if (check_config) {
     std::cout << "lasonic-sim: configuration usable";
     for (const std::string& f : config_files) std::cout << " " << f;

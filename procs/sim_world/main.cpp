@@ -64,6 +64,8 @@ int main(int argc, char** argv) {
     // Said, not refused: the robot may be meant to pass close (README "Scenario format").
     for (const sim::RobotOverlap& o : sim::robotOverlaps(setup->scenario))
       spdlog::warn("{}: {}", scenario_file, sim::describeRobotOverlap(setup->scenario, o));
+    for (const sim::MoverOverlap& o : sim::moverOverlaps(setup->scenario))
+      spdlog::warn("{}: {}", scenario_file, sim::describeMoverOverlap(setup->scenario, o));
   };
   return pm.run(argc, argv, configure, [&](Node& node) {
     const sim::Scenario& scenario = setup->scenario;

@@ -370,6 +370,56 @@ robot: {radius: 0.35, path: [[2,2],[6,2]], speed: 0.3}
   EXPECT_NE(describeRobotOverlap(door, o3[1]).find("obstacles[2] (a jamb of obstacles[0]'s frame)"), std::string::npos);
 }
 
+// A mover's disc along its own path, after its start delay: a person drawn walking through a
+// pane is found where the disc first reaches it; one walking beside a wall is not.
+TEST(Scenario, WhereAMoversPathOverlapsAnObstacle) {
+  const Scenario s = parse(R"(
+name: t
+duration_s: 30
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[8,0],[8,6],[0,6]]}
+  - {shape: segment, material: glass, from: [3,3.4], to: [5.5,3.4]}
+  - {shape: box, material: metal, center: [6.5,1.0], size: [0.6,0.6]}
+movers:
+  - {radius: 0.25, speed: 0.5, path: [[4,0.5],[4,4.5]], start_delay_s: 2}
+  - {radius: 0.25, speed: 0.8, path: [[1,5.5],[7,5.5]]}
+  - {radius: 0.2, speed: 1.0, path: [[6.5,3],[6.5,2]], mode: once}
+robot: {radius: 0.35, path: [[1,2],[2,2]], speed: 0.3}
+)");
+  const std::vector<MoverOverlap> o = moverOverlaps(s);
+  ASSERT_EQ(o.size(), 1u);
+  // The first mover meets the pane once its centre is within 0.25 m of it, 2.65 m along its
+  // path, 2 s + 5.3 s after the start (sampled every 2 cm); the second walks with its centre
+  // 0.5 m from the top wall (clear), the third stops 0.5 m short of the box.
+  EXPECT_EQ(o[0].mover, 0);
+  EXPECT_EQ(o[0].where.obstacle, 1);
+  EXPECT_NEAR(o[0].where.at.y(), 3.15 + 0.01, 0.011);
+  EXPECT_NEAR(o[0].where.t, 2 + (o[0].where.at.y() - 0.5) / 0.5, 1e-9);
+  EXPECT_EQ(describeMoverOverlap(s, o[0]).rfind(
+                "movers[0].path: the mover (radius 0.25) overlaps obstacles[1] at (4.00, 3.1", 0),
+            0u)
+      << describeMoverOverlap(s, o[0]);
+  EXPECT_NE(describeMoverOverlap(s, o[0]).find("later if it waits for the robot"), std::string::npos);
+
+  // Past where the run ends, nothing; a mover standing in a box from the start is found there.
+  Scenario short_run = s;
+  short_run.duration_s = 6;
+  EXPECT_TRUE(moverOverlaps(short_run).empty());
+  const Scenario in = parse(R"(
+name: t
+obstacles:
+  - {shape: polyline, material: wall, closed: true, points: [[0,0],[8,0],[8,6],[0,6]]}
+  - {shape: box, material: wall, center: [2,2], size: [1.4,1.4]}
+movers:
+  - {radius: 0.25, path: [[2,2],[6,2]]}
+robot: {radius: 0.35, path: [[1,5],[2,5]], speed: 0.3}
+)");
+  const std::vector<MoverOverlap> o2 = moverOverlaps(in);
+  ASSERT_EQ(o2.size(), 1u);
+  EXPECT_EQ(describeMoverOverlap(in, o2[0]),
+            "movers[0].path: the mover (radius 0.25) overlaps obstacles[1] at (2.00, 2.00) (t \u2248 0.0 s, where it starts)");
+}
+
 // The override sections are read by the simulator's own readers when the scenario is loaded, so
 // every tool (lasonic-eval, lasonic-render, lasonic-sim-world, either driver) refuses a scenario
 // that lasonic-sim would refuse.

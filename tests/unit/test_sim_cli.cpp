@@ -113,6 +113,20 @@ TEST(SimCli, ARobotPathThroughAnObstacleIsAWarning) {
             std::string::npos)
       << r.output;
   EXPECT_TRUE(fs::exists(log));
+  // A mover's path through an obstacle too.
+  const std::string walker = write("walker.yaml",
+                                   "name: t\nduration_s: 2\n"
+                                   "obstacles:\n  - {shape: polyline, material: wall, closed: true, points: [[-3,-3],[3,-3],[3,3],[-3,3]]}\n"
+                                   "  - {shape: segment, material: glass, from: [-1,2], to: [1,2]}\n"
+                                   "movers:\n  - {radius: 0.25, speed: 1, path: [[0,1],[0,2.5]]}\n"
+                                   "robot: {path: [[0,-2],[1,-2]], speed: 1}\n");
+  const ToolRun w = run("lasonic-sim", "--scenario " + walker + " --out " + log);
+  EXPECT_EQ(w.status, 0) << w.output;
+  EXPECT_NE(w.output.find("lasonic-sim: warning: " + walker +
+                          ": movers[0].path: the mover (radius 0.25) overlaps obstacles[1] at (0.00, 1.7"),
+            std::string::npos)
+      << w.output;
+  EXPECT_EQ(w.output.find("robot.path"), std::string::npos) << w.output;
   // Past where it stops (--duration), nothing is said.
   const ToolRun short_run = run("lasonic-sim", "--scenario " + scene + " --out " + log + " --duration 0.5");
   EXPECT_EQ(short_run.status, 0) << short_run.output;
