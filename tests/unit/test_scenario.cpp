@@ -562,7 +562,7 @@ INSTANTIATE_TEST_SUITE_P(Experiments, ShippedScenario,
                                            "experiments/creeping_glass_corridor", "experiments/angled_mesh_room",
                                            "experiments/shop_front_arcade", "experiments/glass_meeting_rooms",
                                            "experiments/long_glass_hall", "experiments/glass_loop",
-                                           "experiments/office_glass_hour"));
+                                           "experiments/office_glass_hour", "experiments/custom_materials_pingpong"));
 
 // A pane drawn on a wall's line (as the format's own example draws a glass door) is a pane in the
 // wall: the wall is cut there. Other obstacles drawn on each other (a box's side on a wall) are
