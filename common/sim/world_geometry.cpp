@@ -112,7 +112,9 @@ std::string describeMoverOverlap(const Scenario& s, const MoverOverlap& o) {
   char buf[320];
   std::snprintf(buf, sizeof buf, "the mover (radius %.2f) overlaps %s at (%.2f, %.2f) (t \u2248 %.1f s%s)", m.radius,
                 obstacleName(s, o.where.obstacle).c_str(), o.where.at.x(), o.where.at.y(), o.where.t,
-                o.where.t <= m.start_delay_s ? ", where it starts" : ", later if it waits for the robot");
+                o.where.t <= m.start_delay_s ? ", where it starts"
+                : m.avoid_robot              ? ", later if it waits for the robot"
+                                             : "");
   return "movers[" + std::to_string(o.mover) + "].path: " + std::string(buf);
 }
 

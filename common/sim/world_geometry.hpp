@@ -56,7 +56,7 @@ struct MoverOverlap {
 };
 std::vector<MoverOverlap> moverOverlaps(const Scenario& s, double step_m = 0.02);
 // "movers[1].path: the mover (radius 0.25) overlaps obstacles[3] at (4.00, 3.15) (t ≈ 5.3 s, later
-// if it waits for the robot)".
+// if it waits for the robot)" (without the "later" for a mover that does not avoid the robot).
 std::string describeMoverOverlap(const Scenario& s, const MoverOverlap& o);
 
 // The range along `ray` to primitive p (geom::intersect), except that a ray from a point on a

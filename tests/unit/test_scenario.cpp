@@ -400,6 +400,9 @@ robot: {radius: 0.35, path: [[1,2],[2,2]], speed: 0.3}
             0u)
       << describeMoverOverlap(s, o[0]);
   EXPECT_NE(describeMoverOverlap(s, o[0]).find("later if it waits for the robot"), std::string::npos);
+  Scenario blind = s;  // a mover that walks its path regardless is there on time
+  blind.movers[0].avoid_robot = false;
+  EXPECT_EQ(describeMoverOverlap(blind, o[0]).find("later"), std::string::npos) << describeMoverOverlap(blind, o[0]);
 
   // Past where the run ends, nothing; a mover standing in a box from the start is found there.
   Scenario short_run = s;
