@@ -45,10 +45,6 @@ bool inside(const std::vector<geom::Vec2>& poly, const geom::Vec2& q) {
   return in;
 }
 
-}  // namespace
-
-namespace {
-
 // Where a disc of radius r carried by `f` from t = 0 to `end` first overlaps each static obstacle
 // (robotOverlaps' rule), sampled every step_m at `speed`.
 std::vector<RobotOverlap> discOverlaps(const Scenario& s, const PathFollower& f, double radius, double speed,

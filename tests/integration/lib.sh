@@ -66,7 +66,7 @@ stop_logger() {
 # naming it, not by ctest's timeout with none). SECONDS: the log's length plus a margin.
 play_log() {
   local limit=$1 log=$2 err=${3:-player.err} rc=0
-  shift 3 2>/dev/null || shift $#
+  shift $(($# < 3 ? $# : 3))
   timeout -k 5 "$limit" lcm-logplayer --lcm-url="$url" "$@" "$log" >"$tmp/$err" 2>&1 || rc=$?
   ((rc != 124)) || die "lcm-logplayer still playing $(basename "$log") $limit s after its start"
   ((rc == 0)) || die "lcm-logplayer failed (exit status $rc) on $(basename "$log")"
