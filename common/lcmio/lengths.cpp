@@ -29,7 +29,10 @@ void setLengths(hypothetical_scan_t& m) {
 }
 void setLengths(complement_t& m) { m.nreadings = sameSize<int32_t>("complement_t", m.readings); }
 void setLengths(grid_map_t& m) {
-  m.ncells = sameSize<int32_t>("grid_map_t", m.g, m.h, m.gp);
+  // A producer that does not record which echoes made its cells may leave `heard` empty: not
+  // recorded anywhere (HEARD_UNKNOWN).
+  if (m.heard.empty()) m.heard.assign(m.g.size(), int8_t{grid_map_t::HEARD_UNKNOWN});
+  m.ncells = sameSize<int32_t>("grid_map_t", m.g, m.h, m.gp, m.heard);
   if (static_cast<int64_t>(m.width) * m.height != m.ncells)
     throw std::logic_error("grid_map_t: width*height != number of cells");
 }

@@ -81,7 +81,7 @@ template <> struct WireArrays<line_map_t> {
 };
 template <> struct WireArrays<grid_map_t> {
   static constexpr int64_t kMax = limits::kGridCells;
-  static void one(grid_map_t& m) { m.width = m.height = 1; m.g = {0}; m.h = {0}; m.gp = {0}; }
+  static void one(grid_map_t& m) { m.width = m.height = 1; m.g = {0}; m.h = {0}; m.gp = {0}; m.heard = {0}; }
 };
 
 template <typename T, typename = void> struct HasWireArrays : std::false_type {};

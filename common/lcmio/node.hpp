@@ -30,7 +30,7 @@
 namespace lasonic {
 
 // Default URL: ttl=0 keeps multicast on the host; the larger receive buffer is needed for
-// grid maps (~80 kB per message).
+// grid maps (~90 kB per message).
 inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
 // The LCM URL cannot be used (LCM 1.3.1 prints its own reason to stderr and reports !good()).

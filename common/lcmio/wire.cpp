@@ -73,7 +73,7 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   // What the generated encode would not do the same way here (a short buffer, arrays shorter
   // than ncells): left to it.
   if (n < 0 || m.g.size() < static_cast<size_t>(n) || m.h.size() < static_cast<size_t>(n) ||
-      m.gp.size() < static_cast<size_t>(n))
+      m.gp.size() < static_cast<size_t>(n) || m.heard.size() < static_cast<size_t>(n))
     return m.encode(buf, 0, maxlen);
   // The fields before the arrays by the generated code: the message without its cells, whose
   // encoding ends with ncells (0 there, patched).
@@ -88,7 +88,7 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   head.gp_threshold = m.gp_threshold;
   head.ncells = 0;
   const int head_size = gridMapHeadSize();
-  const int64_t size = int64_t{head_size} + int64_t{n} * 8;
+  const int64_t size = int64_t{head_size} + int64_t{n} * 9;
   if (size > maxlen) return m.encode(buf, 0, maxlen);
   if (head.encode(buf, 0, maxlen) != head_size) return m.encode(buf, 0, maxlen);
   auto* out = static_cast<uint8_t*>(buf);
@@ -98,6 +98,7 @@ int fastEncode(const grid_map_t& m, void* buf, int maxlen) {
   swap16(out, m.g.data(), static_cast<size_t>(n));
   swap16(out + 2 * static_cast<size_t>(n), m.h.data(), static_cast<size_t>(n));
   swap32(out + 4 * static_cast<size_t>(n), m.gp.data(), static_cast<size_t>(n));
+  if (n > 0) std::memcpy(out + 8 * static_cast<size_t>(n), m.heard.data(), static_cast<size_t>(n));
   return static_cast<int>(size);
 }
 
@@ -183,18 +184,20 @@ int generatedDecodeEmptied(Msg& m, const void* buf, int maxlen, Arrays&... array
 
 int fastDecode(grid_map_t& m, const void* buf, int maxlen) {
   const int head_size = gridMapHeadSize();
-  const int32_t n = decodeHead(m, buf, maxlen, head_size, 8);
-  if (n <= 0) return generatedDecodeEmptied(m, buf, maxlen, m.g, m.h, m.gp);
+  const int32_t n = decodeHead(m, buf, maxlen, head_size, 9);
+  if (n <= 0) return generatedDecodeEmptied(m, buf, maxlen, m.g, m.h, m.gp, m.heard);
   m.ncells = n;
   const auto cells = static_cast<size_t>(n);
   m.g.resize(cells);
   m.h.resize(cells);
   m.gp.resize(cells);
+  m.heard.resize(cells);
   const auto* in = static_cast<const uint8_t*>(buf) + head_size;
   swap16(m.g.data(), in, cells);
   swap16(m.h.data(), in + 2 * cells, cells);
   swap32(m.gp.data(), in + 4 * cells, cells);
-  return head_size + n * 8;
+  std::memcpy(m.heard.data(), in + 8 * cells, cells);
+  return head_size + n * 9;
 }
 
 int fastDecode(laser_scan_t& m, const void* buf, int maxlen) {

@@ -142,7 +142,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
       int ix = 0, iy = 0;
       if (b && agm.cellAt(p, ix, iy) && agm.g(ix, iy) > 0) {
         hits.push_back(p);
-        last_placed_.push_back({p, w.echo.sensor, w.echo.range, w.echo.beam_width, w.sensor_id, w.echo.utime});
+        last_placed_.push_back({p, w.echo.sensor, w.echo.range, w.echo.beam_width, w.sensor_id, w.echo.utime, w.checked});
         spread(w.echo.sensor.position(), w.echo.range, w.echo.beam_width, p, agm, hits);
       } else
         waiting_[still++] = w;
@@ -172,7 +172,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     else if (cfg_.placement == AgmPlacement::ArcVotes) {
       const auto voted = votedBearing(agm, echo, echo.sensor.theta, cfg_.arc_halfwidth, cfg_.arc_min_votes, est.bearing);
       if (!voted && cfg_.arc_require_votes) {
-        if (cfg_.arc_wait_cycles > 0) waiting_.push_back({echo, r.sensor_id, est.bearing, est.halfwidth, agm.cycle()});
+        if (cfg_.arc_wait_cycles > 0) waiting_.push_back({echo, r.sensor_id, est.bearing, est.halfwidth, agm.cycle(), r.checked});
         continue;
       }
       b = voted.value_or(est.bearing);
@@ -180,7 +180,7 @@ std::vector<geom::Vec2> EchoPlacer::place(const std::vector<GroupReading>& group
     // On the axis: exactly the paper's point (the reading's own end point).
     hits.push_back(b == echo.sensor.theta ? r.axis_end : echo.sensor.position() + echo.range * geom::unitVector(b));
     const geom::Vec2 p = hits.back();
-    last_placed_.push_back({p, echo.sensor, echo.range, echo.beam_width, r.sensor_id, echo.utime});
+    last_placed_.push_back({p, echo.sensor, echo.range, echo.beam_width, r.sensor_id, echo.utime, r.checked});
     spread(echo.sensor.position(), echo.range, echo.beam_width, p, agm, hits);
   }
   for (const Latest& l : latest) tracker_.record(l.id, l.utime, l.echo);

@@ -80,6 +80,9 @@ struct GroupReading {
   // false: the echo still tells its neighbours where the nearest surface is (bearing), but
   // increments no cell (e.g. the tactical level found it explained by a later laser scan).
   bool hit = true;
+  // false: the laser could not check the echo when it was heard (its arc beyond the scanner's
+  // view, explained only by an earlier scan, or no recent scan at all): passed on to PlacedEcho.
+  bool checked = true;
 };
 
 // An echo place() put into the grid: its point and what heard it (global frame).
@@ -90,6 +93,7 @@ struct PlacedEcho {
   double beam_width = 0;  // [rad] the transducer's full opening (0: the config's)
   int sensor_id = -1;
   int64_t utime = 0;      // firing time
+  bool checked = true;    // GroupReading::checked
 };
 
 class EchoPlacer {
@@ -117,6 +121,7 @@ class EchoPlacer {
     double estimate = 0;   // [rad] its bearing estimate
     double halfwidth = 0;  // [rad] the estimate's uncertainty: where later arcs may place it
     int64_t cycle = 0;    // the AGM cycle it arrived in
+    bool checked = true;
   };
   EchoPlacementConfig cfg_;
   SonarBearingTracker tracker_;

@@ -149,6 +149,7 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
     if (g.echo) {
       g.e = SonarEcho{utime, r.range, r.sensor_pose.value_or(geom::Pose2{kNaN, kNaN, kNaN}), r.beam_width};
       g.axis_end = r.end;
+      g.checked = r.cls == complement::SonarClass::Complementary;
     }
     group.push_back(g);
   }

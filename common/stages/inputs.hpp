@@ -81,6 +81,7 @@ class SensorOutage {
 // is an echo (fired at utime; without a known sensor pose it is placed at its axis end point).
 // seen_before: whether a SeenBefore reading is an echo (the navigator's) or not (the pilot's);
 // unverified: whether an unverified echo (no recent Radar Map) is (the pilot's stale_radar_map).
+// Only a Complementary reading is `checked` (the newest scan could have seen what it heard).
 std::vector<GroupReading> toGroupReadings(const std::vector<complement::ComplementInput>& readings, int64_t utime,
                                           bool seen_before = false, bool unverified = false);
 

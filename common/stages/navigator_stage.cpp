@@ -15,6 +15,9 @@
 
 namespace lasonic {
 
+static_assert(EchoProvenance::kUnknown == grid_map_t::HEARD_UNKNOWN && EchoProvenance::kChecked == grid_map_t::HEARD_CHECKED &&
+              EchoProvenance::kUnchecked == grid_map_t::HEARD_UNCHECKED && EchoProvenance::kBoth == grid_map_t::HEARD_BOTH);
+
 AgmParams NavigatorConfig::tacticalAgmDefaults() {
   AgmParams p;
   p.size = 200;
@@ -196,6 +199,7 @@ bool NavigatorStage::timeOk(int64_t utime, const char* channel) {
   odometry_outage_ = OdometryOutage{};
   speed_ = 0;
   agm_ = AccumulativeGridMap(cfg_.effectiveAgm());
+  heard_.clear();
   lines_ = cfg_.lines;
   ring_groups_ = RingGroups{};
   scan_period_ = ScanPeriod{};
@@ -399,6 +403,7 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vecto
   last_integrated_utime_ = utime;
   // The glints since the previous group, one hit per return (not weighed by speed: the scanner
   // sees a glint at its own rate, however fast the robot drives).
+  const size_t glints = glint_hits_.size();  // hits' last ones (noted with the placed echoes, after follow())
   if (!glint_hits_.empty()) {
     node_.count("agm.laser_glint_hits", static_cast<int64_t>(glint_hits_.size()));
     if (pose && pass_through_.notesHits())
@@ -417,6 +422,10 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vecto
   if (pose && agm_.follow(pose->position(), speed_, pose->theta)) node_.count("agm.recentred");
   if (pass_through_.notesHits())
     for (const PlacedEcho& e : placer_.lastPlaced()) pass_through_.noteHit(e.point, e.sensor.position(), agm_);
+  // Which echoes made each cell, for the pilot (AGM_TACTICAL's `heard`): the placed echoes and the
+  // glints (the laser saw them). Cells only the surface fill or the laser join add stay unknown.
+  for (const PlacedEcho& e : placer_.lastPlaced()) heard_.note(e.point, e.checked, agm_);
+  for (size_t k = hits.size() - glints; k < hits.size(); ++k) heard_.note(hits[k], true, agm_);
   const int inside = agm_.update(hits);
   if (cfg_.clear_footprint && pose)
     if (const int n = agm_.clearDisc(pose->position(), cfg_.robot_radius - agm_.cellSize() * std::sqrt(0.5)); n > 0)
@@ -567,9 +576,10 @@ void NavigatorStage::publish() {
   odometry_outage_.present(now_);
   last_publish_ = now_;
   gridMapMessageInto(grid_msg_, agm_, now_, *pose, lines_.gp_threshold, cfg_.published_size);
+  const int o = publishedOffset(agm_, cfg_.published_size);
+  heard_.exportWindow(agm_, o, o, grid_msg_.width, grid_msg_.heard);
   node_.publish(channels::AGM_TACTICAL, grid_msg_);
 
-  const int o = publishedOffset(agm_, cfg_.published_size);
   const auto cells = candidateCells(agm_, lines_.gp_threshold, o, o, grid_msg_.width,
                                     [this](int64_t c) { return cycleUtime(c); });
   csm_.setAgmLines(generateLines(cells, *pose, agm_.cellSize(), lines_));

@@ -74,6 +74,7 @@
 #include "operational/sonar_bearing.hpp"
 #include "stages/inputs.hpp"
 #include "tactical/current_sensor_map.hpp"
+#include "tactical/echo_provenance.hpp"
 #include "tactical/laser_glint.hpp"
 #include "tactical/laser_join.hpp"
 #include "tactical/line_generation.hpp"
@@ -229,6 +230,7 @@ class NavigatorStage {
   LookWeight look_weight_;
   PassThrough pass_through_;
   GlintTracker glints_;  // laser glints (tactical/laser_glint.hpp)
+  EchoProvenance heard_;  // which echoes made each cell (tactical/echo_provenance.hpp)
   ScanMatcher matcher_;  // navigator frame <- odometry frame
   struct Correction {
     int64_t utime = 0;         // the scan's last reading

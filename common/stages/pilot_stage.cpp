@@ -70,7 +70,7 @@ PilotConfig pilotConfigFromRoot(const Config& root) {
 PilotConfig pilotConfig(const Config& c) {
   std::vector<std::string> keys = {"agm", "sectors", "robot_radius", "max_range", "gp_threshold", "laser_stale_s",
                                    "sonar_stale_s", "agm_publish_hz", "map_max_interval_s", "sonar_cell_point",
-                                   "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered",
+                                   "copy_rule", "copy_confirm_tolerance", "laser_explains_radius", "remembered", "remembered_unchecked",
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
@@ -114,6 +114,7 @@ PilotConfig pilotConfig(const Config& c) {
   s.copy_confirm_tolerance = c.get("copy_confirm_tolerance", s.copy_confirm_tolerance, Range::nonNegative());
   s.laser_explains_radius = c.get("laser_explains_radius", s.laser_explains_radius, Range::between(0, 1));
   p.remembered = c.get<bool>("remembered", p.remembered);
+  p.remembered_unchecked = c.get<bool>("remembered_unchecked", p.remembered_unchecked);
   p.outside_view_redundant_laser = c.getChoice("outside_view_redundant", p.outside_view_redundant_laser,
                                                {{"laser_sector", true}, {"echo", false}});
   p.stale_radar_map_echoes = c.getChoice("stale_radar_map", p.stale_radar_map_echoes,
@@ -251,13 +252,22 @@ void PilotStage::onTacticalMap(const grid_map_t& m) {
   std::vector<geom::Vec2>& points = tactical_points_;
   points.clear();
   const int threshold = std::max(1, m.gp_threshold);
+  // (A map whose `heard` is not one per cell records nothing: every cell is used.)
+  const bool leave_unchecked = !cfg_.remembered_unchecked && m.heard.size() == m.gp.size();
+  int64_t unchecked = 0;
   const auto keep = [&](int ix, int iy) {
+    if (leave_unchecked && m.heard[static_cast<size_t>(iy) * static_cast<size_t>(m.width) + static_cast<size_t>(ix)] ==
+                               grid_map_t::HEARD_UNCHECKED) {
+      ++unchecked;
+      return;
+    }
     points.emplace_back(m.origin_x + (ix + 0.5) * m.cell_size, m.origin_y + (iy + 0.5) * m.cell_size);
   };
   for (int iy = 0; iy < m.height; ++iy) {
     const int32_t* const row = m.gp.data() + static_cast<size_t>(iy) * static_cast<size_t>(m.width);
     forEachAtLeast(row, static_cast<size_t>(m.width), threshold, [&](size_t ix) { keep(static_cast<int>(ix), iy); });
   }
+  if (unchecked > 0) node_.count("remembered.unchecked_left_out", unchecked);
   setRemembered();
   node_.count("remembered.maps");
 }

@@ -83,7 +83,7 @@ struct PilotConfig {
   // scans (ScanPeriod, core/interval_window.hpp), and never before
   // sector_map.laser_stale_s. 0: sector_map.laser_stale_s always.
   double laser_stale_scans = 2;
-  double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~80 kB per message
+  double agm_publish_hz = 2.0;  // AGM_OPERATIONAL rate (message time); ~90 kB per message
   // A SECTOR_MAP at least this often in message time: when neither sensor triggers one (both
   // silent, or the sonar dead and the next scan not yet due), ODOMETRY does, so a dead sensor is
   // flagged stale in time. Above the longest gap of a normal run (a firing group, 30 ms, plus an
@@ -98,6 +98,11 @@ struct PilotConfig {
   // Beyond the paper: the navigator's AGM_TACTICAL as a remembered sector-map source
   // (operational/sector_map.hpp); false: the paper's pilot, AGM_TACTICAL is not subscribed.
   bool remembered = true;
+  // Whether a remembered cell that only echoes the laser could not check made (AGM_TACTICAL's
+  // heard = HEARD_UNCHECKED: outside its view, or explained only by an earlier scan) is used. Those
+  // are mostly walls the scanner saw or will see, placed in front of them, and people who stood
+  // where it did not look; the laser memory reports what the laser saw. false: left out.
+  bool remembered_unchecked = false;
   // Beyond the paper: an outside-view echo that the newest scan's lines explain (redundant by the
   // hypothesis, its arc reaching beyond the scanner's view) is left out where the sector map holds
   // a laser return in the echo's own sector (the pilot's onComplement); false: every outside-view

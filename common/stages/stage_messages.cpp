@@ -32,6 +32,7 @@ void gridMapMessageInto(grid_map_t& msg, const AccumulativeGridMap& agm, int64_t
     agm.exportGrids(msg.g, msg.h, msg.gp);
   else
     agm.exportGrids(o, o, w, msg.g, msg.h, msg.gp);
+  msg.heard.assign(msg.g.size(), int8_t{grid_map_t::HEARD_UNKNOWN});  // a caller that records it fills it in
   msg.ncells = static_cast<int32_t>(msg.g.size());
 }
 

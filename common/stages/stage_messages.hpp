@@ -19,7 +19,7 @@ namespace lasonic {
 grid_map_t gridMapMessage(const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot, int gp_threshold,
                           int published_size = 0);
 // The same into a message kept from map to map: its arrays keep their storage (a stage publishing
-// a 100 x 100 window at 2 Hz would otherwise allocate and first-touch 80 kB each time).
+// a 100 x 100 window at 2 Hz would otherwise allocate and first-touch 90 kB each time).
 void gridMapMessageInto(grid_map_t& msg, const AccumulativeGridMap& agm, int64_t utime, const geom::Pose2& robot,
                         int gp_threshold, int published_size = 0);
 // Window cell of the published sub-window's cell (0, 0) (both axes).

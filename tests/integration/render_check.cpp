@@ -109,6 +109,7 @@ int corrupt(const std::string& in, const std::string& out) {
   g.g.assign(10, 1);
   g.h.assign(10, 0);
   g.gp.assign(10, 5);
+  g.heard.assign(10, 0);
   // setLengths refuses this (ncells 10 != 49), so encode it by hand: what a foreign or broken
   // publisher could send.
   g.ncells = 10;

@@ -8,3 +8,4 @@ lasonic_add_gtest(test_laser_join SOURCES test_laser_join.cpp LIBS lasonic_tacti
 lasonic_add_gtest(test_laser_glint SOURCES test_laser_glint.cpp LIBS lasonic_tactical)
 lasonic_add_gtest(test_scan_matcher SOURCES test_scan_matcher.cpp LIBS lasonic_tactical)
 lasonic_add_gtest(test_pass_through SOURCES test_pass_through.cpp LIBS lasonic_tactical)
+lasonic_add_gtest(test_echo_provenance SOURCES test_echo_provenance.cpp LIBS lasonic_tactical)

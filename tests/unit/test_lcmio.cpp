@@ -319,6 +319,7 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
       m.g.push_back(static_cast<int16_t>(r));
       m.h.push_back(static_cast<int16_t>(r >> 16));
       m.gp.push_back(static_cast<int32_t>(r >> 32));
+      m.heard.push_back(static_cast<int8_t>(r >> 29));  // every byte value, not only HEARD_*
     }
     if (n > 2) m.g[1] = std::numeric_limits<int16_t>::min(), m.gp[2] = std::numeric_limits<int32_t>::min();
     setLengths(m);
@@ -344,6 +345,7 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
       b.encode(eb.data(), 0, ra);
       EXPECT_EQ(eb, ea) << what;
       EXPECT_EQ(b.g.size(), a.g.size()) << what;
+      EXPECT_EQ(b.heard, a.heard) << what;
     };
     sameDecode(want, size, "whole");
     sameDecode(want, size - 1, "one byte short");
@@ -352,7 +354,7 @@ TEST(Wire, GridMapFastEncodeIsTheGeneratedEncodeByteForByte) {
     bad[3] ^= 1;
     sameDecode(bad, size, "fingerprint");
     bad = want;
-    const size_t count_at = static_cast<size_t>(size) - 8 * static_cast<size_t>(n) - 4;
+    const size_t count_at = static_cast<size_t>(size) - 9 * static_cast<size_t>(n) - 4;
     bad[count_at + 3] += 1;  // one cell more than the bytes hold
     sameDecode(bad, size, "count + 1");
     bad[count_at] = 0xFF;  // negative: the generated decode throws (Node checks the count first)
@@ -448,7 +450,9 @@ TEST(Node, ReusedMessagesCarryNothingOver) {
   auto bus = std::make_shared<LocalBus>();
   Node node("test", bus, Node::Options{false, false});
   std::vector<size_t> cells;
-  node.subscribe<grid_map_t>("GRID", [&cells](const grid_map_t& m) { cells.push_back(m.g.size() + m.h.size() + m.gp.size()); });
+  node.subscribe<grid_map_t>("GRID", [&cells](const grid_map_t& m) {
+    cells.push_back(m.g.size() + m.h.size() + m.gp.size() + m.heard.size());
+  });
   grid_map_t full{};
   full.width = full.height = 10;
   full.g.assign(100, 3);
@@ -459,7 +463,7 @@ TEST(Node, ReusedMessagesCarryNothingOver) {
   node.publish("GRID", empty);
   node.publish("GRID", full);
   bus->handleAll();
-  EXPECT_EQ(cells, (std::vector<size_t>{300, 0, 300}));
+  EXPECT_EQ(cells, (std::vector<size_t>{400, 0, 400}));  // (`heard` left empty: setLengths fills it)
 }
 
 // The sector map's fast encode: the generated encode's bytes and return value for 0..3600
@@ -516,6 +520,7 @@ TEST(Wire, NodePublishesTheSameBytesAsLcm) {
   m.g = {1, -2, 3, 4, 5, 6, 7, 8, 32767};
   m.h = {0, 1, 2, 3, 4, 5, 6, 7, -32768};
   m.gp = {9, 8, 7, 6, 5, 4, 3, 2, -1};
+  m.heard = {0, 1, 2, 3, 0, 1, 2, 3, -128};
   setLengths(m);
   std::vector<uint8_t> want(static_cast<size_t>(m.getEncodedSize()));
   ASSERT_EQ(m.encode(want.data(), 0, static_cast<int>(want.size())), static_cast<int>(want.size()));

@@ -474,6 +474,84 @@ TEST_F(NavFixture, EchoesFromBeyondTheLasersViewAreNotVerifiedByTheNextScan) {
   EXPECT_EQ(node.counter("verify.kept"), 0);
 }
 
+// AGM_TACTICAL says which echoes made each cell: a post heard only beyond the laser's view
+// (outside_view) is HEARD_UNCHECKED, one heard as complementary (kept by the next scan's check)
+// HEARD_CHECKED, for the pilot to leave the former out of its memory; empty cells are unknown.
+TEST(NavigatorStage, TheTacticalMapSaysWhichEchoesMadeEachCell) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  NavigatorConfig cfg;
+  cfg.hit_weight_low_speed = 0;  // the robot stands (odometry 0): every echo a whole hit
+  NavigatorStage stage{node, cfg};
+  const auto drain = [&node] {
+    while (node.spinOnce(0) > 0) {
+    }
+  };
+  std::vector<grid_map_t> maps;
+  node.subscribe<grid_map_t>(channels::AGM_TACTICAL, [&maps](const grid_map_t& m) { maps.push_back(m); });
+  for (int64_t t = 0; t <= 3'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    node.publish(channels::ODOMETRY, o);
+  }
+  drain();
+  // A post at (1.0, 0) heard beyond the view, then one at (1.6, 0) heard as complementary, by a
+  // transducer facing +x that moves across them (its arcs cross where each post is).
+  int i = 0;
+  for (int64_t t = 100'000; t <= 2'900'000; t += 30'000, ++i) {
+    const bool beyond = t < 1'300'000;
+    const Vec2 post = beyond ? Vec2{1.0, 0.0} : Vec2{1.6, 0.0};
+    const double y = -0.2 + 0.04 * (i % 11);
+    complement_t c{};
+    c.utime = t;
+    c.tolerance = 0.1f;
+    c.beam_width = 0.5236f;
+    c.range_limit = 2.2f;
+    complement_reading_t r{};
+    r.cls = beyond ? kOutsideView : kComplementary;
+    r.range = static_cast<float>((post - Vec2{0.0, y}).norm());
+    r.hypothetical_range = r.range;
+    r.sensor_pose = {0.0, y, 0.0};
+    r.beam_width = 0.5236f;
+    r.end_x = r.range;
+    r.end_y = y;
+    c.readings.push_back(r);
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    if (t % 300'000 == 100'000) {  // a wall 5 m ahead: explains neither post
+      line_map_t m{};
+      m.utime = t;
+      m.source_utime = t - 200'000;
+      line_segment_t w{};
+      w.x0 = w.x1 = 5.0;
+      w.y0 = -1.0;
+      w.y1 = 1.0;
+      w.npoints = 10;
+      m.segments.push_back(w);
+      node.publish(channels::RADAR_MAP, m);
+    }
+    drain();
+  }
+  ASSERT_FALSE(maps.empty());
+  const grid_map_t& m = maps.back();
+  ASSERT_EQ(m.heard.size(), m.gp.size());
+  int unchecked = 0, checked = 0;
+  for (int iy = 0; iy < m.height; ++iy)
+    for (int ix = 0; ix < m.width; ++ix) {
+      const size_t k = static_cast<size_t>(iy * m.width + ix);
+      const double x = m.origin_x + (ix + 0.5) * m.cell_size;
+      if (m.g[k] == 0) {
+        EXPECT_EQ(m.heard[k], int8_t{grid_map_t::HEARD_UNKNOWN});
+      } else if (x < 1.3) {
+        EXPECT_EQ(m.heard[k], int8_t{grid_map_t::HEARD_UNCHECKED}) << x;
+        ++unchecked;
+      } else {
+        EXPECT_EQ(m.heard[k], int8_t{grid_map_t::HEARD_CHECKED}) << x;
+        ++checked;
+      }
+    }
+  EXPECT_GT(unchecked, 0);
+  EXPECT_GT(checked, 0);
+}
+
 // A group waits for the next scan at most 4 s however slow the laser: 2.5 periods of a 0.5 Hz
 // scanner would be 5 s, beyond the 5 s of scan-matching corrections the navigator keeps.
 TEST_F(NavFixture, AGroupWaitsForTheNextScanAtMostFourSeconds) {

@@ -867,8 +867,9 @@ struct PilotRememberedFixture : PilotFixture {
   // (2.0..2.1, 1.9..2.0): centre (2.05, 1.95).
   // `frame`: the navigator's frame from the odometry's (scan matching), identity by default.
   // `gp_threshold`: the threshold the map says its cells were published with.
+  // `heard`: what the map says made its occupied cells (grid_map_t::HEARD_*).
   void tactical(int64_t utime, const std::vector<std::pair<int, int>>& cells = {{20, 19}},
-                const geom::Pose2& frame = {}, int gp_threshold = 5) {
+                const geom::Pose2& frame = {}, int gp_threshold = 5, int8_t heard = grid_map_t::HEARD_UNKNOWN) {
     grid_map_t g{};
     g.utime = utime;
     const geom::Pose2 robot = frame.compose(geom::Pose2{1.0, 2.0, 0.0});
@@ -885,7 +886,11 @@ struct PilotRememberedFixture : PilotFixture {
     g.g.assign(1600, 0);
     g.h.assign(1600, 0);
     g.gp.assign(1600, 0);
-    for (const auto& [ix, iy] : cells) g.gp[static_cast<size_t>(iy * 40 + ix)] = 9;
+    g.heard.assign(1600, 0);
+    for (const auto& [ix, iy] : cells) {
+      g.gp[static_cast<size_t>(iy * 40 + ix)] = 9;
+      g.heard[static_cast<size_t>(iy * 40 + ix)] = heard;
+    }
     node.publish(channels::AGM_TACTICAL, g);
     drain();
   }
@@ -937,6 +942,41 @@ TEST_F(PilotRememberedFixture, CellsMoveOntoTheLineOfTheirCycle) {
   lines(1'500'000, 2.30);
   EXPECT_NEAR(rememberedAhead(1'540'000), at_centre, 1e-5);
   EXPECT_EQ(node.errors(), 0);
+}
+
+// A remembered cell that only echoes the laser could not check made (HEARD_UNCHECKED: beyond the
+// scanner's view, or explained only by an earlier scan) is left out, and counted; a cell that
+// checked echoes made too, or whose making is not recorded, is used. With remembered_unchecked it
+// is used too.
+TEST_F(PilotRememberedFixture, CellsOnlyUncheckedEchoesMadeAreLeftOut) {
+  odometry();
+  const double at_centre = std::hypot(1.05, 0.05) - 0.35;
+  tactical(500'000, {{20, 19}}, {}, 5, grid_map_t::HEARD_UNCHECKED);
+  EXPECT_LT(rememberedAhead(510'000), 0.0f);  // nothing remembered ahead
+  EXPECT_EQ(node.counter("remembered.unchecked_left_out"), 1);
+  for (const int8_t heard : {grid_map_t::HEARD_CHECKED, grid_map_t::HEARD_BOTH, grid_map_t::HEARD_UNKNOWN}) {
+    tactical(1'000'000 + heard * 100'000, {{20, 19}}, {}, 5, heard);
+    EXPECT_NEAR(rememberedAhead(1'010'000 + heard * 100'000), at_centre, 1e-5) << int{heard};
+  }
+  EXPECT_EQ(node.counter("remembered.unchecked_left_out"), 1);
+}
+
+namespace {
+PilotConfig rememberingUnchecked() {
+  PilotConfig c = nearestPointPilot();
+  c.remembered_unchecked = true;
+  return c;
+}
+struct PilotUncheckedFixture : PilotRememberedFixture {
+  PilotUncheckedFixture() : PilotRememberedFixture(rememberingUnchecked()) {}
+};
+}  // namespace
+
+TEST_F(PilotUncheckedFixture, WithRememberedUncheckedEveryCellIsUsed) {
+  odometry();
+  tactical(500'000, {{20, 19}}, {}, 5, grid_map_t::HEARD_UNCHECKED);
+  EXPECT_NEAR(rememberedAhead(510'000), std::hypot(1.05, 0.05) - 0.35, 1e-5);
+  EXPECT_EQ(node.counter("remembered.unchecked_left_out"), 0);
 }
 
 // An AGM_TACTICAL that says its threshold is 0 still gives only the cells with weight as
