@@ -42,6 +42,7 @@ public class GridMapPlugin implements SpyPlugin {
     public Panel() {
       legend.add(new Object[] {Style.alpha(Style.AGM_WEIGHT, 160), "G > 0"});
       legend.add(new Object[] {Style.AGM_OCCUPIED, "Gp >= threshold (occupied)"});
+      legend.add(new Object[] {Style.AGM_UNCHECKED, "occupied, only echoes the laser could not check (not remembered by the pilot)"});
     }
 
     /** Why the map cannot be drawn, or null. */
@@ -71,15 +72,18 @@ public class GridMapPlugin implements SpyPlugin {
       m = g;
       // One pixel per cell, image row 0 = the window's top row.
       image = new BufferedImage(m.width, m.height, BufferedImage.TYPE_INT_ARGB);
-      int occupied = 0, weighted = 0;
-      int weight = Style.AGM_WEIGHT.getRGB() & 0xffffff, occ = Style.AGM_OCCUPIED.getRGB();
+      int occupied = 0, weighted = 0, unchecked = 0;
+      int weight = Style.AGM_WEIGHT.getRGB() & 0xffffff, occ = Style.AGM_OCCUPIED.getRGB(), unc = Style.AGM_UNCHECKED.getRGB();
+      boolean heard = m.heard != null && m.heard.length >= m.ncells;
       for (int iy = 0; iy < m.height; iy++)
         for (int ix = 0; ix < m.width; ix++) {
           int i = iy * m.width + ix;
           int argb;
           if (m.gp[i] > 0 && m.gp[i] >= m.gp_threshold) {
-            argb = occ;
+            boolean only = heard && m.heard[i] == grid_map_t.HEARD_UNCHECKED;
+            argb = only ? unc : occ;
             occupied++;
+            if (only) unchecked++;
           } else if (m.g[i] > 0) {
             argb = ((int) (64 + 127 * Math.min(1.0, m.g[i] / 4.0)) << 24) | weight;
             weighted++;
@@ -88,6 +92,7 @@ public class GridMapPlugin implements SpyPlugin {
         }
       status = String.format("%dx%d cells of %.2f m: %d occupied (Gp >= %d), %d more with G > 0",
                              m.width, m.height, m.cell_size, occupied, m.gp_threshold, weighted);
+      if (unchecked > 0) status += String.format("; %d of them only echoes the laser could not check made", unchecked);
     }
 
     @Override protected double[] centre() {

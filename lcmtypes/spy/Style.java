@@ -12,6 +12,7 @@ public final class Style {
   public static final Color SONAR_LINE = new Color(217, 84, 0);      // lines from the tactical AGM
   public static final Color AGM_WEIGHT = new Color(250, 158, 64);    // AGM cell with G > 0
   public static final Color AGM_OCCUPIED = new Color(140, 56, 0);    // AGM cell with Gp >= threshold
+  public static final Color AGM_UNCHECKED = new Color(120, 110, 160); // ... that only echoes the laser could not check made
   public static final Color ROBOT = new Color(26, 26, 26);
   public static final Color GRID = new Color(235, 235, 235);
   public static final Color NOTE = new Color(115, 115, 115);

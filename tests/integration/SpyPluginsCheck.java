@@ -210,13 +210,21 @@ public class SpyPluginsCheck {
     gm.g = new short[10000];
     gm.h = new short[10000];
     gm.gp = new int[10000];
+    gm.heard = new byte[10000];
     for (int iy = 49; iy <= 51; iy++)
       for (int ix = 59; ix <= 61; ix++) { gm.g[iy * 100 + ix] = 3; gm.gp[iy * 100 + ix] = 9; }
     gm.g[50 * 100 + 35] = 1;
     gm.gp[50 * 100 + 35] = 1;
+    // A second block 1 m south that only echoes the laser could not check made.
+    for (int iy = 39; iy <= 41; iy++)
+      for (int ix = 49; ix <= 51; ix++) { gm.g[iy * 100 + ix] = 3; gm.gp[iy * 100 + ix] = 9; gm.heard[iy * 100 + ix] = grid_map_t.HEARD_UNCHECKED; }
     MapViewer gv = open(grid, "AGM_OPERATIONAL", gm);
     BufferedImage gi = paint(gv.panel(), "agm_operational");
-    check(gv.panel().status().contains("9 occupied (Gp >= 2), 1 more with G > 0"), "AGM status: " + gv.panel().status());
+    check(gv.panel().status().contains("18 occupied (Gp >= 2), 1 more with G > 0; 9 of them only echoes the laser could not check made"),
+          "AGM status: " + gv.panel().status());
+    int[] un = px(5.05, 4.05, 5.05, 5.05, 55);
+    int uc = gi.getRGB(un[0], un[1]);
+    check(r(uc) == 120 && g(uc) == 110 && b(uc) == 160, "AGM: the unchecked cell has its own colour (" + Integer.toHexString(uc) + ")");
     int[] occ = px(6.05, 5.05, 5.05, 5.05, 55);
     int oc = gi.getRGB(occ[0], occ[1]);
     check(r(oc) == 140 && g(oc) == 56 && b(oc) == 0, "AGM: the occupied cell is dark where it is (" + Integer.toHexString(oc) + ")");
