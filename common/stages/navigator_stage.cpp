@@ -423,7 +423,8 @@ void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vecto
   if (pass_through_.notesHits())
     for (const PlacedEcho& e : placer_.lastPlaced()) pass_through_.noteHit(e.point, e.sensor.position(), agm_);
   // Which echoes made each cell, for the pilot (AGM_TACTICAL's `heard`): the placed echoes and the
-  // glints (the laser saw them). Cells only the surface fill or the laser join add stay unknown.
+  // glints (the laser saw them). Cells only the surface fill or the laser join add stay unknown;
+  // an echo the look weight drops still counts where its cell has weight (it was heard there).
   for (const PlacedEcho& e : placer_.lastPlaced()) heard_.note(e.point, e.checked, agm_);
   for (size_t k = hits.size() - glints; k < hits.size(); ++k) heard_.note(hits[k], true, agm_);
   const int inside = agm_.update(hits);

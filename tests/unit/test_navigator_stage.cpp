@@ -34,6 +34,28 @@ constexpr int8_t kComplementary = complement_reading_t::CLASS_COMPLEMENTARY,
                  kOutsideView = complement_reading_t::CLASS_OUTSIDE_VIEW,
                  kSeenBefore = complement_reading_t::CLASS_SEEN_BEFORE;
 
+// One firing group of one reading (30 deg beams, the paper's 2.20 m limit, `tolerance`): class
+// `cls`, heard by the transducer at `sensor` at `range` (its end point on the axis), against a
+// hypothetical range `hypothetical`.
+complement_t oneReading(int64_t utime, int8_t cls, const geom::Pose2& sensor, double range, double hypothetical,
+                        float tolerance = 0.1f) {
+  complement_t c{};
+  c.utime = utime;
+  c.tolerance = tolerance;
+  c.beam_width = 0.5236f;
+  c.range_limit = 2.2f;
+  complement_reading_t r{};
+  r.cls = cls;
+  r.range = static_cast<float>(range);
+  r.hypothetical_range = static_cast<float>(hypothetical);
+  r.sensor_pose = {sensor.x, sensor.y, sensor.theta};
+  r.beam_width = 0.5236f;
+  r.end_x = sensor.x + range * std::cos(sensor.theta);
+  r.end_y = sensor.y + range * std::sin(sensor.theta);
+  c.readings.push_back(r);
+  return c;
+}
+
 // The robot drives slowly along a corridor: a glass pane on its left (laser-invisible), a plaster
 // wall on its right; a person walks towards it and past it between robot and wall.
 const char* kScenario = R"(
@@ -367,20 +389,7 @@ struct NavFixture : ::testing::Test {
   // One firing group at `utime`: a reading of class `cls` from the robot (at the origin) along
   // +x at `range`, with a 30 deg beam, classified with `tolerance`.
   void complement(int64_t utime, int8_t cls, double range, float tolerance = 0.1f) {
-    complement_t c{};
-    c.utime = utime;
-    c.tolerance = tolerance;
-    c.beam_width = 0.5236f;
-    c.range_limit = 2.2f;
-    complement_reading_t r{};
-    r.cls = cls;
-    r.range = static_cast<float>(range);
-    r.hypothetical_range = static_cast<float>(range);
-    r.sensor_pose = {0.0, 0.0, 0.0};
-    r.beam_width = 0.5236f;
-    r.end_x = range;
-    r.end_y = 0.0;
-    c.readings.push_back(r);
+    complement_t c = oneReading(utime, cls, {0.0, 0.0, 0.0}, range, range, tolerance);
     node.publish(channels::SONAR_COMPLEMENT, c);
     drain();
   }
@@ -501,20 +510,8 @@ TEST(NavigatorStage, TheTacticalMapSaysWhichEchoesMadeEachCell) {
     const bool beyond = t < 1'300'000;
     const Vec2 post = beyond ? Vec2{1.0, 0.0} : Vec2{1.6, 0.0};
     const double y = -0.2 + 0.04 * (i % 11);
-    complement_t c{};
-    c.utime = t;
-    c.tolerance = 0.1f;
-    c.beam_width = 0.5236f;
-    c.range_limit = 2.2f;
-    complement_reading_t r{};
-    r.cls = beyond ? kOutsideView : kComplementary;
-    r.range = static_cast<float>((post - Vec2{0.0, y}).norm());
-    r.hypothetical_range = r.range;
-    r.sensor_pose = {0.0, y, 0.0};
-    r.beam_width = 0.5236f;
-    r.end_x = r.range;
-    r.end_y = y;
-    c.readings.push_back(r);
+    const double range = (post - Vec2{0.0, y}).norm();
+    complement_t c = oneReading(t, beyond ? kOutsideView : kComplementary, {0.0, y, 0.0}, range, range);
     node.publish(channels::SONAR_COMPLEMENT, c);
     if (t % 300'000 == 100'000) {  // a wall 5 m ahead: explains neither post
       line_map_t m{};
@@ -875,20 +872,7 @@ TEST(NavigatorStage, TheFootprintClearsOnlyCellsWhollyInsideTheBody) {
   // Echoes from the robot's centre to the centres of two cells of 0.1 m: (0.15, 0.15), 0.21 m
   // away (wholly inside), and (0.25, 0.15), 0.29 m away (its far corner at 0.36 m: partly out).
   const auto echoAt = [&node](int64_t utime, const Vec2& p) {
-    complement_t c{};
-    c.utime = utime;
-    c.tolerance = 0.1f;
-    c.beam_width = 0.5236f;
-    c.range_limit = 2.2f;
-    complement_reading_t r{};
-    r.cls = complement_reading_t::CLASS_COMPLEMENTARY;
-    r.range = static_cast<float>(p.norm());
-    r.hypothetical_range = 2.2f;
-    r.sensor_pose = {0.0, 0.0, std::atan2(p.y(), p.x())};
-    r.beam_width = 0.5236f;
-    r.end_x = p.x();
-    r.end_y = p.y();
-    c.readings.push_back(r);
+    complement_t c = oneReading(utime, kComplementary, {0.0, 0.0, std::atan2(p.y(), p.x())}, p.norm(), 2.2);
     node.publish(channels::SONAR_COMPLEMENT, c);
     while (node.spinOnce(0) > 0) {
     }
