@@ -13,8 +13,11 @@
 // checked hit (a complementary echo, a laser glint) and whether an unchecked one made it, and
 // AGM_TACTICAL says so per cell (grid_map_t::heard).
 //
-// Cells are kept by global index; a hit on a cell whose G is 0 starts it afresh. Entries whose
-// cell has been emptied or has left the window are swept out as the record grows.
+// Cells are kept by global index; a noted hit on a cell whose G is 0 starts it afresh. Entries
+// whose cell has been emptied or has left the window are swept out as the record grows. (Hits the
+// caller does not note -- the navigator's surface fill and laser join -- add nothing: a cell only
+// they make is unknown, and one emptied and made again only by them before the sweep keeps what
+// was noted before.)
 #include <cstdint>
 #include <map>
 #include <utility>
