@@ -140,13 +140,19 @@ PY
   # that much later than the odometry's (by message time: a machine too loaded to keep up), an
   # order the log does not keep; its rates then differ from the replay's by the outage, not by
   # the method: only the maps and the complement are compared (the outage is printed).
-  rate_tol=0.005
-  if starved=$(grep -E 'no (LASER_SCAN|SONAR_COMPLEMENT) since' "$tmp/live.out/lasonic-pilot.txt"); then
-    echo "$test_name: (3) the live pilot's inputs were late beyond its staleness limit; rates not compared:"
-    echo "$starved"
-    rate_tol=1
-  fi
-  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" "$rate_tol" 0.01)
+  # rate_tolerance STEP PILOT_OUTPUT TOL: TOL, or 1 (rates not compared) when that live pilot
+  # reported a sensor lost, the outage printed to stderr.
+  rate_tolerance() {
+    local starved
+    if starved=$(grep -E 'no (LASER_SCAN|SONAR_COMPLEMENT) since' "$2"); then
+      echo "$test_name: ($1) the live pilot's inputs were late beyond its staleness limit; rates not compared:" >&2
+      echo "$starved" >&2
+      echo 1
+    else
+      echo "$3"
+    fi
+  }
+  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" "$(rate_tolerance 3 "$tmp/live.out/lasonic-pilot.txt" 0.005)" 0.01)
   echo "$test_name: (3) live / lasonic-replay $cmp"
   if ! diff -q "$tmp/live.json" "$tmp/offline.json" >/dev/null; then echo "$test_name: (3) (not bit-identical)"; fi
   [[ $cmp == ok* ]] || die "lasonic-replay on the live log scores differently from the live run"
@@ -192,13 +198,7 @@ PY
   stop_logger
   "$bin/lasonic-eval" --log "$tmp/played.lcmlog" --scenario "$scenario" --json - >"$tmp/played.json" ||
     die "lasonic-eval failed on the played log"
-  rate_tol=0.01
-  if starved=$(grep -E 'no (LASER_SCAN|SONAR_COMPLEMENT) since' "$tmp/pilot.err"); then
-    echo "$test_name: (4) the live pilot's inputs were late beyond its staleness limit; rates not compared:"
-    echo "$starved"
-    rate_tol=1
-  fi
-  cmp=$(compare "$tmp/offline.json" "$tmp/played.json" "$rate_tol" 0.03)
+  cmp=$(compare "$tmp/offline.json" "$tmp/played.json" "$(rate_tolerance 4 "$tmp/pilot.err" 0.01)" 0.03)
   echo "$test_name: (4) lasonic-replay / live processes fed by lcm-logplayer $cmp"
   [[ $cmp == ok* ]] || die "the live processes fed by lcm-logplayer differ from lasonic-replay beyond the tolerance"
 fi
