@@ -38,6 +38,9 @@ constexpr Rgba kRedundant{0.50, 0.50, 0.50, 1.0};
 constexpr Rgba kFalse{0.84, 0.15, 0.16, 1.0};
 constexpr Rgba kAgmWeight{0.98, 0.62, 0.25, 1.0};
 constexpr Rgba kAgmOccupied{0.55, 0.22, 0.0, 1.0};
+// ... a tactical cell only echoes the laser could not check made (grid_map_t::heard): the pilot
+// does not remember it (README "Method, as implemented", step 5); lcm-spy's grid plugin's colour.
+constexpr Rgba kAgmUnchecked{0.47, 0.43, 0.63, 1.0};
 constexpr Rgba kSonarLine{0.85, 0.33, 0.0, 1.0};
 constexpr Rgba kSonarCopied{0.98, 0.75, 0.45, 1.0};
 constexpr Rgba kRemembered{0.55, 0.27, 0.65, 1.0};  // the tactical memory (purple)
@@ -228,9 +231,19 @@ std::string gridProblem(const grid_map_t& g) {
 
 bool occupied(const grid_map_t& g, size_t i) { return g.gp[i] > 0 && g.gp[i] >= g.gp_threshold; }
 
+// Only echoes the laser could not check made the cell (a map without the record: none).
+bool uncheckedOnly(const grid_map_t& g, size_t i) {
+  return g.heard.size() == g.g.size() && g.heard[i] == grid_map_t::HEARD_UNCHECKED;
+}
+
+struct GridCounts {
+  int occupied = 0;   // in view, Gp >= the map's threshold
+  int unchecked = 0;  // ... of them only echoes the laser could not check made
+};
+
 // AGM cells: light for G > 0 (weight as opacity), dark for Gp >= the map's threshold.
 // `frame`: the view's frame <- the grid's (a map in another global frame), if any.
-int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::optional<geom::Pose2>& frame = {}) {
+GridCounts drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::optional<geom::Pose2>& frame = {}) {
   // A rotated grid: every cell a quadrangle, the range of cells a bit wider.
   const double half = 0.5 * v.size / v.px_per_m * (frame ? 1.5 : 1.0);
   const geom::Vec2 centre = frame ? frame->inverseTransform(v.centre) : v.centre;
@@ -249,7 +262,7 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::op
     }
     cairo_close_path(cr);
   };
-  int n_occupied = 0;
+  GridCounts n;
   cairo_save(cr);
   for (int pass = 0; pass < 2; ++pass) {  // weights first, occupied cells on top
     for (int iy = iy0; iy <= iy1; ++iy)
@@ -261,8 +274,10 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::op
         const auto p = v.toPixel(frame ? frame->transform(corner) : corner);
         if (!drawable(p)) continue;
         if (occ) {
-          set(cr, colour::kAgmOccupied);
-          ++n_occupied;
+          const bool unchecked = uncheckedOnly(g, i);
+          set(cr, unchecked ? colour::kAgmUnchecked : colour::kAgmOccupied);
+          ++n.occupied;
+          n.unchecked += unchecked ? 1 : 0;
         } else {
           set(cr, colour::kAgmWeight, 0.25 + 0.5 * std::min(1.0, g.g[i] / 4.0));
         }
@@ -283,7 +298,7 @@ int drawGrid(cairo_t* cr, const PanelView& v, const grid_map_t& g, const std::op
     cairo_stroke(cr);
   }
   cairo_restore(cr);
-  return n_occupied;
+  return n;
 }
 
 // ------------------------------------------------------------------------------ panels
@@ -425,11 +440,14 @@ void panelGrid(cairo_t* cr, Panel& p, const Snapshot& s, const std::optional<gri
   if (!g) return missing(p, s, channel);
   const auto why = gridProblem(*g);
   if (!why.empty()) return invalid(p, channel, why);
-  const int occ = drawGrid(cr, p.view, *g, frame);
+  const GridCounts occ = drawGrid(cr, p.view, *g, frame);
   p.status.drawn = true;
   p.status.note = std::to_string(g->width) + "x" + std::to_string(g->height) + " cells of " +
-                  fmt("%.2f m", g->cell_size) + ", " + std::to_string(occ) + " in view with Gp >= " +
-                  std::to_string(g->gp_threshold) + ", " + age(g->utime, s.utime);
+                  fmt("%.2f m", g->cell_size) + ", " + std::to_string(occ.occupied) + " in view with Gp >= " +
+                  std::to_string(g->gp_threshold);
+  if (occ.unchecked > 0)
+    p.status.note += " (" + std::to_string(occ.unchecked) + " only echoes the laser could not check made)";
+  p.status.note += ", " + age(g->utime, s.utime);
   if (lines) {
     if (*lines) {
       int bad = 0;
@@ -650,6 +668,7 @@ void drawLegend(cairo_t* cr, const RenderOptions& o) {
        {Swatch::Dashed, colour::kFalse, 1, "false (specular)"}},
       {{Swatch::Fill, colour::kAgmWeight, 0.6, "AGM cell, G > 0"},
        {Swatch::Fill, colour::kAgmOccupied, 1, "AGM cell, Gp >= threshold"},
+       {Swatch::Fill, colour::kAgmUnchecked, 1, "... only unchecked echoes"},
        {Swatch::Line, colour::kSonarLine, 1, "sonar line (tactical AGM)"},
        {Swatch::Fill, colour::kLaser, 0.55, "sector: laser"},
        {Swatch::Fill, colour::kComplementary, 0.75, "sector: sonar"},

@@ -415,6 +415,39 @@ TEST(Fig8, OccupiedAgmCellWhereItIs) {
   EXPECT_EQ(im.at(e.x(), e.y()), 0xffffffu);
 }
 
+// A tactical cell only echoes the laser could not check made (the pilot does not remember it) has
+// its own colour and count; a checked one, and one of a map without the record, the usual.
+TEST(Fig8, CellsOnlyUncheckedEchoesMadeStandApart) {
+  Snapshot s;
+  s.utime = 1'000'000;
+  s.robot = geom::Pose2{5, 5, 0};
+  auto g = grid(1'000'000, 0, 0, 0.1, 100, 100);
+  const size_t unchecked = 50 * 100 + 60, both = 50 * 100 + 40;  // 1 m right, 1 m left
+  for (size_t i : {unchecked, both}) {
+    g.g[i] = 3;
+    g.gp[i] = 5;
+  }
+  g.heard.assign(g.g.size(), int8_t{grid_map_t::HEARD_UNKNOWN});
+  g.heard[unchecked] = grid_map_t::HEARD_UNCHECKED;
+  g.heard[both] = grid_map_t::HEARD_BOTH;
+  s.agm_tactical = g;
+  s.in_log = {channels::AGM_TACTICAL};
+  std::vector<PanelStatus> st;
+  auto im = draw(s, st);
+  const auto v = panelView(5, {5, 5}, {});
+  const auto u = v.toPixel({6.05, 5.05}), b = v.toPixel({4.05, 5.05});
+  EXPECT_NE(panel(st, "e'").note.find("2 in view with Gp >= 2 (1 only echoes the laser could not check made)"),
+            std::string::npos)
+      << panel(st, "e'").note;
+  EXPECT_GT(im.b(u.x(), u.y()), 130);  // grey-violet
+  EXPECT_LT(im.b(b.x(), b.y()), 40);   // dark orange-brown: the laser checked some of its echoes
+  s.agm_tactical->heard[both] = grid_map_t::HEARD_UNCHECKED;
+  s.agm_tactical->heard.pop_back();  // no record for every cell: no cell stands apart
+  im = draw(s, st);
+  EXPECT_EQ(panel(st, "e'").note.find("could not check"), std::string::npos) << panel(st, "e'").note;
+  EXPECT_LT(im.b(u.x(), u.y()), 40);
+}
+
 TEST(Fig8, InvalidGridSaysSo) {
   Snapshot s;
   s.utime = 1;
