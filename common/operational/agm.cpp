@@ -45,6 +45,8 @@ AccumulativeGridMap::AccumulativeGridMap(const AgmParams& p)
   gu_.assign(cells, 0);
   gp_.assign(cells, 0);
   last_hit_.assign(cells, 0);
+  passed_.assign(cells, 0);
+  is_held_.assign(cells, 0);
   if (p_.hit_centroids) {
     hx_.assign(cells, 0.f);
     hy_.assign(cells, 0.f);
@@ -195,6 +197,8 @@ void AccumulativeGridMap::moveTo(int64_t nox, int64_t noy) {
   forEachOutside(nox, noy, old_x, old_y, n_, [&](int64_t x, int64_t y, size_t s) {
     gu_[s] = gp_[s] = 0;
     last_hit_[s] = 0;
+    passed_[s] = 0;
+    is_held_[s] = 0;  // a held entry of the cell that left is dropped by reviseHeld
     forgetHits(s);
     if (!av_.empty()) av_[s] = 0.f;
     if (far(x, old_x, old_x + n_ - 1) || far(y, old_y, old_y + n_ - 1)) return;
@@ -213,6 +217,9 @@ void AccumulativeGridMap::clearAll() {
   std::fill(gu_.begin(), gu_.end(), 0);
   std::fill(gp_.begin(), gp_.end(), 0);
   std::fill(last_hit_.begin(), last_hit_.end(), 0);
+  std::fill(passed_.begin(), passed_.end(), 0);
+  std::fill(is_held_.begin(), is_held_.end(), 0);
+  held_.clear();
   std::fill(av_.begin(), av_.end(), 0.f);
   if (p_.hit_centroids) {
     std::fill(hx_.begin(), hx_.end(), 0.f);
@@ -274,11 +281,44 @@ int AccumulativeGridMap::update(const std::vector<geom::Vec2>& hits) {
     if (!inWindow(hit.gx, hit.gy)) continue;
     const size_t s = slotGlobal(hit.gx, hit.gy);
     if (g_[s] > 0 && last_hit_[s] == hit.cycle) {
+      // No sound went through it since its last hit: kept (reviseHeld decides when it goes).
+      if (p_.hold_unpassed > 0 && passed_[s] <= hit.cycle && cycle_ - hit.cycle <= p_.h_max + p_.hold_unpassed) {
+        if (!is_held_[s]) held_.push_back(hit), is_held_[s] = 1;
+        continue;
+      }
       addWeight(hit.gx, hit.gy, -g_[s]);
       forgetHits(s);
     }
   }
+  if (!held_.empty()) reviseHeld();
   return inside;
+}
+
+void AccumulativeGridMap::reviseHeld() {
+  size_t kept = 0;
+  for (const Hit& hit : held_) {
+    const bool in = inWindow(hit.gx, hit.gy);
+    const size_t s = slotGlobal(hit.gx, hit.gy);
+    // Re-centred away, emptied (clearDisc), or hit again (back in the revision queue): its slot's
+    // flag belongs to this entry only while the cell is still in the window.
+    if (!in || g_[s] <= 0 || last_hit_[s] != hit.cycle) {
+      if (in) is_held_[s] = 0;
+      continue;
+    }
+    if (passed_[s] > hit.cycle || cycle_ - hit.cycle > p_.h_max + p_.hold_unpassed) {
+      addWeight(hit.gx, hit.gy, -g_[s]);
+      forgetHits(s);
+      is_held_[s] = 0;
+      continue;
+    }
+    held_[kept++] = hit;
+  }
+  held_.resize(kept);
+}
+
+void AccumulativeGridMap::markPassed(int ix, int iy) {
+  if (ix < 0 || iy < 0 || ix >= n_ || iy >= n_) return;
+  passed_[slot(ix, iy)] = cycle_ + 1;
 }
 
 bool AccumulativeGridMap::cellAt(const geom::Vec2& p, int& ix, int& iy) const {

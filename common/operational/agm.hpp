@@ -75,6 +75,12 @@ struct AgmParams {
   // lately, each vote fading with this time constant [update cycles]. Arcs of one surface heard
   // from several poses cross where the surface is: that is where their echoes' cells go.
   double arc_vote_tau = 0;
+  // Forgetting only what the sonar could have heard (beyond the paper; 0: off): a cell whose H
+  // passes h_max is kept, up to this many update cycles longer, while no sound went through it
+  // since its last hit (markPassed; operational/sound_passed.hpp). The paper forgets a cell not
+  // heard again within h_max because a reflector still there would have answered; one that no
+  // beam reached since (between two beams that do not overlap, behind a nearer echo) could not.
+  int hold_unpassed = 0;
 };
 // A G_T that a person walking past does not reach: walking at `walking_speed` [m/s] they cross
 // a neighbourhood `neighbourhood_m` wide ((2t+1) cells) in neighbourhood_m / walking_speed; each
@@ -126,6 +132,18 @@ class AccumulativeGridMap {
   // The revision's h_max [update cycles] from the next update on (the pilot sets it to three ring
   // cycles once it has counted the ring's firing groups).
   void setHMax(int h_max) { p_.h_max = std::max(0, h_max); }
+  // hold_unpassed [update cycles] from the next update on (the pilot sets it in ring cycles).
+  void setHoldUnpassed(int cycles) { p_.hold_unpassed = std::max(0, cycles); }
+  // Sound went through window cell (ix, iy) in the coming update cycle with nothing answering
+  // there (call before update(); a hit in the same cycle outweighs it). Only hold_unpassed uses it.
+  void markPassed(int ix, int iy);
+  // Cells kept beyond h_max now because no sound went through them (hold_unpassed).
+  size_t held() const { return held_.size(); }
+  // Window cell (ix, iy) is one of them.
+  bool held(int ix, int iy) const {
+    const size_t s = slot(ix, iy);
+    return g_[s] > 0 && cycle_ - last_hit_[s] > p_.h_max;
+  }
   // G_T from now on (at least 1): every cell's Gp follows at once (Gu is kept for every cell, so
   // this is one pass over the window; the navigator sets it once it has timed the ring).
   void setGThreshold(int g_threshold);
@@ -187,8 +205,9 @@ class AccumulativeGridMap {
   void forEachPositiveCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
   // Calls f(ix, iy, G, Gp) once for every window cell of [ix0, ix1] x [iy0, iy1] with G > 0 (the
   // only cells whose Gp can be above 0), in no particular order. Every such cell has its last
-  // increment in the revision queue, so when the queue is shorter than the rectangle it is walked
-  // instead: the operational AGM's few dozen weighted cells, not the thousands of the rectangle.
+  // increment in the revision queue (or among the held cells), so when those are fewer than the
+  // rectangle's cells they are walked instead: the operational AGM's few dozen weighted cells,
+  // not the thousands of the rectangle.
   template <typename F>
   void forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const;
 
@@ -254,6 +273,12 @@ class AccumulativeGridMap {
   geom::Vec2 last_robot_ = geom::Vec2::Zero();
   double last_heading_ = std::numeric_limits<double>::quiet_NaN();
   std::deque<Hit> hits_;  // increments in cycle order: the revision candidates
+  // hold_unpassed: the cycle sound last went through each cell (0: never), and the cells kept
+  // beyond h_max (their last increment's entry, moved here from hits_ when it expired).
+  std::vector<int64_t> passed_;
+  std::vector<Hit> held_;
+  std::vector<uint8_t> is_held_;  // by slot: an entry of held_ stands for the cell
+  void reviseHeld();
 };
 
 template <typename F>
@@ -300,7 +325,7 @@ void AccumulativeGridMap::forEachPositiveCell(int ix0, int iy0, int ix1, int iy1
 template <typename F>
 void AccumulativeGridMap::forEachWeightedCell(int ix0, int iy0, int ix1, int iy1, F&& f) const {
   if (!clipToWindow(ix0, iy0, ix1, iy1)) return;
-  if (hits_.size() >= static_cast<size_t>(ix1 - ix0 + 1) * static_cast<size_t>(iy1 - iy0 + 1)) {
+  if (hits_.size() + held_.size() >= static_cast<size_t>(ix1 - ix0 + 1) * static_cast<size_t>(iy1 - iy0 + 1)) {
     forEachCell(ix0, iy0, ix1, iy1, [&f](int ix, int iy, int g, int gp) {
       if (g > 0) f(ix, iy, g, gp);
     });
@@ -318,6 +343,12 @@ void AccumulativeGridMap::forEachWeightedCell(int ix0, int iy0, int ix1, int iy1
     for (size_t j = i; j > 0 && hits_[j - 1].cycle == h.cycle && !seen; --j)
       seen = hits_[j - 1].gx == h.gx && hits_[j - 1].gy == h.gy;
     if (!seen) f(static_cast<int>(ix), static_cast<int>(iy), g_[s], gp_[s]);
+  }
+  for (const Hit& h : held_) {  // one entry per cell, each its last increment's
+    const int64_t ix = h.gx - ox_, iy = h.gy - oy_;
+    if (ix < ix0 || ix > ix1 || iy < iy0 || iy > iy1) continue;
+    const size_t s = slotGlobal(h.gx, h.gy);
+    if (g_[s] > 0 && last_hit_[s] == h.cycle) f(static_cast<int>(ix), static_cast<int>(iy), g_[s], gp_[s]);
   }
 }
 

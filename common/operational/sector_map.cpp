@@ -46,6 +46,7 @@ SectorMap::SectorMap(const SectorMapParams& p) : p_(p) {
   reach_root_bound_ = std::isfinite(reach) ? sqrtBound(reach) : reach;
   sonar_own_.resize(n);
   sonar_reach_.resize(n);
+  sonar_copyable_.resize(n);
   sonar_now_.resize(n);
   held_laser_.resize(n);
   held_sonar_.resize(n);
@@ -773,9 +774,11 @@ void SectorMap::laserValues(const geom::Pose2& pose, double c, double s, bool sh
 
 template <typename Grid>
 void SectorMap::sonarValues(const geom::Pose2& pose, double ct, double st, const Grid& agm, bool use_explained,
-                            std::vector<Value>& out, std::vector<Value>& spread) const {
+                            std::vector<Value>& out, std::vector<Value>& spread, std::vector<Value>& copyable) const {
   std::fill(out.begin(), out.end(), Value{});
   std::fill(spread.begin(), spread.end(), Value{});
+  const bool copy_held = p_.copy_held;
+  if (!copy_held) std::fill(copyable.begin(), copyable.end(), Value{});
   const bool extent = p_.copy_rule == CopyRule::CellExtent;
   const int n = p_.sectors;
   const bool check = use_explained && explained_any_;
@@ -808,6 +811,10 @@ void SectorMap::sonarValues(const geom::Pose2& pose, double ct, double st, const
                                                : exact();
                     Value& v = out[static_cast<size_t>(k0)];
                     if (!known(v.d) || d < v.d) v = {static_cast<float>(d), SectorSource::Sonar};
+                    if (!copy_held && !agm.held(ix, iy)) {
+                      Value& w = copyable[static_cast<size_t>(k0)];
+                      if (!known(w.d) || d < w.d) w = {static_cast<float>(d), SectorSource::Sonar};
+                    }
                     if (!extent) return;
                     const double bearing = std::atan2(centre.y(), centre.x()) - pose.theta;  // k0 is its sector
                     // CellExtent: the obstacle is somewhere in the cell's square, so also in every
@@ -867,7 +874,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
   laserValues(pose, ct, st, shadow, laser_now_);
   if (explained_cell_size_ != agm.cellSize()) rebuildExplained(agm.cellSize());
   // A stale scan no longer says what is where: it explains nothing away.
-  sonarValues(pose, ct, st, agm, !s_.laser_stale, sonar_own_, sonar_reach_);
+  sonarValues(pose, ct, st, agm, !s_.laser_stale, sonar_own_, sonar_reach_, sonar_copyable_);
   // Copy rule: own sonar values spread into both neighbours that hold no sonar data of their own
   // (with CopyRule::UnlessLaserConfirmed, not from a sector whose laser value confirms it).
   const bool skip_confirmed = p_.copy_rule == CopyRule::UnlessLaserConfirmed;
@@ -880,7 +887,7 @@ const SectorMapState& SectorMap::updateWith(int64_t utime, const geom::Pose2& po
       continue;
     }
     for (const size_t j : {k == 0 ? n - 1 : k - 1, k + 1 == n ? 0 : k + 1}) {  // (no division per sector)
-      const float d = sonar_own_[j].d;
+      const float d = (p_.copy_held ? sonar_own_ : sonar_copyable_)[j].d;
       if (skip_confirmed && known(d) && known(laser_now_[j].d) &&
           std::abs(laser_now_[j].d - d) <= p_.copy_confirm_tolerance)
         continue;

@@ -74,6 +74,9 @@ struct SectorMapParams {
   CopyRule copy_rule = CopyRule::Paper;
   double copy_confirm_tolerance = 0.10;  // [m] |laser - sonar| within this: laser-confirmed
   bool copy_over_own = false;            // copies also into sectors with sonar data of their own
+  // false (beyond the paper): a cell the AGM keeps beyond h_max because no sound went through it
+  // (AccumulativeGridMap::held) gives its sector a value but no copies.
+  bool copy_held = true;
   double laser_stale_s = 0.5;   // [s] laser data older than this is stale
   double sonar_stale_s = 0.5;   // [s] sonar (complement) data older than this is stale
   StaleValues stale_values = StaleValues::HeldMin;
@@ -118,6 +121,7 @@ struct OccupancyWindow {
       if (g > 0) f(ix, iy, g, gp);
     });
   }
+  bool held(int, int) const { return false; }
 };
 
 // out[i] = clamp(floor(v[i] / cell), -1e15, 1e15) for i < n: cell indices, as SectorMap takes
@@ -212,7 +216,7 @@ class SectorMap {
   bool withinRho(int64_t x, int64_t y, const geom::Vec2& p) const;    // centre of (x, y) within rho of p
   template <typename Grid>
   void sonarValues(const geom::Pose2& pose, double ct, double st, const Grid& agm, bool use_explained,
-                   std::vector<Value>& out, std::vector<Value>& spread) const;
+                   std::vector<Value>& out, std::vector<Value>& spread, std::vector<Value>& copyable) const;
   template <typename Grid>
   const SectorMapState& updateWith(int64_t utime, const geom::Pose2& pose, const Grid& agm);
   void rebuildExplained(double cell_size);
@@ -255,6 +259,7 @@ class SectorMap {
   bool have_laser_ = false, have_sonar_ = false, have_remembered_ = false;
   mutable std::vector<double> laser_r2_;  // laserValues' scratch: per sector the smallest r^2
   std::vector<Value> laser_now_, sonar_own_, sonar_reach_, sonar_now_, held_laser_, held_sonar_, remembered_now_;
+  std::vector<Value> sonar_copyable_;  // copy_held false: the own values of cells not held
   SectorMapState s_;
 };
 

@@ -156,4 +156,21 @@ std::vector<GroupReading> toGroupReadings(const std::vector<complement::Compleme
   return group;
 }
 
+std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width,
+                                  bool beyond_limit, bool silence) {
+  std::vector<Sounding> out;
+  for (const complement::ComplementInput& r : readings) {
+    if (!r.usable || !r.sensor_pose) continue;
+    double reach = r.range;
+    if (r.cls == complement::SonarClass::False) reach = std::min(reach, r.hypothetical_range);
+    const bool unverifiable = r.cls == complement::SonarClass::Unverifiable;
+    if (unverifiable) {
+      if (!(r.echo ? beyond_limit : silence)) continue;
+      reach = r.hypothetical_range;
+    }
+    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width, unverifiable});
+  }
+  return out;
+}
+
 }  // namespace lasonic

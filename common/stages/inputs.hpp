@@ -16,10 +16,19 @@
 #include "lcmio/node.hpp"
 #include "lcmio/time_reset.hpp"
 #include "operational/echo_placer.hpp"
+#include "operational/sound_passed.hpp"
 
 namespace lasonic {
 
 void reportProblems(Node& node, const std::vector<complement::InputProblem>& problems);
+
+// What a firing group's sound went through (operational/sound_passed.hpp): each usable reading's
+// beam out to its range, for a false one (longer than the hypothesis: a mirror there turned the
+// sound away) to the hypothesis; an unverifiable one (nothing answered within the range limit)
+// to the hypothesis, if `beyond_limit` (an echo from beyond the limit) or `silence` (no echo) let
+// it count. beam_width [rad]: for readings whose message gave none.
+std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width,
+                                  bool beyond_limit, bool silence);
 
 // Checks ODOMETRY and adds it to `poses`; returns it when it was added (not a duplicate, not
 // older than the newest, all finite).

@@ -292,7 +292,8 @@ void NavigatorStage::onComplement(const complement_t& m) {
   std::vector<GroupReading> group = toGroupReadings(readings, m.utime, true);
   std::vector<Sounding> soundings;
   if (cfg_.pass_through.enabled())
-    soundings = soundingsOf(readings, geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width);
+    soundings = soundingsOf(readings, geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width,
+                            cfg_.pass_through.beyond_limit, cfg_.pass_through.silence);
   if (!cfg_.verify_with_next_scan) {
     toNavigatorFrame(group, m.utime);
     toNavigatorFrame(soundings, m.utime);
@@ -351,26 +352,6 @@ void NavigatorStage::flushPending() {
     integrate(std::move(g.readings), g.soundings, g.utime);
     pending_.pop_front();
   }
-}
-
-std::vector<Sounding> NavigatorStage::soundingsOf(const std::vector<complement::ComplementInput>& readings,
-                                                 double beam_width) const {
-  std::vector<Sounding> out;
-  for (const complement::ComplementInput& r : readings) {
-    if (!r.usable || !r.sensor_pose) continue;
-    double reach = r.range;
-    // Longer than the hypothesis: a mirror there (the laser's surface) turned the sound away.
-    if (r.cls == complement::SonarClass::False) reach = std::min(reach, r.hypothetical_range);
-    // Nothing answered within the range limit: the hypothesis (a laser surface nearer than the
-    // limit, where the sound may have turned away, or the limit itself) is as far as it went.
-    const bool unverifiable = r.cls == complement::SonarClass::Unverifiable;
-    if (unverifiable) {
-      if (!(r.echo ? cfg_.pass_through.beyond_limit : cfg_.pass_through.silence)) continue;
-      reach = r.hypothetical_range;
-    }
-    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width, unverifiable});
-  }
-  return out;
 }
 
 void NavigatorStage::integrate(std::vector<GroupReading> group, const std::vector<Sounding>& soundings, int64_t utime) {

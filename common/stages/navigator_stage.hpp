@@ -188,8 +188,6 @@ class NavigatorStage {
   geom::Pose2 correctionAt(int64_t utime) const;
   void toNavigatorFrame(std::vector<GroupReading>& group, int64_t utime) const;
   void toNavigatorFrame(std::vector<Sounding>& soundings, int64_t utime) const;
-  // Every usable echo of a group as sound that passed what lay nearer (pass_through).
-  std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>& readings, double beam_width) const;
   static constexpr int64_t kCorrectionDelayUs = 300'000;
   static constexpr double kMaxScanWaitS = 4.0;  // (verify_max_wait_scans' cap)
   // Beams that share at most twice this of bearing do not overlap (maxBeamOverlap): MOBOT-IV's

@@ -42,6 +42,7 @@ SectorMapParams PilotConfig::sectorMapDefaults() {
   s.sonar_cell_point = CellPoint::Centre;
   s.copy_rule = CopyRule::UnlessLaserConfirmed;
   s.copy_over_own = true;
+  s.copy_held = false;
   s.laser_explains_radius = 0.10;
   return s;
 }
@@ -75,13 +76,21 @@ PilotConfig pilotConfig(const Config& c) {
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
                                    "laser_memory_seam", "dark_continuation_m", "motion_confirmation",
-                                   "outside_view_redundant", "h_max_ring_cycles", "laser_stale_scans",
+                                   "outside_view_redundant", "h_max_ring_cycles", "hold_unpassed", "laser_stale_scans",
                                    "stale_radar_map", "stale_values"};
   for (const auto& k : echoPlacementKeys()) keys.push_back(k);
   c.allowOnly(keys);
   PilotConfig p;
   p.agm = agmParams(c.section("agm"), p.agm);
   p.h_max_ring_cycles = c.get("h_max_ring_cycles", p.h_max_ring_cycles, Range::between(0, 1000));
+  {
+    const Config h = c.section("hold_unpassed");
+    h.allowOnly({"ring_cycles", "core", "margin_m", "copied"});
+    p.sector_map.copy_held = h.get<bool>("copied", p.sector_map.copy_held);
+    p.hold_unpassed.ring_cycles = h.get("ring_cycles", p.hold_unpassed.ring_cycles, Range::between(0, 1000));
+    p.hold_unpassed.core = h.get("core", p.hold_unpassed.core, Range::between(0, 1));
+    p.hold_unpassed.margin_m = h.get("margin_m", p.hold_unpassed.margin_m, Range::between(0, 1));
+  }
   SectorMapParams& s = p.sector_map;
   s.sectors = c.get("sectors", s.sectors, Range::between(3, 3600));
   s.robot_radius = c.get("robot_radius", s.robot_radius, Range::nonNegative());
@@ -544,6 +553,15 @@ void PilotStage::onComplement(const complement_t& m) {
   // The AGM's memory in ring cycles: this group's firing counted, h_max follows the ring.
   ring_groups_.fired(m.group);
   agm_.setHMax(ring_groups_.hMax(cfg_.h_max_ring_cycles, cfg_.agm.h_max));
+  if (cfg_.hold_unpassed.ring_cycles > 0) {
+    // The hold counts from the firings too; before the ring is counted, h_max's own length.
+    agm_.setHoldUnpassed(ring_groups_.hMax(cfg_.hold_unpassed.ring_cycles, cfg_.agm.h_max));
+    const double beam = geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width;
+    if (const int n = markSoundPassed(agm_, soundingsOf(readings, beam, true, true), cfg_.hold_unpassed.core,
+                                      cfg_.hold_unpassed.margin_m);
+        n > 0)
+      node_.count("agm.cells_heard_through", n);
+  }
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);

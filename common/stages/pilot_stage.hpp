@@ -78,6 +78,15 @@ struct PilotConfig {
   // memory in ring cycles, its h_max = this many times the firing groups per ring cycle, counted
   // from the firings (RingGroups); agm.h_max until the ring has been counted. 0: agm.h_max always.
   double h_max_ring_cycles = 3;
+  // Beyond the paper: a cell no sound went through since its last hit is kept up to this many
+  // ring cycles beyond h_max (AgmParams::hold_unpassed, operational/sound_passed.hpp): passed =
+  // within `core` of a reading's half beam width of its axis and `margin_m` nearer than its
+  // range. ring_cycles 0: the paper's forgetting.
+  struct HoldUnpassed {
+    double ring_cycles = 4;
+    double core = 1.0;
+    double margin_m = 0.15;
+  } hold_unpassed;
   SectorMapParams sector_map = sectorMapDefaults();
   // Beyond the paper: the laser is stale after this many of its own scan periods, timed from its
   // scans (ScanPeriod, core/interval_window.hpp), and never before

@@ -29,6 +29,7 @@
 #include "core/config.hpp"
 #include "core/geometry.hpp"
 #include "operational/agm.hpp"
+#include "operational/sound_passed.hpp"
 
 namespace lasonic {
 
@@ -59,16 +60,6 @@ struct PassThroughParams {
 };
 // Reads the `pass_through:` section. Throws ConfigError naming the key path.
 PassThroughParams passThroughParams(const Config& c, PassThroughParams base = {});
-
-// One reading's sound: from the transducer (global pose, axis) out to `reach` [m] (its range, or
-// the hypothesis where that is shorter; for an unverifiable reading the hypothesis, at most the
-// range limit), in a beam of full width `beam_width` [rad].
-struct Sounding {
-  geom::Pose2 sensor;
-  double reach = 0;
-  double beam_width = 0;
-  bool unverifiable = false;  // nothing answered within the range limit: an echo beyond it, or none
-};
 
 // The remembered line through a cell, if its neighbourhood is one: the unit normal of the
 // principal direction of the neighbourhood's remembered cells (their evidence points).

@@ -243,7 +243,14 @@ class Replayer {
       benchmark::DoNotOptimize(result.readings.data());
       // Pilot stage: the AGM cycle on the SONAR_COMPLEMENT message (its readings as the pilot
       // decodes them, prepared by Run: the message layer is not timed), then the sector map.
-      const std::vector<GroupReading>& readings = groupReadings(group_index_++, result);
+      const Prepared& prepared = groupReadings(group_index_++, result);
+      const std::vector<GroupReading>& readings = prepared.readings;
+      ring_groups_.fired(ring->group);
+      agm_.setHMax(ring_groups_.hMax(pcfg_.h_max_ring_cycles, pcfg_.agm.h_max));
+      if (pcfg_.hold_unpassed.ring_cycles > 0) {
+        agm_.setHoldUnpassed(ring_groups_.hMax(pcfg_.hold_unpassed.ring_cycles, pcfg_.agm.h_max));
+        markSoundPassed(agm_, prepared.soundings, pcfg_.hold_unpassed.core, pcfg_.hold_unpassed.margin_m);
+      }
       std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
       motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits);
       for (const GroupReading& r : readings) motion_confirmation_.fired(r.sensor_id, ring->utime);
@@ -275,8 +282,13 @@ class Replayer {
   }
 
   // Every group's readings as the pilot gets them: made once, through the real messages.
-  static std::vector<std::vector<GroupReading>>& prepared() {
-    static std::vector<std::vector<GroupReading>> readings;
+  // A SONAR_COMPLEMENT message as the pilot decodes it: its group readings and its soundings.
+  struct Prepared {
+    std::vector<GroupReading> readings;
+    std::vector<Sounding> soundings;
+  };
+  static std::vector<Prepared>& prepared() {
+    static std::vector<Prepared> readings;
     return readings;
   }
 
@@ -293,12 +305,14 @@ class Replayer {
   }
   static inline const std::vector<geom::Segment> kNoLines;
 
-  const std::vector<GroupReading>& groupReadings(size_t i, const cp::GroupComplement& result) {
+  const Prepared& groupReadings(size_t i, const cp::GroupComplement& result) {
     auto& all = prepared();
     if (i >= all.size()) {
       const complement_t msg = cp::complementToMessage(result, ccfg_.params);
-      all.push_back(toGroupReadings(cp::complementFromMessage(msg, problems_), msg.utime, false,
-                                    pcfg_.stale_radar_map_echoes));
+      const auto inputs = cp::complementFromMessage(msg, problems_);
+      const double beam = geom::plausibleBeamWidth(msg.beam_width) ? msg.beam_width : pcfg_.placement.params.beam_width;
+      all.push_back({toGroupReadings(inputs, msg.utime, false, pcfg_.stale_radar_map_echoes),
+                     soundingsOf(inputs, beam, true, true)});
     }
     return all[i];
   }
@@ -315,6 +329,7 @@ class Replayer {
   cp::PoleTracker poles_{ccfg_.poles};
   cp::PingHistory pings_;  // the earlier groups' pings, for late echoes (as ComplementStage)
   AccumulativeGridMap agm_;
+  RingGroups ring_groups_;
   SectorMap sector_map_;
   EchoPlacer placer_;
   MotionConfirmation motion_confirmation_;

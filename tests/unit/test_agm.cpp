@@ -8,6 +8,7 @@
 #include <random>
 
 #include "operational/agm.hpp"
+#include "operational/sound_passed.hpp"
 
 using namespace lasonic;
 using geom::Vec2;
@@ -614,6 +615,123 @@ TEST(Agm, WeightedCellsAreExactlyTheCellsWithWeight) {
     }
   }
   EXPECT_GT(walked_queue, 100);
+}
+
+// hold_unpassed: a cell whose H passes h_max is kept, at most hold_unpassed cycles longer, until
+// sound goes through it (markPassed before the cycle; a hit in that cycle outweighs it). Against
+// a dense reference of G, last hit and last pass per cell, random hits and passes; and the
+// weighted cells (the held ones too) against every cell with weight while the window moves.
+TEST(Agm, HeldCellsGoOnceSoundPassesOrTheHoldEnds) {
+  AgmParams p;
+  p.size = 20;
+  p.cell_size = 0.1;
+  p.h_max = 4;
+  p.g_max = 1000;
+  p.hold_unpassed = 7;
+  p.recenter_max_cells = 0;
+  p.recenter_min_cells = 0;
+  for (const bool moving : {false, true}) {
+    AccumulativeGridMap m(p);
+    m.centreOn({0.0, 0.0});
+    std::vector<int> g(400, 0);
+    std::vector<int64_t> last(400, 0), passed(400, 0);
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> cell(0, 19), chance(0, 9);
+    Vec2 robot(0.0, 0.0);
+    bool held_seen = false;
+    for (int64_t cycle = 1; cycle <= 400; ++cycle) {
+      std::vector<Vec2> hits;
+      for (int i = 0; i < 2; ++i)
+        if (chance(rng) < 3) {
+          const int ix = cell(rng), iy = cell(rng);
+          hits.push_back(m.cellCorner(ix, iy) + Vec2(0.05, 0.05));
+          if (!moving) ++g[static_cast<size_t>(iy * 20 + ix)], last[static_cast<size_t>(iy * 20 + ix)] = cycle;
+        }
+      for (int i = 0; i < 3; ++i)
+        if (chance(rng) < 2) {
+          const int ix = cell(rng), iy = cell(rng);
+          m.markPassed(ix, iy);
+          if (!moving) passed[static_cast<size_t>(iy * 20 + ix)] = cycle;
+        }
+      if (moving && cycle % 37 == 0) robot += Vec2(0.3, 0.1);
+      if (moving) m.follow(robot, 0.0);
+      m.update(hits);
+      held_seen = held_seen || m.held() > 0;
+      std::map<std::pair<int, int>, int> brute, fast;
+      m.forEachCell(0, 0, 19, 19, [&](int ix, int iy, int gv, int) {
+        if (gv > 0) brute[{ix, iy}] = gv;
+      });
+      int visits = 0;
+      m.forEachWeightedCell(0, 0, 19, 19, [&](int ix, int iy, int gv, int) { ++visits, fast[{ix, iy}] = gv; });
+      ASSERT_EQ(fast, brute) << "cycle " << cycle << (moving ? " moving" : "");
+      ASSERT_EQ(visits, static_cast<int>(brute.size())) << "cycle " << cycle;
+      if (moving) continue;
+      for (size_t i = 0; i < g.size(); ++i) {
+        const int64_t h = cycle - last[i];
+        if (g[i] > 0 && h > p.h_max && (passed[i] > last[i] || h > p.h_max + p.hold_unpassed)) g[i] = 0;
+        const int ix = static_cast<int>(i % 20), iy = static_cast<int>(i / 20);
+        ASSERT_EQ(m.g(ix, iy), g[i]) << "cycle " << cycle << " cell " << ix << "," << iy << " last hit " << last[i]
+                                      << " passed " << passed[i];
+        ASSERT_EQ(m.held(ix, iy), g[i] > 0 && h > p.h_max) << "cycle " << cycle;
+      }
+    }
+    EXPECT_TRUE(held_seen);
+  }
+}
+
+// markSoundPassed: the weighted cells within core x half the beam of the axis and margin_m nearer
+// than the reach, no others (not behind the echo, not beside the beam, not within the margin of
+// the transducer), whatever the window's place.
+TEST(SoundPassed, MarksTheWeightedCellsTheBeamWentThrough) {
+  AgmParams p;
+  p.size = 60;
+  p.cell_size = 0.1;
+  p.h_max = 0;
+  p.hold_unpassed = 100;
+  AccumulativeGridMap m(p);
+  m.centreOn({10.0, -3.0});
+  const Vec2 o(9.0, -3.0);  // the transducer, facing +x, 30 deg beam, echo at 2.0 m
+  const Sounding s{{o.x(), o.y(), 0.0}, 2.0, geom::deg2rad(30.0), false};
+  // Cell centres: on the axis at 1.0 (passed), 1.9 (within the margin of the echo: kept), 2.5
+  // (behind it); 10 deg off the axis at 1.0 (inside the beam; outside its half core); 20 deg off
+  // (outside the beam); 0.1 m ahead (the margin at the transducer).
+  const auto centre = [&](double r, double deg) -> Vec2 {
+    return o + r * geom::unitVector(geom::deg2rad(deg));
+  };
+  const std::vector<Vec2> cells = {centre(1.0, 0), centre(1.9, 0), centre(2.5, 0), centre(1.0, 10), centre(1.0, 20),
+                                   centre(0.1, 0)};
+  std::vector<Vec2> snapped;
+  for (const Vec2& c : cells) {
+    int ix = 0, iy = 0;
+    ASSERT_TRUE(m.cellAt(c, ix, iy));
+    snapped.push_back(m.cellCorner(ix, iy) + Vec2(0.05, 0.05));
+  }
+  const auto keptAfter = [&](double core, int marked) {
+    AccumulativeGridMap a(p);
+    a.centreOn({10.0, -3.0});
+    a.update(snapped);  // each cell hit once
+    EXPECT_EQ(markSoundPassed(a, {s}, core, 0.15), marked) << "core " << core;
+    a.update({});  // H = 1 > h_max: each passed cell goes, the others are held
+    std::vector<int> kept;
+    for (const Vec2& c : snapped) {
+      int ix = 0, iy = 0;
+      a.cellAt(c, ix, iy);
+      kept.push_back(a.g(ix, iy));
+    }
+    return kept;
+  };
+  // (snapped centres lie within 0.05 m of the points above: the angles and distances stay clear
+  // of the limits.)
+  EXPECT_EQ(keptAfter(1.0, 2), (std::vector<int>{0, 1, 1, 0, 1, 1}));
+  EXPECT_EQ(keptAfter(0.5, 1), (std::vector<int>{0, 1, 1, 1, 1, 1}));
+  EXPECT_EQ(keptAfter(0.0, 0), (std::vector<int>{1, 1, 1, 1, 1, 1}));  // off
+  // A NaN pose or a reach within the margin marks nothing.
+  AccumulativeGridMap a(p);
+  a.centreOn({10.0, -3.0});
+  a.update(snapped);
+  EXPECT_EQ(markSoundPassed(a, {{{std::nan(""), o.y(), 0.0}, 2.0, 0.5, false}, {{o.x(), o.y(), 0.0}, 0.2, 0.5, false}},
+                            1.0, 0.15),
+            0);
 }
 
 // ArcCells (the arc's unit vectors turned step by step, the cell taken where the point is clearly

@@ -1336,6 +1336,7 @@ namespace {
 int heardWeightAfter(double ring_cycles, int groups, int after) {
   PilotConfig cfg = nearestPointPilot();
   cfg.h_max_ring_cycles = ring_cycles;
+  cfg.hold_unpassed.ring_cycles = 0;  // the paper's forgetting (no sound passes the cell here)
   cfg.agm_publish_hz = 1000;
   Node node{"t", "memq://", Node::Options{false, false}};
   PilotStage stage(node, cfg);
@@ -1369,6 +1370,58 @@ TEST(PilotRingMemory, TheAgmForgetsAfterThreeRingCyclesOfTheRingItHears) {
   EXPECT_EQ(heardWeightAfter(3, 6, 18), 1);  // MOBOT-IV's ring: 18
   EXPECT_EQ(heardWeightAfter(3, 6, 19), 0);
   EXPECT_EQ(heardWeightAfter(0, 8, 19), 0);  // agm.h_max, whatever the ring
+}
+
+namespace {
+// Forgetting only what the sonar could have heard: one echo at (2.05, 2.05) in the first of
+// MOBOT-IV's six firing groups (30 ms), then groups that hear nothing there, or from group
+// `pass_from` on a reading whose beam goes through that cell (a transducer at (1.35, 2.05)
+// facing +x, echo at 2.0 m: the cell 0.7 m away). G of the AGM published after cycle `after`.
+int keptWeightAfter(int after, int pass_from, double hold_ring_cycles = 4) {
+  PilotConfig cfg = nearestPointPilot();
+  cfg.hold_unpassed.ring_cycles = hold_ring_cycles;
+  cfg.agm_publish_hz = 1000;
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage(node, cfg);
+  std::vector<grid_map_t> grids;
+  node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
+  standStill(node, 0, 3'000'000);
+  drainAll(node);
+  for (int k = 0; k <= after; ++k) {
+    complement_t c{};
+    c.utime = 100'000 + 30'000 * k;
+    c.group = static_cast<int16_t>(k % 6);
+    c.tolerance = 0.1f;
+    if (k == 0) c.readings.push_back(PilotFixture::reading(complement_reading_t::CLASS_COMPLEMENTARY, 2.05, 2.05));
+    if (k >= pass_from) {
+      complement_reading_t r = PilotFixture::reading(complement_reading_t::CLASS_REDUNDANT, 3.35, 2.05);
+      r.range = r.hypothetical_range = 2.0f;
+      r.sensor_pose = {1.35, 2.05, 0.0};
+      c.readings.push_back(r);
+    }
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drainAll(node);
+  }
+  if (grids.empty() || grids.back().utime != 100'000 + 30'000 * after) return -1;
+  int g = 0;
+  for (const int16_t v : grids.back().g) g = std::max<int>(g, v);
+  return g;
+}
+}  // namespace
+
+TEST(PilotRingMemory, ACellNoSoundWentThroughIsKeptUntilSoundDoes) {
+  ASSERT_EQ(PilotConfig{}.hold_unpassed.ring_cycles, 4);
+  // h_max: three ring cycles (18 groups); then four more (24) while no sound goes through it.
+  EXPECT_EQ(keptWeightAfter(18, 1000), 1);
+  EXPECT_EQ(keptWeightAfter(19, 1000, 0), 0);  // the paper: forgotten after h_max
+  EXPECT_EQ(keptWeightAfter(19, 1000), 1);
+  EXPECT_EQ(keptWeightAfter(42, 1000), 1);
+  EXPECT_EQ(keptWeightAfter(43, 1000), 0);
+  // Sound through it after h_max: forgotten then, not later.
+  EXPECT_EQ(keptWeightAfter(29, 30), 1);
+  EXPECT_EQ(keptWeightAfter(30, 30), 0);
+  // ... and sound through it before: forgotten after h_max as the paper's.
+  EXPECT_EQ(keptWeightAfter(19, 5), 0);
 }
 
 // A robot turning on the spot at 1 rad/s against a 360 deg scanner's sweep (clockwise against

@@ -206,6 +206,32 @@ TEST(SectorMap, CopyOverOwnTakesANearerNeighbourIntoSectorsWithTheirOwn) {
   EXPECT_EQ(paper.update(0, pose, agm).source[25], SectorSource::Sonar);
 }
 
+// copy_held false: a cell the AGM keeps beyond h_max because no sound went through it gives its
+// sector a value, and no copies; a fresh cell beside it still copies.
+TEST(SectorMap, AHeldCellIsNotCopied) {
+  AgmParams ap = agmParams01();
+  ap.h_max = 2;
+  ap.hold_unpassed = 10;
+  AccumulativeGridMap agm(ap);
+  const Pose2 pose{0.05, 0.05, 0.0};
+  agm.centreOn(pose.position());
+  obstacle(agm, {1.05, 0.05});                       // sector 24, hit in cycle 1
+  for (int i = 0; i < 3; ++i) agm.update({});        // H = 3 > h_max: held
+  obstacle(agm, pointAt(pose, 33.75 * kDeg, 1.50));  // sector 28: fresh
+  SectorMapParams p;
+  p.copy_held = false;
+  SectorMap s(p), paper({});
+  const auto& m = s.update(0, pose, agm);
+  EXPECT_EQ(m.source[24], SectorSource::Sonar);
+  EXPECT_NEAR(m.sonar[24], 0.60, 0.1);
+  EXPECT_EQ(m.source[23], SectorSource::None);
+  EXPECT_EQ(m.source[25], SectorSource::None);
+  EXPECT_EQ(m.source[27], SectorSource::SonarCopied);
+  EXPECT_EQ(m.source[29], SectorSource::SonarCopied);
+  // The paper's rule copies it.
+  EXPECT_EQ(paper.update(0, pose, agm).source[25], SectorSource::SonarCopied);
+}
+
 TEST(SectorMap, CopyWrapsAroundTheRing) {
   SectorMap s({});
   AccumulativeGridMap agm(agmParams01());
