@@ -142,7 +142,7 @@ class AccumulativeGridMap {
   // Window cell (ix, iy) is one of them.
   bool held(int ix, int iy) const {
     const size_t s = slot(ix, iy);
-    return g_[s] > 0 && cycle_ - last_hit_[s] > p_.h_max;
+    return p_.hold_unpassed > 0 && g_[s] > 0 && cycle_ - last_hit_[s] > p_.h_max;
   }
   // G_T from now on (at least 1): every cell's Gp follows at once (Gu is kept for every cell, so
   // this is one pass over the window; the navigator sets it once it has timed the ring).

@@ -83,7 +83,7 @@ struct PilotConfig {
   // within `core` of a reading's half beam width of its axis and `margin_m` nearer than its
   // range. ring_cycles 0: the paper's forgetting.
   struct HoldUnpassed {
-    double ring_cycles = 4;
+    double ring_cycles = 0;
     double core = 1.0;
     double margin_m = 0.15;
   } hold_unpassed;
