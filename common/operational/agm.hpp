@@ -78,8 +78,10 @@ struct AgmParams {
   // Forgetting only what the sonar could have heard (beyond the paper; 0: off): a cell whose H
   // passes h_max is kept, up to this many update cycles longer, while no sound went through it
   // since its last hit (markPassed; operational/sound_passed.hpp). The paper forgets a cell not
-  // heard again within h_max because a reflector still there would have answered; one that no
-  // beam reached since (between two beams that do not overlap, behind a nearer echo) could not.
+  // hit again within h_max because a reflector still there would have answered; but a beam
+  // answers from its nearest reflector only, so a surface it still hears at that range answers
+  // on other cells, and a beam that missed the cell (between beams, behind a nearer echo) says
+  // nothing of it either.
   int hold_unpassed = 0;
 };
 // A G_T that a person walking past does not reach: walking at `walking_speed` [m/s] they cross

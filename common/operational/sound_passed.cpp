@@ -4,12 +4,13 @@
 
 namespace lasonic {
 
-int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group, double core, double margin_m) {
+int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group, double core, double margin_m,
+                    bool at_range) {
   if (!(core > 0) || !(margin_m >= 0)) return 0;
   const double c = agm.cellSize();
   int marked = 0;
   for (const Sounding& s : group) {
-    const double reach = s.reach - margin_m;
+    const double reach = s.reach + (at_range ? margin_m : -margin_m);
     const double half = std::min(core, 1.0) * 0.5 * s.beam_width;
     if (!(reach > margin_m) || !(half > 0) || !std::isfinite(s.sensor.x) || !std::isfinite(s.sensor.y) ||
         !std::isfinite(s.sensor.theta) || reach > 100)
@@ -37,6 +38,24 @@ int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group
     });
     for (const auto& [ix, iy] : cells) agm.markPassed(ix, iy);
     marked += static_cast<int>(cells.size());
+  }
+  return marked;
+}
+
+int markNearMovers(AccumulativeGridMap& agm, const std::vector<geom::Vec2>& points, double radius) {
+  if (!(radius > 0) || points.empty()) return 0;
+  const double c = agm.cellSize();
+  const int k = static_cast<int>(std::ceil(radius / c));
+  int marked = 0;
+  for (const geom::Vec2& p : points) {
+    int px = 0, py = 0;
+    if (!agm.cellAt(p, px, py)) continue;
+    for (int iy = std::max(0, py - k); iy <= std::min(agm.size() - 1, py + k); ++iy)
+      for (int ix = std::max(0, px - k); ix <= std::min(agm.size() - 1, px + k); ++ix) {
+        if ((agm.cellCorner(ix, iy) + geom::Vec2(0.5 * c, 0.5 * c) - p).norm() > radius) continue;
+        agm.markPassed(ix, iy);
+        ++marked;
+      }
   }
   return marked;
 }

@@ -3,12 +3,14 @@
 // step 4, "Forgetting only what the sonar could have heard").
 //
 // A sonar's first echo comes from the nearest reflector anywhere in its beam, so a reading of
-// range r says that nothing answering stood nearer than r in the beam's middle, where the
-// transducer's gain is near its peak (at the beam's edge a weak reflector may stay silent). A
-// grid cell there, clearly nearer than r, was heard through. The paper's AGM forgets a cell
-// h_max update cycles after its last hit whatever the sonar could hear; with
-// AgmParams::hold_unpassed a cell no sound went through since its last hit is kept longer
-// (agm.hpp), and these are the cells some sound went through.
+// range r says that nothing answering stood nearer than r in its beam (within `core` of the half
+// width: 1, the whole beam, where a reflector could answer at all). A grid cell there, clearly
+// nearer than r, was heard through. The paper's AGM forgets a cell h_max update cycles after its
+// last hit whatever the sonar heard; with AgmParams::hold_unpassed a cell no sound went through
+// since its last hit is kept longer (agm.hpp): one the beam still hears at about its range (a
+// surface passed by a moving robot answers from a new point, on a new cell, each firing), or one
+// no beam reached. These functions mark the cells sound went through, and those a person the
+// laser sees walking may have made (their echoes' cells are the paper's to forget).
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -30,6 +32,15 @@ struct Sounding {
 // a sounding's beam half width of its axis and at least `margin_m` nearer than its reach (and at
 // least margin_m from the transducer: the blanking). Call before the group's own hits go in.
 // Returns how many cells were marked (a cell passed by two soundings counts twice).
-int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group, double core, double margin_m);
+// at_range: cells up to margin_m beyond the reach too (the range the reading answered from: a
+// reflector in such a cell would have answered about then, so the beam reached it, whatever did
+// answer; only cells no beam reached -- between beams, behind a nearer echo -- stay unmarked).
+int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group, double core, double margin_m,
+                    bool at_range = false);
+
+// Marks every window cell whose centre lies within `radius` of one of `points` (the laser's
+// returns of a person it sees walking): an echo that made such a cell may have been that person,
+// so the cell is forgotten after h_max as the paper's, not kept. Returns how many were marked.
+int markNearMovers(AccumulativeGridMap& agm, const std::vector<geom::Vec2>& points, double radius);
 
 }  // namespace lasonic

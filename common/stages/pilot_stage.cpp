@@ -85,7 +85,9 @@ PilotConfig pilotConfig(const Config& c) {
   p.h_max_ring_cycles = c.get("h_max_ring_cycles", p.h_max_ring_cycles, Range::between(0, 1000));
   {
     const Config h = c.section("hold_unpassed");
-    h.allowOnly({"ring_cycles", "core", "margin_m", "copied"});
+    h.allowOnly({"ring_cycles", "core", "margin_m", "copied", "at_range", "mover_radius_m"});
+    p.hold_unpassed.mover_radius_m = h.get("mover_radius_m", p.hold_unpassed.mover_radius_m, Range::between(0, 2));
+    p.hold_unpassed.at_range = h.get<bool>("at_range", p.hold_unpassed.at_range);
     p.sector_map.copy_held = h.get<bool>("copied", p.sector_map.copy_held);
     p.hold_unpassed.ring_cycles = h.get("ring_cycles", p.hold_unpassed.ring_cycles, Range::between(0, 1000));
     p.hold_unpassed.core = h.get("core", p.hold_unpassed.core, Range::between(0, 1));
@@ -451,6 +453,12 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     }
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
+    if (cfg_.hold_unpassed.ring_cycles > 0 && cfg_.hold_unpassed.mover_radius_m > 0 && !moving.empty()) {
+      std::vector<geom::Vec2> at;
+      at.reserve(moving.size());
+      for (const SectorMap::MovingPoint& q : moving) at.push_back(q.p);
+      markNearMovers(agm_, at, cfg_.hold_unpassed.mover_radius_m);
+    }
   } else if (remember) {
     still.assign(points.begin(), points.end());  // every return, before the dark continuation adds its points below
   }
@@ -558,7 +566,7 @@ void PilotStage::onComplement(const complement_t& m) {
     agm_.setHoldUnpassed(ring_groups_.hMax(cfg_.hold_unpassed.ring_cycles, cfg_.agm.h_max));
     const double beam = geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width;
     if (const int n = markSoundPassed(agm_, soundingsOf(readings, beam, true, true), cfg_.hold_unpassed.core,
-                                      cfg_.hold_unpassed.margin_m);
+                                      cfg_.hold_unpassed.margin_m, cfg_.hold_unpassed.at_range);
         n > 0)
       node_.count("agm.cells_heard_through", n);
   }

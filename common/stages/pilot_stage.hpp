@@ -79,13 +79,15 @@ struct PilotConfig {
   // from the firings (RingGroups); agm.h_max until the ring has been counted. 0: agm.h_max always.
   double h_max_ring_cycles = 3;
   // Beyond the paper: a cell no sound went through since its last hit is kept up to this many
-  // ring cycles beyond h_max (AgmParams::hold_unpassed, operational/sound_passed.hpp): passed =
+  // ring cycles beyond h_max (AgmParams::hold_unpassed, operational/sound_passed.hpp): through =
   // within `core` of a reading's half beam width of its axis and `margin_m` nearer than its
   // range. ring_cycles 0: the paper's forgetting.
   struct HoldUnpassed {
-    double ring_cycles = 0;
+    double ring_cycles = 4;
     double core = 1.0;
-    double margin_m = 0.15;
+    double margin_m = 0.10;
+    bool at_range = false;        // cells within margin_m beyond the range count as heard through too
+    double mover_radius_m = 0.3;  // cells this near a return of a person the laser sees walking are not kept
   } hold_unpassed;
   SectorMapParams sector_map = sectorMapDefaults();
   // Beyond the paper: the laser is stale after this many of its own scan periods, timed from its

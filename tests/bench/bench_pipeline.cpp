@@ -203,6 +203,11 @@ class Replayer {
             if (movers_.still()[i]) still.push_back(timed_[i].p);
         }
         takeOutMovers(timed_, runs, points, moving);
+        if (pcfg_.hold_unpassed.ring_cycles > 0 && pcfg_.hold_unpassed.mover_radius_m > 0 && !moving.empty()) {
+          std::vector<geom::Vec2> at;
+          for (const SectorMap::MovingPoint& q : moving) at.push_back(q.p);
+          markNearMovers(agm_, at, pcfg_.hold_unpassed.mover_radius_m);
+        }
       } else if (remember) {
         still.assign(points.begin(), points.end());
       }
@@ -249,7 +254,8 @@ class Replayer {
       agm_.setHMax(ring_groups_.hMax(pcfg_.h_max_ring_cycles, pcfg_.agm.h_max));
       if (pcfg_.hold_unpassed.ring_cycles > 0) {
         agm_.setHoldUnpassed(ring_groups_.hMax(pcfg_.hold_unpassed.ring_cycles, pcfg_.agm.h_max));
-        markSoundPassed(agm_, prepared.soundings, pcfg_.hold_unpassed.core, pcfg_.hold_unpassed.margin_m);
+        markSoundPassed(agm_, prepared.soundings, pcfg_.hold_unpassed.core, pcfg_.hold_unpassed.margin_m,
+                        pcfg_.hold_unpassed.at_range);
       }
       std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
       motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits);

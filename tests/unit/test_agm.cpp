@@ -734,6 +734,33 @@ TEST(SoundPassed, MarksTheWeightedCellsTheBeamWentThrough) {
             0);
 }
 
+// markNearMovers: the cells whose centres lie within the radius of a walking person's returns
+// are forgotten after h_max (the paper's), the others kept; outside the window nothing happens.
+TEST(SoundPassed, CellsNearAWalkingPersonAreNotKept) {
+  AgmParams p;
+  p.size = 40;
+  p.cell_size = 0.1;
+  p.h_max = 0;
+  p.hold_unpassed = 100;
+  AccumulativeGridMap m(p);
+  m.centreOn({0.0, 0.0});
+  const std::vector<Vec2> cells = {{0.05, 0.05}, {0.25, 0.05}, {0.45, 0.05}, {0.05, -0.35}};
+  m.update(cells);
+  // Centres 0.05, 0.15, 0.25 m off each axis within 0.3 m: 8 a quadrant.
+  EXPECT_EQ(markNearMovers(m, {{0.0, 0.0}, {50.0, 50.0}}, 0.3), 32);
+  EXPECT_EQ(markNearMovers(m, {{0.0, 0.0}}, 0.0), 0);
+  m.update({});
+  std::vector<int> kept;
+  for (const Vec2& c : cells) {
+    int ix = 0, iy = 0;
+    ASSERT_TRUE(m.cellAt(c, ix, iy));
+    kept.push_back(m.g(ix, iy));
+  }
+  // (0.05, 0.05): 0.07 m from the person; (0.25, 0.05): 0.25 m; (0.45, 0.05) 0.45 m; (0.05,
+  // -0.35) 0.35 m.
+  EXPECT_EQ(kept, (std::vector<int>{0, 0, 1, 1}));
+}
+
 // ArcCells (the arc's unit vectors turned step by step, the cell taken where the point is clearly
 // inside it) gives the cell of the defining computation, cellAt(centre + range *
 // unitVector(b)), for every sample: random arcs of 1-400 samples with both signs of step, the

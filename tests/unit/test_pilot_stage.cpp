@@ -1377,7 +1377,7 @@ namespace {
 // MOBOT-IV's six firing groups (30 ms), then groups that hear nothing there, or from group
 // `pass_from` on a reading whose beam goes through that cell (a transducer at (1.35, 2.05)
 // facing +x, echo at 2.0 m: the cell 0.7 m away). G of the AGM published after cycle `after`.
-int keptWeightAfter(int after, int pass_from, double hold_ring_cycles = 4) {  // (4: measured, not shipped)
+int keptWeightAfter(int after, int pass_from, double hold_ring_cycles = 4) {
   PilotConfig cfg = nearestPointPilot();
   cfg.hold_unpassed.ring_cycles = hold_ring_cycles;
   cfg.agm_publish_hz = 1000;
@@ -1410,8 +1410,7 @@ int keptWeightAfter(int after, int pass_from, double hold_ring_cycles = 4) {  //
 }  // namespace
 
 TEST(PilotRingMemory, ACellNoSoundWentThroughIsKeptUntilSoundDoes) {
-  ASSERT_EQ(PilotConfig{}.hold_unpassed.ring_cycles, 0);  // shipped: the paper's forgetting
-  EXPECT_EQ(keptWeightAfter(19, 1000, PilotConfig{}.hold_unpassed.ring_cycles), 0);
+  ASSERT_EQ(PilotConfig{}.hold_unpassed.ring_cycles, 4);
   // h_max: three ring cycles (18 groups); then four more (24) while no sound goes through it.
   EXPECT_EQ(keptWeightAfter(18, 1000), 1);
   EXPECT_EQ(keptWeightAfter(19, 1000, 0), 0);  // the paper: forgotten after h_max
