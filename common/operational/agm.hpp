@@ -13,7 +13,8 @@
 // Per cell: weight G (belief in occupancy) and frequency H (update cycles since G was last
 // incremented). One update cycle = one call of update(): accumulation (trivial sensor model:
 // each hit increments G of the one cell containing it, H := 0; G saturates at g_max), revision
-// (a cell with G > 0 whose H exceeds h_max gets G := 0) and propagation
+// (a cell with G > 0 whose H exceeds h_max gets G := 0; with hold_unpassed, beyond the paper,
+// not while no sound went through it since, up to hold_unpassed cycles more) and propagation
 //   Gu(i,j) = sum_{p,q=-t..t} G(i+p, j+q),   Gp(i,j) = Gu if G(i,j) > 0 and Gu >= G_T, else 0.
 // Cells outside the window count as G = 0.
 //

@@ -1377,16 +1377,28 @@ namespace {
 // MOBOT-IV's six firing groups (30 ms), then groups that hear nothing there, or from group
 // `pass_from` on a reading whose beam goes through that cell (a transducer at (1.35, 2.05)
 // facing +x, echo at 2.0 m: the cell 0.7 m away). G of the AGM published after cycle `after`.
+// A pilot whose robot stands at (1, 2) for 3 s, every AGM_OPERATIONAL it publishes kept.
+struct StandingPilot {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotStage stage;
+  std::vector<grid_map_t> grids;
+  static PilotConfig everyGrid(PilotConfig c) {
+    c.agm_publish_hz = 1000;
+    return c;
+  }
+  explicit StandingPilot(const PilotConfig& cfg) : stage(node, everyGrid(cfg)) {
+    node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [this](const grid_map_t& m) { grids.push_back(m); });
+    standStill(node, 0, 3'000'000);
+    drainAll(node);
+  }
+};
+
 int keptWeightAfter(int after, int pass_from, double hold_ring_cycles = 4) {
   PilotConfig cfg = nearestPointPilot();
   cfg.hold_unpassed.ring_cycles = hold_ring_cycles;
-  cfg.agm_publish_hz = 1000;
-  Node node{"t", "memq://", Node::Options{false, false}};
-  PilotStage stage(node, cfg);
-  std::vector<grid_map_t> grids;
-  node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
-  standStill(node, 0, 3'000'000);
-  drainAll(node);
+  StandingPilot pilot(cfg);
+  Node& node = pilot.node;
+  const std::vector<grid_map_t>& grids = pilot.grids;
   for (int k = 0; k <= after; ++k) {
     complement_t c{};
     c.utime = 100'000 + 30'000 * k;
@@ -1434,13 +1446,9 @@ namespace {
 int echoCellNearAWalkerAfter(double mover_radius_m) {
   PilotConfig cfg = nearestPointPilot();
   cfg.hold_unpassed.mover_radius_m = mover_radius_m;
-  cfg.agm_publish_hz = 1000;
-  Node node{"t", "memq://", Node::Options{false, false}};
-  PilotStage stage(node, cfg);
-  std::vector<grid_map_t> grids;
-  node.subscribe<grid_map_t>(channels::AGM_OPERATIONAL, [&](const grid_map_t& m) { grids.push_back(m); });
-  standStill(node, 0, 3'000'000);
-  drainAll(node);
+  StandingPilot pilot(cfg);
+  Node& node = pilot.node;
+  const std::vector<grid_map_t>& grids = pilot.grids;
   const auto bearing = [](int64_t scan_start) { return geom::deg2rad(-45.0) + 1.0 * static_cast<double>(scan_start) * 1e-6; };
   const int64_t echo_us = 610'000;
   const double b_echo = bearing(600'000);
