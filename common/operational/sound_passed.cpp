@@ -60,4 +60,12 @@ int markNearMovers(AccumulativeGridMap& agm, const std::vector<geom::Vec2>& poin
   return marked;
 }
 
+int markNearMovers(AccumulativeGridMap& agm, const std::vector<SectorMap::MovingPoint>& movers, double radius) {
+  if (!(radius > 0) || movers.empty()) return 0;
+  std::vector<geom::Vec2> at;
+  at.reserve(movers.size());
+  for (const SectorMap::MovingPoint& q : movers) at.push_back(q.p);
+  return markNearMovers(agm, at, radius);
+}
+
 }  // namespace lasonic

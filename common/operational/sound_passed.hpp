@@ -15,6 +15,7 @@
 
 #include "core/geometry.hpp"
 #include "operational/agm.hpp"
+#include "operational/sector_map.hpp"
 
 namespace lasonic {
 
@@ -42,5 +43,7 @@ int markSoundPassed(AccumulativeGridMap& agm, const std::vector<Sounding>& group
 // returns of a person it sees walking): an echo that made such a cell may have been that person,
 // so the cell is forgotten after h_max as the paper's, not kept. Returns how many were marked.
 int markNearMovers(AccumulativeGridMap& agm, const std::vector<geom::Vec2>& points, double radius);
+// The same for the returns the mover prediction took out of a scan (their positions).
+int markNearMovers(AccumulativeGridMap& agm, const std::vector<SectorMap::MovingPoint>& movers, double radius);
 
 }  // namespace lasonic

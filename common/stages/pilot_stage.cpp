@@ -453,12 +453,7 @@ void PilotStage::onLaserScan(const laser_scan_t& m) {
     }
     takeOutMovers(timed_, runs, points, moving);
     if (!moving.empty()) node_.count("laser.moving_returns", static_cast<int64_t>(moving.size()));
-    if (cfg_.hold_unpassed.ring_cycles > 0 && cfg_.hold_unpassed.mover_radius_m > 0 && !moving.empty()) {
-      std::vector<geom::Vec2> at;
-      at.reserve(moving.size());
-      for (const SectorMap::MovingPoint& q : moving) at.push_back(q.p);
-      markNearMovers(agm_, at, cfg_.hold_unpassed.mover_radius_m);
-    }
+    if (cfg_.hold_unpassed.ring_cycles > 0) markNearMovers(agm_, moving, cfg_.hold_unpassed.mover_radius_m);
   } else if (remember) {
     still.assign(points.begin(), points.end());  // every return, before the dark continuation adds its points below
   }

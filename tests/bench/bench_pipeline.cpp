@@ -203,11 +203,7 @@ class Replayer {
             if (movers_.still()[i]) still.push_back(timed_[i].p);
         }
         takeOutMovers(timed_, runs, points, moving);
-        if (pcfg_.hold_unpassed.ring_cycles > 0 && pcfg_.hold_unpassed.mover_radius_m > 0 && !moving.empty()) {
-          std::vector<geom::Vec2> at;
-          for (const SectorMap::MovingPoint& q : moving) at.push_back(q.p);
-          markNearMovers(agm_, at, pcfg_.hold_unpassed.mover_radius_m);
-        }
+        if (pcfg_.hold_unpassed.ring_cycles > 0) markNearMovers(agm_, moving, pcfg_.hold_unpassed.mover_radius_m);
       } else if (remember) {
         still.assign(points.begin(), points.end());
       }
