@@ -21,12 +21,15 @@
 // were seen (the odometry's drift). A driving robot leaves them beyond reach first (the sector
 // map's 3.35 m: ~2 cm of drift); memory_s bounds what a robot that creeps, waits or turns on
 // the spot keeps: a still return that goes away unseen stays a ghost that long
-// (deploy/config/lasonic.yaml).
+// (deploy/config/lasonic.yaml). Within that bound, sound can tell (LaserMemoryHeardThrough): a
+// remembered person-sized round cluster that the sonar's beams have since gone through, nothing
+// answering there, is gone.
 #include <cstdint>
 #include <vector>
 
 #include "core/geometry.hpp"
 #include "operational/sector_map.hpp"
+#include "operational/sound_passed.hpp"
 #include "core/utime.hpp"
 
 namespace lasonic {
@@ -42,9 +45,32 @@ struct LaserMemoryParams {
   double cluster_s = 0;
 };
 
+// Sound heard through a remembered still person-sized cluster (beyond the paper): a person who
+// stood where the scanner does not look and walked off unseen leaves the memory's returns there
+// for memory_s. But a round reflector -- a person, a post, a bin -- answers a beam that holds the
+// direction to it from any side (its surface faces every direction), so when the sound of
+// clear_after looks in a row went through it (the direction to the cluster's centroid within
+// `core` of a reading's half beam, the reading at least margin_m longer than the centroid's
+// distance, and that beyond margin_m: Sounding), it is gone, and its returns are dropped. A look
+// that answered at the cluster's distance (within margin_m) starts the count again: a person
+// misses a ping now and then. Round means the returns lie on a circle of min_radius to
+// max_radius, within fit_rms; a flat cluster (a box's side, a piece of wall at grazing incidence)
+// or a box's corner sends oblique sound away, and a thin pipe answers too weakly: their silence
+// says nothing, they are never dropped so. Returns of no cluster are the memory's as above.
+// clear_after 0: off.
+struct LaserMemoryHeardThrough {
+  int clear_after = 0;
+  double core = 1.0;
+  double margin_m = 0.25;
+  double min_radius = 0.1;  // [m] the circle the returns lie on: a post's, a bin's, a person's
+  double max_radius = 0.5;  // [m]
+  double fit_rms = 0.02;    // [m] the returns within this (rms) of it
+  double cluster_gap = 0.20;  // [m] returns of one cluster lie nearer than this to the next
+};
+
 class LaserMemory {
  public:
-  explicit LaserMemory(const LaserMemoryParams& p = {}) : p_(p) {}
+  explicit LaserMemory(const LaserMemoryParams& p = {}, const LaserMemoryHeardThrough& h = {}) : p_(p), h_(h) {}
   const LaserMemoryParams& params() const { return p_; }
   bool enabled() const { return p_.memory_s > 0; }
 
@@ -87,6 +113,7 @@ class LaserMemory {
     last_.clear();  // (storage reused scan to scan)
     const bool flags = cluster && cluster->size() == points.size();
     for (size_t i = 0; i < points.size(); ++i) last_.push_back({points[i], utime, flags && (*cluster)[i] != 0});
+    if (h_.clear_after > 0) groupClusters(utime);
 
     std::vector<Coasting> coasting;
     const auto coast_us = secondsToUs(p_.coast_s);
@@ -107,12 +134,18 @@ class LaserMemory {
     coasting_points_.clear();
     for (const Coasting& c : coasting_) coasting_points_.push_back(c.m);
   }
+  // A firing group's sound at `utime` (LaserMemoryHeardThrough): a look at each round cluster seen
+  // before utime, remembered or of the newest scan (which the next one may not cover); drops the
+  // returns of those heard through clear_after times in a row. Returns how many returns were
+  // dropped; points() follows.
+  int heardThrough(int64_t utime, const std::vector<Sounding>& group);
+
   // Earlier scans' movers that walked on where the newest scan does not look, moved on to its
   // time (each keeps its velocity).
   const std::vector<SectorMap::MovingPoint>& coastingMovers() const { return coasting_points_; }
 
   // Forgets everything (a scanner that sees everywhere leaves nothing to remember).
-  void clear() { *this = LaserMemory(p_); }
+  void clear() { *this = LaserMemory(p_, h_); }
 
   // Earlier scans' returns outside the newest scan's view (global frame), oldest scans first.
   const std::vector<geom::Vec2>& points() const { return points_; }
@@ -122,8 +155,23 @@ class LaserMemory {
     geom::Vec2 p;
     int64_t utime = 0;     // the scan's newest reading
     bool cluster = false;  // of a still person-sized cluster (cluster_s)
+    uint32_t round = 0;    // LaserMemoryHeardThrough: the round cluster it belongs to (0: none)
   };
+  struct Round {
+    uint32_t id = 0;
+    int64_t utime = 0;
+    geom::Vec2 centroid = geom::Vec2::Zero();
+    int silent = 0;  // looks in a row that went through it
+  };
+  // Splits the newest scan's cluster returns into clusters (cluster_gap), gives the round ones an
+  // id, and forgets the clusters none of whose returns are left.
+  void groupClusters(int64_t utime);
+  // Whether last_[first, end) lie on a circle (LaserMemoryHeardThrough).
+  bool roundCluster(size_t first, size_t end) const;
+  std::vector<Round> rounds_;
+  uint32_t next_round_ = 1;
   LaserMemoryParams p_;
+  LaserMemoryHeardThrough h_;
   std::vector<Remembered> remembered_, kept_;
   std::vector<geom::Vec2> points_;
   std::vector<Remembered> last_;  // the newest scan's returns (in its own view: not remembered yet)

@@ -27,6 +27,9 @@ struct Sounding {
   double reach = 0;
   double beam_width = 0;
   bool unverifiable = false;  // nothing answered within the range limit: an echo beyond it, or none
+  // The reading's own range (an unverifiable one's: its reach): where something answered,
+  // whatever the laser's surfaces say about mirrors (LaserMemory::heardThrough).
+  double range = 0;
 };
 
 // Marks (AccumulativeGridMap::markPassed) every weighted cell whose centre lies within `core` of

@@ -168,7 +168,8 @@ std::vector<Sounding> soundingsOf(const std::vector<complement::ComplementInput>
       if (!(r.echo ? beyond_limit : silence)) continue;
       reach = r.hypothetical_range;
     }
-    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width, unverifiable});
+    out.push_back({*r.sensor_pose, reach, r.beam_width > 0 ? r.beam_width : beam_width, unverifiable,
+                   unverifiable ? reach : r.range});
   }
   return out;
 }

@@ -691,7 +691,7 @@ TEST(SoundPassed, MarksTheWeightedCellsTheBeamWentThrough) {
   AccumulativeGridMap m(p);
   m.centreOn({10.0, -3.0});
   const Vec2 o(9.0, -3.0);  // the transducer, facing +x, 30 deg beam, echo at 2.0 m
-  const Sounding s{{o.x(), o.y(), 0.0}, 2.0, geom::deg2rad(30.0), false};
+  const Sounding s{{o.x(), o.y(), 0.0}, 2.0, geom::deg2rad(30.0), false, 2.0};
   // Cell centres: on the axis at 1.0 (passed), 1.9 (within the margin of the echo: kept), 2.5
   // (behind it); 10 deg off the axis at 1.0 (inside the beam; outside its half core); 20 deg off
   // (outside the beam); 0.1 m ahead (the margin at the transducer).

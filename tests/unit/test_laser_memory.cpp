@@ -164,3 +164,124 @@ TEST(LaserMemory, AMoverThatWalksOnWhereTheScannerDoesNotLookCoasts) {
   off.update(kScanUs, Vec2::Zero(), {}, {}, View270{});
   EXPECT_TRUE(off.coastingMovers().empty());
 }
+
+namespace {
+// A transducer at the origin whose axis points at `at`, its reading `range` [m], 30 deg.
+Sounding soundingAt(const Vec2& at, double range, double off_deg = 0) {
+  return {{0.0, 0.0, std::atan2(at.y(), at.x()) + geom::deg2rad(off_deg)}, range, geom::deg2rad(30.0), false, range};
+}
+Vec2 centroidOf(const std::vector<Vec2>& p) {
+  Vec2 c = Vec2::Zero();
+  for (const Vec2& q : p) c += q;
+  return c / static_cast<double>(p.size());
+}
+}  // namespace
+
+TEST(LaserMemory, ARoundClusterTheSoundWentThroughThreeTimesInARowIsGone) {
+  // Behind the robot once it faces -y: a standing person's visible half (0.25 m radius, round),
+  // a box's side (flat, 0.57 m) and a wall return of no cluster.
+  std::vector<Vec2> person, box;
+  const Vec2 c(0.5, 1.8);
+  const double toward = std::atan2(-c.y(), -c.x());
+  for (int i = -7; i <= 7; ++i) person.push_back(c + 0.25 * geom::unitVector(toward + geom::deg2rad(10.0 * i)));
+  for (int i = 0; i < 15; ++i) box.push_back(Vec2(-0.6, 1.5) + (i / 14.0) * Vec2(0.4, 0.4));
+  std::vector<Vec2> seen = {{0.0, 1.0}};
+  std::vector<uint8_t> cluster = {0};
+  for (const auto* part : {&person, &box})
+    for (const Vec2& p : *part) seen.push_back(p), cluster.push_back(1);
+  const auto none = std::vector<SectorMap::MovingPoint>{};
+  LaserMemoryHeardThrough h;
+  h.clear_after = 3;
+  LaserMemory m({30.0}, h);
+  m.update(0, Vec2::Zero(), seen, none, View270{}, &cluster);
+  m.update(kScanUs, Vec2::Zero(), {}, none, View270{Vec2::Zero(), -geom::kPi / 2});
+  ASSERT_EQ(m.points().size(), seen.size());
+
+  const Vec2 pc = centroidOf(person), bc = centroidOf(box);
+  const double d = pc.norm();
+  const std::vector<Sounding> through = {soundingAt(pc, 3.0), soundingAt(bc, 3.0), soundingAt({0.0, 1.0}, 3.0)};
+  // Sound before the scan that saw them says nothing about them.
+  EXPECT_EQ(m.heardThrough(0, through), 0);
+  // Two looks through, then one that answered at the person's distance: the count starts again.
+  int64_t t = 2 * kScanUs;
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, {soundingAt(pc, d - 0.05)}), 0);
+  // Looks that tell nothing leave the count as it is: the beam beside it (the centroid 16 deg
+  // off the axis), sound that ended well before it (something nearer answered), or no sounding.
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, {soundingAt(pc, 3.0, 16.0)}), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, {soundingAt(pc, d - 0.5)}), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, {}), 0);
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), 0);
+  // The third look through in a row: the person is gone; the box's side (its silence is a
+  // mirror's) and the wall return stay.
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), static_cast<int>(person.size()));
+  ASSERT_EQ(m.points().size(), 1 + box.size());
+  EXPECT_EQ(m.points()[0], Vec2(0.0, 1.0));
+  for (const Vec2& p : m.points()) EXPECT_GT((p - pc).norm(), 0.3);
+  EXPECT_EQ(m.heardThrough(t += 30'000, through), 0);
+  // The memory goes on as before for the returns left.
+  m.update(t, Vec2::Zero(), {}, none, View270{Vec2::Zero(), -geom::kPi / 2});
+  EXPECT_EQ(m.points().size(), 1 + box.size());
+
+  // clear_after 0 (the default): kept whatever the sound did.
+  LaserMemory off({30.0});
+  off.update(0, Vec2::Zero(), seen, none, View270{}, &cluster);
+  off.update(kScanUs, Vec2::Zero(), {}, none, View270{Vec2::Zero(), -geom::kPi / 2});
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(off.heardThrough(2 * kScanUs + i * 30'000, through), 0);
+  EXPECT_EQ(off.points().size(), seen.size());
+}
+
+TEST(LaserMemory, AClusterOfTheNewestScanCanBeHeardThroughBeforeItIsRemembered) {
+  // A person the robot looks away from just after the scan: its returns are the newest scan's
+  // (not remembered yet) when the sound goes through; the next scan, not covering them, does not
+  // bring them back.
+  std::vector<Vec2> person;
+  const Vec2 c(0.0, 1.5);
+  for (int i = -7; i <= 7; ++i) person.push_back(c + 0.25 * geom::unitVector(-geom::kPi / 2 + geom::deg2rad(10.0 * i)));
+  const std::vector<uint8_t> cluster(person.size(), 1);
+  const auto none = std::vector<SectorMap::MovingPoint>{};
+  LaserMemoryHeardThrough h;
+  h.clear_after = 3;
+  LaserMemory m({30.0}, h);
+  m.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
+  const std::vector<Sounding> through = {soundingAt(centroidOf(person), 3.0)};
+  EXPECT_EQ(m.heardThrough(10'000, through), 0);
+  EXPECT_EQ(m.heardThrough(40'000, through), 0);
+  EXPECT_EQ(m.heardThrough(70'000, through), static_cast<int>(person.size()));
+  m.update(kScanUs, Vec2::Zero(), {}, none, View270{Vec2::Zero(), -geom::kPi / 2});
+  EXPECT_TRUE(m.points().empty());
+}
+
+TEST(LaserMemory, SilenceAtTheRangeLimitIsNoAnswer) {
+  // A person 1.5 m away; the rear transducer's range limit (the hypothesis' 1.6 m) lies just
+  // beyond them: silence there neither answers nor went through them (1.6 < 1.5 + 0.25).
+  std::vector<Vec2> person;
+  const Vec2 c(0.0, 1.75);
+  for (int i = -7; i <= 7; ++i) person.push_back(c + 0.25 * geom::unitVector(-geom::kPi / 2 + geom::deg2rad(10.0 * i)));
+  const std::vector<uint8_t> cluster(person.size(), 1);
+  const auto none = std::vector<SectorMap::MovingPoint>{};
+  LaserMemoryHeardThrough h;
+  h.clear_after = 3;
+  LaserMemory m({30.0}, h);
+  m.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
+  const Vec2 pc = centroidOf(person);
+  Sounding silent = soundingAt(pc, pc.norm() + 0.1);
+  silent.unverifiable = true;
+  const std::vector<Sounding> through = {soundingAt(pc, 3.0)};
+  EXPECT_EQ(m.heardThrough(10'000, through), 0);
+  EXPECT_EQ(m.heardThrough(40'000, through), 0);
+  EXPECT_EQ(m.heardThrough(70'000, {silent}), 0);  // an echo there would have restarted the count
+  EXPECT_EQ(m.heardThrough(100'000, through), static_cast<int>(person.size()));
+  // The same reading as an echo at that range is an answer.
+  LaserMemory n({30.0}, h);
+  n.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
+  silent.unverifiable = false;
+  EXPECT_EQ(n.heardThrough(10'000, through), 0);
+  EXPECT_EQ(n.heardThrough(40'000, through), 0);
+  EXPECT_EQ(n.heardThrough(70'000, {silent}), 0);
+  EXPECT_EQ(n.heardThrough(100'000, through), 0);
+  EXPECT_EQ(n.heardThrough(130'000, through), 0);
+  EXPECT_EQ(n.heardThrough(160'000, through), static_cast<int>(person.size()));
+}
