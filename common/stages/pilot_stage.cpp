@@ -53,6 +53,12 @@ complement::DarkContinuationConfig PilotConfig::darkContinuationDefaults() {
   return d;
 }
 
+LaserMemoryHeardThrough PilotConfig::laserMemoryHeardThroughDefaults() {
+  LaserMemoryHeardThrough h;
+  h.clear_after = 3;
+  return h;
+}
+
 namespace {
 LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
   // Beyond the sector map's reach a point is never reported; it comes back only by driving
@@ -61,6 +67,13 @@ LaserMemoryParams laserMemoryParams(const PilotConfig& c) {
           c.laser_memory_cluster_s};
 }
 }  // namespace
+
+LaserMemoryHeardThrough laserMemoryHeardThrough(const PilotConfig& c) {
+  LaserMemoryHeardThrough h = c.laser_memory_heard_through;
+  // One cluster as the mover prediction cuts it.
+  h.cluster_gap = c.mover_prediction.cluster_gap;
+  return h;
+}
 
 PilotConfig pilotConfigFromRoot(const Config& root) {
   PilotConfig cfg = pilotConfig(root.section("pilot"));
@@ -75,6 +88,7 @@ PilotConfig pilotConfig(const Config& c) {
                                    "remembered_stale_s", "remembered_explains_radius", "remembered_on_lines_m", "remembered_fill_m",
                                    "copy_over_own", "predict_movers", "mover_prediction", "laser_memory_s",
                                    "laser_memory_coast_s", "laser_memory_cluster_s", "laser_memory_dark",
+                                   "laser_memory_heard_through",
                                    "laser_memory_seam", "dark_continuation_m", "motion_confirmation",
                                    "outside_view_redundant", "h_max_ring_cycles", "hold_unpassed", "laser_stale_scans",
                                    "stale_radar_map", "stale_values"};
@@ -141,6 +155,17 @@ PilotConfig pilotConfig(const Config& c) {
   p.laser_memory_coast_s = c.get("laser_memory_coast_s", p.laser_memory_coast_s, Range::between(0, 10));
   p.laser_memory_cluster_s = c.get("laser_memory_cluster_s", p.laser_memory_cluster_s, Range::between(0, 60));
   p.laser_memory_dark = c.get<bool>("laser_memory_dark", p.laser_memory_dark);
+  {
+    const Config h = c.section("laser_memory_heard_through");
+    h.allowOnly({"clear_after", "core", "margin_m", "min_radius_m", "max_radius_m", "fit_rms_m"});
+    LaserMemoryHeardThrough& t = p.laser_memory_heard_through;
+    t.min_radius = h.get("min_radius_m", t.min_radius, Range::between(0, 10));
+    t.max_radius = h.get("max_radius_m", t.max_radius, Range::between(0, 10));
+    t.fit_rms = h.get("fit_rms_m", t.fit_rms, Range::between(0, 1));
+    t.clear_after = h.get("clear_after", t.clear_after, Range::between(0, 1000));
+    t.core = h.get("core", t.core, Range::between(0, 1));
+    t.margin_m = h.get("margin_m", t.margin_m, Range::between(0, 1));
+  }
   p.laser_memory_seam = c.get<bool>("laser_memory_seam", p.laser_memory_seam);
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
   {
@@ -181,7 +206,7 @@ PilotStage::PilotStage(Node& node, const PilotConfig& cfg)
       placer_(cfg.placement),
       motion_confirmation_(cfg.motion_confirmation),
       movers_(cfg.mover_prediction),
-      laser_memory_(laserMemoryParams(cfg)) {
+      laser_memory_(laserMemoryParams(cfg), laserMemoryHeardThrough(cfg)) {
   node_.subscribe<odometry_t>(channels::ODOMETRY, [this](const odometry_t& m) { onOdometry(m); });
   node_.subscribe<laser_scan_t>(channels::LASER_SCAN, [this](const laser_scan_t& m) { onLaserScan(m); });
   node_.subscribe<complement_t>(channels::SONAR_COMPLEMENT, [this](const complement_t& m) { onComplement(m); });
@@ -298,7 +323,7 @@ bool PilotStage::timeOk(int64_t utime, const char* channel) {
   ring_groups_ = RingGroups{};
   scan_period_ = ScanPeriod{};
   movers_ = MoverPrediction(cfg_.mover_prediction);
-  laser_memory_ = LaserMemory(laserMemoryParams(cfg_));
+  laser_memory_ = LaserMemory(laserMemoryParams(cfg_), laserMemoryHeardThrough(cfg_));
   last_tactical_utime_.reset();
   agm_lines_utime_.reset();
   agm_lines_.clear();
@@ -556,15 +581,25 @@ void PilotStage::onComplement(const complement_t& m) {
   // The AGM's memory in ring cycles: this group's firing counted, h_max follows the ring.
   ring_groups_.fired(m.group);
   agm_.setHMax(ring_groups_.hMax(cfg_.h_max_ring_cycles, cfg_.agm.h_max));
+  // Where the group's sound went with nothing answering (operational/sound_passed.hpp).
+  const bool memory_heard = laser_memory_.enabled() && cfg_.laser_memory_heard_through.clear_after > 0;
+  std::vector<Sounding> soundings;
+  if (cfg_.hold_unpassed.ring_cycles > 0 || memory_heard) {
+    const double beam = geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width;
+    soundings = soundingsOf(readings, beam, true, true);
+  }
   if (cfg_.hold_unpassed.ring_cycles > 0) {
     // The hold counts from the firings too; before the ring is counted, h_max's own length.
     agm_.setHoldUnpassed(ring_groups_.hMax(cfg_.hold_unpassed.ring_cycles, cfg_.agm.h_max));
-    const double beam = geom::plausibleBeamWidth(m.beam_width) ? m.beam_width : cfg_.placement.params.beam_width;
-    if (const int n = markSoundPassed(agm_, soundingsOf(readings, beam, true, true), cfg_.hold_unpassed.core,
-                                      cfg_.hold_unpassed.margin_m, cfg_.hold_unpassed.at_range);
+    if (const int n = markSoundPassed(agm_, soundings, cfg_.hold_unpassed.core, cfg_.hold_unpassed.margin_m,
+                                      cfg_.hold_unpassed.at_range);
         n > 0)
       node_.count("agm.cells_heard_through", n);
   }
+  // A remembered laser return the sound went through is gone (from the next scan's sector maps on).
+  if (memory_heard)
+    if (const int n = laser_memory_.heardThrough(m.utime, soundings); n > 0)
+      node_.count("laser.memory_heard_through", n);
   std::vector<geom::Vec2> hits = placer_.place(group, agm_);
   if (const int n = motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits); n > 0)
     node_.count("agm.motion_confirmed", n);

@@ -133,7 +133,8 @@ class Replayer {
         motion_confirmation_(pcfg_.motion_confirmation),
         movers_(pcfg_.mover_prediction),
         laser_memory_(LaserMemoryParams{pcfg_.laser_memory_s, pcfg_.sector_map.robot_radius + pcfg_.sector_map.max_range,
-                                        pcfg_.laser_memory_coast_s}) {}
+                                        pcfg_.laser_memory_coast_s, pcfg_.laser_memory_cluster_s},
+                      laserMemoryHeardThrough(pcfg_)) {}
 
   bool done() const { return next_ >= run_.inputs.size(); }
   bool nextIsGroup() const { return !done() && std::holds_alternative<sonar_ring_t>(run_.inputs[next_]); }
@@ -197,10 +198,14 @@ class Replayer {
         const int64_t mid = ls->utime + (newest - ls->utime) / 2;
         const std::vector<MoverPrediction::MovingRun>& runs =
             movers_.track(timed_, poses_.at(mid).value_or(poses_.at(newest).value_or(geom::Pose2{})).position());
+        still_cluster_.clear();
         if (remember) {
           still.reserve(timed_.size());
           for (size_t i = 0; i < timed_.size(); ++i)
-            if (movers_.still()[i]) still.push_back(timed_[i].p);
+            if (const uint8_t st = movers_.still()[i]; st != 0) {
+              still.push_back(timed_[i].p);
+              still_cluster_.push_back(st == MoverPrediction::kStillCluster);
+            }
         }
         takeOutMovers(timed_, runs, points, moving);
         if (pcfg_.hold_unpassed.ring_cycles > 0) markNearMovers(agm_, moving, pcfg_.hold_unpassed.mover_radius_m);
@@ -216,9 +221,9 @@ class Replayer {
         const cp::LaserView view = cp::laserViewOf(*scan, *robot);
         const cp::DarkBearings dark(*scan, view, no_return_);
         const bool use_dark = pcfg_.laser_memory_dark;
-        laser_memory_.update(newest, robot->position(), still, moving, [&](const geom::Vec2& p) {
-          return view.covers(p) && !(use_dark && dark.at(p));
-        });
+        laser_memory_.update(
+            newest, robot->position(), still, moving,
+            [&](const geom::Vec2& p) { return view.covers(p) && !(use_dark && dark.at(p)); }, &still_cluster_);
         const auto& coasting = laser_memory_.coastingMovers();
         moving.insert(moving.end(), coasting.begin(), coasting.end());
         const auto& remembered = laser_memory_.points();
@@ -253,6 +258,7 @@ class Replayer {
         markSoundPassed(agm_, prepared.soundings, pcfg_.hold_unpassed.core, pcfg_.hold_unpassed.margin_m,
                         pcfg_.hold_unpassed.at_range);
       }
+      if (pcfg_.laser_memory_heard_through.clear_after > 0) laser_memory_.heardThrough(ring->utime, prepared.soundings);
       std::vector<geom::Vec2> hits = placer_.place(readings, agm_);
       motion_confirmation_.apply(placer_.lastPlaced(), agm_, hits);
       for (const GroupReading& r : readings) motion_confirmation_.fired(r.sensor_id, ring->utime);
@@ -338,6 +344,7 @@ class Replayer {
   MoverPrediction movers_;
   ScanPeriod scan_period_;
   LaserMemory laser_memory_;
+  std::vector<uint8_t> still_cluster_;
   int64_t now_ = 0;
   size_t next_ = 0, map_index_ = 0, group_index_ = 0;
   std::vector<cp::InputProblem> problems_;

@@ -785,6 +785,68 @@ TEST(PilotLaserMemory, APersonSizedClusterSeenOnceIsNotRemembered) {
   EXPECT_EQ(remembered, 0);
 }
 
+// A person stands 1.25 m to the left of a robot at (1, 2) with a 270 deg scanner (two scans see
+// them: a still person-sized cluster); the robot turns to face -y, so they are straight behind,
+// where the scanner does not look; they walk off. From 1.0 s a rear transducer at (1, 2.3) facing
+// +y hears nothing within 2 m, `silent_groups` firing groups in a row. The last SECTOR_MAP's laser
+// distance straight behind (-1: none), after a scan at 1.4 s.
+namespace {
+float behindAfterSilence(int silent_groups, int clear_after) {
+  Node node{"t", "memq://", Node::Options{false, false}};
+  PilotConfig cfg;
+  cfg.laser_memory_heard_through.clear_after = clear_after;
+  PilotStage stage{node, cfg};
+  std::vector<sector_map_t> maps;
+  node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
+  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+    odometry_t o{};
+    o.utime = t;
+    o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+    node.publish(channels::ODOMETRY, o);
+  }
+  drainAll(node);
+  const auto scan = [&](int64_t utime, bool person) {
+    laser_scan_t s = noReturnScan(utime, -0.75 * kPi, geom::deg2rad(0.5), 541, 100'000);
+    const double d = 1.25, r = 0.25;  // the person's centre and radius
+    for (int i = 0; person && i < 541; ++i) {
+      const double a = geom::deg2rad(0.5 * (i - 450));  // from +90 deg (the left)
+      const double disc = r * r - d * d * std::sin(a) * std::sin(a);
+      if (disc < 0 || std::cos(a) <= 0) continue;
+      s.ranges[static_cast<size_t>(i)] = static_cast<float>(d * std::cos(a) - std::sqrt(disc));
+      s.flags[static_cast<size_t>(i)] = laser_scan_t::FLAG_OK;
+    }
+    node.publish(channels::LASER_SCAN, s);
+    drainAll(node);
+  };
+  scan(100'000, true);
+  scan(300'000, true);
+  scan(1'000'000, false);
+  for (int k = 0; k < silent_groups; ++k) {
+    complement_t c{};
+    c.utime = 1'110'000 + 30'000 * k;
+    c.group = static_cast<int16_t>(k % 6);
+    c.tolerance = 0.1f;
+    complement_reading_t rear = PilotFixture::reading(complement_reading_t::CLASS_REDUNDANT, 1.0, 4.3);
+    rear.range = rear.hypothetical_range = 2.0f;
+    rear.sensor_pose = {1.0, 2.3, kPi / 2};
+    c.readings.push_back(rear);
+    node.publish(channels::SONAR_COMPLEMENT, c);
+    drainAll(node);
+  }
+  scan(1'400'000, false);
+  EXPECT_GT(node.counter("laser.remembered_returns"), 0);
+  return maps.empty() || maps.back().nsectors != 48 ? -2.0f : maps.back().laser_distance[0];
+}
+}  // namespace
+
+TEST(PilotLaserMemory, APersonBehindTheScannerIsForgottenOnceSoundWentThroughThemThreeTimes) {
+  ASSERT_EQ(PilotConfig{}.laser_memory_heard_through.clear_after, 3);
+  EXPECT_NEAR(behindAfterSilence(0, 3), 1.0 - 0.35, 0.02);  // kept: nothing heard there yet
+  EXPECT_NEAR(behindAfterSilence(2, 3), 1.0 - 0.35, 0.02);
+  EXPECT_FLOAT_EQ(behindAfterSilence(3, 3), -1.0f);         // gone
+  EXPECT_NEAR(behindAfterSilence(3, 0), 1.0 - 0.35, 0.02);  // off: kept for laser_memory_s
+}
+
 // takeOutMovers: the runs with a velocity leave `points` for `moving` (with their velocity and
 // times), a run of velocity zero stays, and what stays keeps its order.
 TEST(PilotStage, TakeOutMoversKeepsTheOthersInOrder) {
