@@ -159,12 +159,15 @@ PilotConfig pilotConfig(const Config& c) {
     const Config h = c.section("laser_memory_heard_through");
     h.allowOnly({"clear_after", "core", "margin_m", "min_radius_m", "max_radius_m", "fit_rms_m"});
     LaserMemoryHeardThrough& t = p.laser_memory_heard_through;
-    t.min_radius = h.get("min_radius_m", t.min_radius, Range::between(0, 10));
-    t.max_radius = h.get("max_radius_m", t.max_radius, Range::between(0, 10));
-    t.fit_rms = h.get("fit_rms_m", t.fit_rms, Range::between(0, 1));
     t.clear_after = h.get("clear_after", t.clear_after, Range::between(0, 1000));
     t.core = h.get("core", t.core, Range::between(0, 1));
     t.margin_m = h.get("margin_m", t.margin_m, Range::between(0, 1));
+    t.min_radius = h.get("min_radius_m", t.min_radius, Range::between(0, 10));
+    t.max_radius = h.get("max_radius_m", t.max_radius, Range::between(0, 10));
+    t.fit_rms = h.get("fit_rms_m", t.fit_rms, Range::between(0, 1));
+    if (t.min_radius > t.max_radius)
+      h.fail("max_radius_m", "(" + showNumber(t.max_radius) + ") must not be less than min_radius_m (" +
+                                 showNumber(t.min_radius) + ")");
   }
   p.laser_memory_seam = c.get<bool>("laser_memory_seam", p.laser_memory_seam);
   p.dark_continuation.length = c.get("dark_continuation_m", p.dark_continuation.length, Range::between(0, 1));
@@ -596,7 +599,8 @@ void PilotStage::onComplement(const complement_t& m) {
         n > 0)
       node_.count("agm.cells_heard_through", n);
   }
-  // A remembered laser return the sound went through is gone (from the next scan's sector maps on).
+  // A remembered round cluster the sound went through, looks in a row, is gone (from the next
+  // scan's sector maps on: operational/laser_memory.hpp).
   if (memory_heard)
     if (const int n = laser_memory_.heardThrough(m.utime, soundings); n > 0)
       node_.count("laser.memory_heard_through", n);

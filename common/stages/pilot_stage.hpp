@@ -146,8 +146,9 @@ struct PilotConfig {
   // Returns of a still person-sized cluster (a person who stands; LaserMemoryParams::cluster_s)
   // are kept only this long: a person may walk off unseen. 0: laser_memory_s.
   double laser_memory_cluster_s = 0;
-  // A remembered return that sound has since gone through is dropped (LaserMemoryHeardThrough);
-  // clear_after 0: kept for its time as above.
+  // Beyond the paper: a remembered round cluster (a person who stood where the scanner does not
+  // look) that the sonar has since heard through, clear_after looks in a row, is dropped
+  // (LaserMemoryHeardThrough); clear_after 0: kept for its time as above.
   LaserMemoryHeardThrough laser_memory_heard_through = laserMemoryHeardThroughDefaults();
   // Beyond the paper: the laser memory also keeps an earlier return where the newest scan's
   // reading in its bearing came back empty, for any scanner (a 360 deg one too). An empty reading
@@ -175,7 +176,7 @@ struct PilotConfig {
   static LaserMemoryHeardThrough laserMemoryHeardThroughDefaults();
 };
 // The laser memory's heard-through rule as the pilot runs it: its keys, with the mover
-// prediction's cluster gap and flat face.
+// prediction's cluster gap.
 LaserMemoryHeardThrough laserMemoryHeardThrough(const PilotConfig& c);
 
 // Reads the `pilot:` section. Throws ConfigError naming the key path.

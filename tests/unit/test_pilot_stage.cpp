@@ -490,6 +490,17 @@ TEST(PilotConfig, AnEmptyMoverSpeedWindowIsAnError) {
   EXPECT_EQ(pilotConfigError("pilot: {mover_prediction: {min_speed: 0.5, max_speed: 0.6}}"), "");
 }
 
+TEST(PilotConfig, AnEmptyRoundClusterRadiusWindowIsAnError) {
+  EXPECT_NE(pilotConfigError("pilot: {laser_memory_heard_through: {min_radius_m: 0.6, max_radius_m: 0.5}}")
+                .find("pilot.laser_memory_heard_through.max_radius_m: (0.5) must not be less than min_radius_m (0.6)"),
+            std::string::npos);
+  EXPECT_NE(pilotConfigError("pilot: {laser_memory_heard_through: {clear_after: -1}}")
+                .find("pilot.laser_memory_heard_through.clear_after"),
+            std::string::npos);
+  EXPECT_NE(pilotConfigError("pilot: {laser_memory_heard_through: {radius: 0.3}}").find("radius"), std::string::npos);
+  EXPECT_EQ(pilotConfigError("pilot: {laser_memory_heard_through: {min_radius_m: 0.5, max_radius_m: 0.5}}"), "");
+}
+
 // The sector map reaches robot_radius + max_range from the robot's centre: the AGM window must
 // hold all of it, the robot's own radius included, wherever re-centring lets the robot be.
 TEST(PilotConfig, TheAgmWindowMustHoldTheRobotRadiusPlusMaxRange) {
