@@ -233,55 +233,63 @@ TEST(LaserMemory, ARoundClusterTheSoundWentThroughThreeTimesInARowIsGone) {
   EXPECT_EQ(off.points().size(), seen.size());
 }
 
+namespace {
+// The returns of a standing person (0.25 m radius) centred at `c` that a scanner at the origin
+// sees (its visible half, every 10 deg), each flagged as a still person-sized cluster's.
+struct SeenPerson {
+  std::vector<Vec2> returns;
+  std::vector<uint8_t> cluster;
+  explicit SeenPerson(const Vec2& c) {
+    const double toward = std::atan2(-c.y(), -c.x());
+    for (int i = -7; i <= 7; ++i) returns.push_back(c + 0.25 * geom::unitVector(toward + geom::deg2rad(10.0 * i)));
+    cluster.assign(returns.size(), 1);
+  }
+  int size() const { return static_cast<int>(returns.size()); }
+};
+// A memory with the shipped three looks, the person in its newest scan (at time 0).
+LaserMemory memoryThatSaw(const SeenPerson& person) {
+  LaserMemoryHeardThrough h;
+  h.clear_after = 3;
+  LaserMemory m({30.0}, h);
+  m.update(0, Vec2::Zero(), person.returns, {}, View270{}, &person.cluster);
+  return m;
+}
+}  // namespace
+
 TEST(LaserMemory, AClusterOfTheNewestScanCanBeHeardThroughBeforeItIsRemembered) {
   // A person the robot looks away from just after the scan: its returns are the newest scan's
   // (not remembered yet) when the sound goes through; the next scan, not covering them, does not
   // bring them back.
-  std::vector<Vec2> person;
-  const Vec2 c(0.0, 1.5);
-  for (int i = -7; i <= 7; ++i) person.push_back(c + 0.25 * geom::unitVector(-geom::kPi / 2 + geom::deg2rad(10.0 * i)));
-  const std::vector<uint8_t> cluster(person.size(), 1);
-  const auto none = std::vector<SectorMap::MovingPoint>{};
-  LaserMemoryHeardThrough h;
-  h.clear_after = 3;
-  LaserMemory m({30.0}, h);
-  m.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
-  const std::vector<Sounding> through = {soundingAt(centroidOf(person), 3.0)};
+  const SeenPerson person({0.0, 1.5});
+  LaserMemory m = memoryThatSaw(person);
+  const std::vector<Sounding> through = {soundingAt(centroidOf(person.returns), 3.0)};
   EXPECT_EQ(m.heardThrough(10'000, through), 0);
   EXPECT_EQ(m.heardThrough(40'000, through), 0);
-  EXPECT_EQ(m.heardThrough(70'000, through), static_cast<int>(person.size()));
-  m.update(kScanUs, Vec2::Zero(), {}, none, View270{Vec2::Zero(), -geom::kPi / 2});
+  EXPECT_EQ(m.heardThrough(70'000, through), person.size());
+  m.update(kScanUs, Vec2::Zero(), {}, {}, View270{Vec2::Zero(), -geom::kPi / 2});
   EXPECT_TRUE(m.points().empty());
 }
 
 TEST(LaserMemory, SilenceAtTheRangeLimitIsNoAnswer) {
-  // A person 1.5 m away; the rear transducer's range limit (the hypothesis' 1.6 m) lies just
-  // beyond them: silence there neither answers nor went through them (1.6 < 1.5 + 0.25).
-  std::vector<Vec2> person;
-  const Vec2 c(0.0, 1.75);
-  for (int i = -7; i <= 7; ++i) person.push_back(c + 0.25 * geom::unitVector(-geom::kPi / 2 + geom::deg2rad(10.0 * i)));
-  const std::vector<uint8_t> cluster(person.size(), 1);
-  const auto none = std::vector<SectorMap::MovingPoint>{};
-  LaserMemoryHeardThrough h;
-  h.clear_after = 3;
-  LaserMemory m({30.0}, h);
-  m.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
-  const Vec2 pc = centroidOf(person);
+  // A person's returns ~1.55 m away; the transducer's range limit (where the hypothesis stops
+  // listening) 0.1 m beyond them: silence there neither answers nor went through them.
+  const SeenPerson person({0.0, 1.75});
+  const Vec2 pc = centroidOf(person.returns);
   Sounding silent = soundingAt(pc, pc.norm() + 0.1);
   silent.unverifiable = true;
   const std::vector<Sounding> through = {soundingAt(pc, 3.0)};
+  LaserMemory m = memoryThatSaw(person);
   EXPECT_EQ(m.heardThrough(10'000, through), 0);
   EXPECT_EQ(m.heardThrough(40'000, through), 0);
   EXPECT_EQ(m.heardThrough(70'000, {silent}), 0);  // an echo there would have restarted the count
-  EXPECT_EQ(m.heardThrough(100'000, through), static_cast<int>(person.size()));
+  EXPECT_EQ(m.heardThrough(100'000, through), person.size());
   // The same reading as an echo at that range is an answer.
-  LaserMemory n({30.0}, h);
-  n.update(0, Vec2::Zero(), person, none, View270{}, &cluster);
+  LaserMemory n = memoryThatSaw(person);
   silent.unverifiable = false;
   EXPECT_EQ(n.heardThrough(10'000, through), 0);
   EXPECT_EQ(n.heardThrough(40'000, through), 0);
   EXPECT_EQ(n.heardThrough(70'000, {silent}), 0);
   EXPECT_EQ(n.heardThrough(100'000, through), 0);
   EXPECT_EQ(n.heardThrough(130'000, through), 0);
-  EXPECT_EQ(n.heardThrough(160'000, through), static_cast<int>(person.size()));
+  EXPECT_EQ(n.heardThrough(160'000, through), person.size());
 }
