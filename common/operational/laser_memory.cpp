@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_set>
 
 #include <Eigen/LU>
 
 namespace lasonic {
 
-bool LaserMemory::roundCluster(size_t first, size_t end) const {
+std::optional<geom::Vec2> LaserMemory::roundCluster(size_t first, size_t end) const {
   // Centred on the mean for conditioning: minimise sum (u^2 + v^2 + D u + E v + F)^2.
   geom::Vec2 m = geom::Vec2::Zero();
   for (size_t k = first; k < end; ++k) m += last_[k].p;
@@ -22,19 +23,20 @@ bool LaserMemory::roundCluster(size_t first, size_t end) const {
     b -= row * q.squaredNorm();
   }
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(a);
-  if (lu.rank() < 3) return false;  // collinear: no circle
+  if (lu.rank() < 3) return std::nullopt;  // collinear: no circle
   const Eigen::Vector3d x = lu.solve(b);
   const geom::Vec2 centre(-0.5 * x(0), -0.5 * x(1));
   const double r2 = centre.squaredNorm() - x(2);
-  if (!(r2 > 0)) return false;
+  if (!(r2 > 0)) return std::nullopt;
   const double r = std::sqrt(r2);
-  if (!(r >= h_.min_radius && r <= h_.max_radius)) return false;
+  if (!(r >= h_.min_radius && r <= h_.max_radius)) return std::nullopt;
   double ss = 0;
   for (size_t k = first; k < end; ++k) {
     const double e = (last_[k].p - m - centre).norm() - r;
     ss += e * e;
   }
-  return std::sqrt(ss / static_cast<double>(end - first)) <= h_.fit_rms;
+  if (!(std::sqrt(ss / static_cast<double>(end - first)) <= h_.fit_rms)) return std::nullopt;
+  return m;
 }
 
 void LaserMemory::groupClusters(int64_t utime) {
@@ -51,12 +53,9 @@ void LaserMemory::groupClusters(int64_t utime) {
     while (j < last_.size() && last_[j].cluster && (last_[j].p - last_[j - 1].p).squaredNorm() <= gap2) ++j;
     // Round: the returns lie on a circle (least squares, Kasa's algebraic fit) of a person's,
     // a post's or a bin's radius, within fit_rms.
-    if (j - i >= 3 && roundCluster(i, j)) {
-      geom::Vec2 c = geom::Vec2::Zero();
-      for (size_t k = i; k < j; ++k) c += last_[k].p;
-      c /= static_cast<double>(j - i);
+    if (const auto centroid = j - i >= 3 ? roundCluster(i, j) : std::nullopt) {
       const uint32_t id = next_round_++;
-      rounds_.push_back({id, utime, c, 0});
+      rounds_.push_back({id, utime, *centroid, 0});
       for (size_t k = i; k < j; ++k) last_[k].round = id;
     }
     i = j;

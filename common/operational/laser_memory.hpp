@@ -25,6 +25,7 @@
 // remembered person-sized round cluster that the sonar's beams have since gone through, nothing
 // answering there, is gone.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -166,8 +167,8 @@ class LaserMemory {
   // Splits the newest scan's cluster returns into clusters (cluster_gap), gives the round ones an
   // id, and forgets the clusters none of whose returns are left.
   void groupClusters(int64_t utime);
-  // Whether last_[first, end) lie on a circle (LaserMemoryHeardThrough).
-  bool roundCluster(size_t first, size_t end) const;
+  // If last_[first, end) lie on a circle (LaserMemoryHeardThrough): their centroid.
+  std::optional<geom::Vec2> roundCluster(size_t first, size_t end) const;
   std::vector<Round> rounds_;
   uint32_t next_round_ = 1;
   LaserMemoryParams p_;

@@ -693,6 +693,14 @@ TEST_F(PilotFixture, AClockThatJumpsBackRestartsTheStage) {
 // scanner's blind wedge, and the next scan (at second_scan_us, the robot standing since 0.6 s)
 // has no return. Returns the last SECTOR_MAP and the remembered returns counted.
 namespace {
+// The robot at (1, 2) facing +x until 0.5 s, turning to face -y by 0.6 s: its odometry at t.
+odometry_t turningAway(int64_t t) {
+  odometry_t o{};
+  o.utime = t;
+  o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+  return o;
+}
+
 std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_width, bool predict_movers = true,
                                                      int64_t second_scan_us = 1'000'000) {
   Node node{"t", "memq://", Node::Options{false, false}};
@@ -708,10 +716,7 @@ std::pair<sector_map_t, int64_t> mapAfterTurningAway(double memory_s, int half_w
   int64_t next_odometry = 0;
   const auto odometry = [&](int64_t until) {
     for (; next_odometry <= until; next_odometry += 20'000) {
-      const int64_t t = next_odometry;
-      odometry_t o{};
-      o.utime = t;
-      o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+      odometry_t o = turningAway(next_odometry);
       node.publish(channels::ODOMETRY, o);
       drain();
     }
@@ -810,9 +815,7 @@ float behindAfterSilence(int silent_groups, int clear_after) {
   std::vector<sector_map_t> maps;
   node.subscribe<sector_map_t>(channels::SECTOR_MAP, [&maps](const sector_map_t& m) { maps.push_back(m); });
   for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
-    odometry_t o{};
-    o.utime = t;
-    o.pose = {1.0, 2.0, t <= 500'000 ? 0.0 : (t >= 600'000 ? -kPi / 2 : -kPi / 2 * static_cast<double>(t - 500'000) / 1e5)};
+    odometry_t o = turningAway(t);
     node.publish(channels::ODOMETRY, o);
   }
   drainAll(node);
