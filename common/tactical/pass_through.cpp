@@ -8,13 +8,14 @@ namespace lasonic {
 
 PassThroughParams passThroughParams(const Config& c, PassThroughParams p) {
   c.allowOnly({"core", "margin_m", "clear_after", "line_ratio", "line_min_cells", "line_radius_cells", "beyond_limit",
-               "silence", "heard_from_gate", "silence_risk"});
+               "silence", "heard_from_gate", "silence_risk", "line_heard_at_normal"});
   p.core = c.get("core", p.core, Range::between(0, 1));
   p.margin_m = c.get("margin_m", p.margin_m, Range::between(0, 10));
   p.clear_after = c.get("clear_after", p.clear_after, Range::between(1, 1000));
   p.line_ratio = c.get("line_ratio", p.line_ratio, Range::between(0, 1));
   p.line_min_cells = c.get("line_min_cells", p.line_min_cells, Range::between(2, 1000));
   p.line_radius_cells = c.get("line_radius_cells", p.line_radius_cells, Range::between(1, 20));
+  p.line_heard_at_normal = c.get("line_heard_at_normal", p.line_heard_at_normal);
   p.beyond_limit = c.get("beyond_limit", p.beyond_limit);
   p.silence = c.get("silence", p.silence);
   p.heard_from_gate = c.get("heard_from_gate", p.heard_from_gate);
@@ -94,9 +95,13 @@ int PassThrough::apply(const std::vector<Sounding>& group, AccumulativeGridMap& 
       const double d = q.norm();
       if (d < p_.margin_m || d > reach) return;
       if (std::abs(geom::angleDiff(std::atan2(q.y(), q.x()), s.sensor.theta)) > half) return;
-      // A remembered plane answers only when the beam meets it near its normal.
+      // A remembered plane answers only when the beam meets it near its normal (with
+      // line_heard_at_normal: unless it was heard from off its normal, from here).
       geom::Vec2 n;
-      if (rememberedLineNormal(agm, ix, iy, p_, n)) {
+      if (rememberedLineNormal(agm, ix, iy, p_, n) &&
+          (!p_.line_heard_at_normal ||
+           heardAtNormal(agm.originX() + ix, agm.originY() + iy, n, s.beam_width) ||
+           !heardFrom(agm.originX() + ix, agm.originY() + iy, agm.evidencePoint(ix, iy), o, 0.5 * s.beam_width))) {
         const double incidence = std::acos(std::min(1.0, std::abs(n.dot(geom::unitVector(s.sensor.theta)))));
         if (incidence > half) return;
       }
@@ -171,6 +176,13 @@ void PassThrough::noteHit(const geom::Vec2& point, const geom::Vec2& from, const
   e.cycle = agm.cycle();
   e.sum += d / n;
   ++e.hits;
+}
+
+bool PassThrough::heardAtNormal(int64_t gx, int64_t gy, const geom::Vec2& n, double half) const {
+  const auto it = heard_.find({gx, gy});
+  if (it == heard_.end() || it->second.hits < 2 || !(it->second.sum.norm() > 1e-9) || !(n.norm() > 1e-9)) return true;
+  const double cosine = std::abs(it->second.sum.normalized().dot(n.normalized()));
+  return std::acos(std::min(1.0, cosine)) <= half;
 }
 
 int silentLooksNeeded(int hits, int silent, double risk) {

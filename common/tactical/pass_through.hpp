@@ -13,7 +13,11 @@
 // is near its peak) and at least `margin_m` nearer than the reading should have answered unless:
 //  - it is part of a remembered line (a plane: glass, a box side) that the beam met obliquely: a
 //    plane answers only from the foot of the perpendicular, so met at an angle beyond the core it
-//    is silent by physics (the glass pane passed obliquely that the memory is there for);
+//    is silent by physics (the glass pane passed obliquely that the memory is there for).
+//    Optionally (line_heard_at_normal, off: measured, README "Current state", *Round lines*) a
+//    line whose cell was heard from off its normal is no plane but a round reflector's front that
+//    happens to line up (a person heard from one side), passed like any cell by a beam from where
+//    it was heard;
 //  - the reading is silent (no echo, or none within the hypothesis' range limit) and comes from
 //    elsewhere than where the cell answered before: a plane met obliquely is silent too, and a
 //    pane heard sparsely is no line to the test above (heard_from_gate);
@@ -40,6 +44,13 @@ struct PassThroughParams {
   double line_ratio = 0.3;   // a neighbourhood is a line when its spread across / along is below this
   int line_min_cells = 3;    // ... and it holds at least this many remembered cells
   int line_radius_cells = 2; // the neighbourhood: (2r+1) x (2r+1) cells
+  // true: a line is no plane where its cell was heard from farther than a beam width off the
+  // line's normal (a plane answers transducers within the half beam of its normal, and an echo
+  // lands up to a half beam along its arc) by two echoes or more, for a beam from where it was
+  // heard (within the half beam of that direction). Where a cell was heard from is kept only with
+  // heard_from_gate and unverifiable readings; a cell without it is a plane. false: every line is
+  // a plane (shipped).
+  bool line_heard_at_normal = false;
   // Unverifiable readings (nothing answered within the hypothesis' range limit) as sound that
   // passed everything nearer than the hypothesis: an echo from beyond the limit ...
   bool beyond_limit = true;
@@ -115,6 +126,10 @@ class PassThrough {
     int silent = 0;        // silent looks that passed the heard-from gate
   };
   bool heardFrom(int64_t gx, int64_t gy, const geom::Vec2& cell, const geom::Vec2& sensor, double half) const;
+  // Whether the cell was heard from within `half` of the line normal `n` (either side), by its
+  // hits' mean direction; true when that is not known or rests on fewer than two hits (one may be
+  // a rough pane's scatter or crosstalk).
+  bool heardAtNormal(int64_t gx, int64_t gy, const geom::Vec2& n, double half) const;
   std::map<std::pair<int64_t, int64_t>, Passes> passes_;  // by global cell
   std::map<std::pair<int64_t, int64_t>, Heard> heard_;    // by global cell
   size_t passes_prune_at_ = 4096, heard_prune_at_ = 4096;  // sizes above which forgotten cells are swept

@@ -130,6 +130,75 @@ TEST(PassThrough, ARememberedPaneMetObliquelyStays) {
   EXPECT_EQ(gAt(agm, {1.55, 0.05}), 0);
 }
 
+// A line of remembered cells is a plane only if it was heard from near its normal (within a beam
+// width: a plane answers transducers within the half beam of it, and an echo lands up to a half
+// beam along its arc). A person's front heard from one side can line up three cells; heard from
+// 40 deg off that line's normal by two echoes or more, it is a round reflector, and a beam from
+// where it answered before passes it. From elsewhere, heard within a beam width of its normal,
+// or heard there once (a rough pane's scatter), the line stays. (Off in the shipped config:
+// a pane's end answers from off its normal too; README "Current state", *Round lines*.)
+TEST(PassThrough, ALineHeardFromOffItsNormalIsNoPlaneWhereItWasHeardFrom) {
+  EXPECT_FALSE(on().line_heard_at_normal);  // shipped: every line a plane
+  PassThroughParams p = on();
+  p.line_heard_at_normal = true;
+  const Vec2 mid(1.55, 0.05);
+  // Cells along x = 1.55 (a line whose normal is the x axis), every hit heard from `from`.
+  const auto heardFrom = [&](PassThrough& pt, const Vec2& from, int times = 4) {
+    AccumulativeGridMap agm(smallAgm());
+    agm.centreOn({0, 0});
+    for (int i = 0; i < times; ++i)
+      for (double y = -0.25; y <= 0.26; y += 0.1) {
+        pt.noteHit({1.55, y}, from, agm);
+        agm.update({{1.55, y}});
+      }
+    return agm;
+  };
+  const auto lookFrom = [&](double deg) {
+    const Vec2 at = mid - 1.2 * geom::unitVector(geom::deg2rad(deg));
+    return std::vector<Sounding>{{Pose2{at.x(), at.y(), geom::deg2rad(deg)}, 2.5, kBeam}};
+  };
+  // Heard from 40 deg off its normal, looked at from there: passed twice, gone.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heardFrom(pt, mid - 1.2 * geom::unitVector(geom::deg2rad(40)));
+    int ix = 0, iy = 0;
+    Vec2 n;
+    ASSERT_TRUE(agm.cellAt(mid, ix, iy));
+    ASSERT_TRUE(rememberedLineNormal(agm, ix, iy, p, n));  // it is a line
+    EXPECT_EQ(pt.apply(lookFrom(40), agm), 0);
+    EXPECT_GT(pt.apply(lookFrom(40), agm), 0);
+    EXPECT_EQ(gAt(agm, mid), 0);
+  }
+  // The same from the other side of the normal (where it was never heard): a plane's silence.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heardFrom(pt, mid - 1.2 * geom::unitVector(geom::deg2rad(40)));
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(lookFrom(-40), agm), 0);
+    EXPECT_EQ(gAt(agm, mid), 4);
+  }
+  // Heard from 25 deg off its normal (within a beam width): a plane, met at 25 deg, stays.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heardFrom(pt, mid - 1.2 * geom::unitVector(geom::deg2rad(25)));
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(lookFrom(25), agm), 0);
+    EXPECT_EQ(gAt(agm, mid), 4);
+  }
+  // Heard from 40 deg off its normal once: the line stays a plane.
+  {
+    PassThrough pt(p);
+    AccumulativeGridMap agm = heardFrom(pt, mid - 1.2 * geom::unitVector(geom::deg2rad(40)), 1);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(lookFrom(40), agm), 0);
+    EXPECT_EQ(gAt(agm, mid), 1);
+  }
+  // Every line a plane (line_heard_at_normal: false, shipped): the first case stays too.
+  {
+    PassThrough pt(on());
+    AccumulativeGridMap agm = heardFrom(pt, mid - 1.2 * geom::unitVector(geom::deg2rad(40)));
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pt.apply(lookFrom(40), agm), 0);
+    EXPECT_EQ(gAt(agm, mid), 4);
+  }
+}
+
 // An unverifiable reading (nothing answered within the range limit) passes a cell only from where
 // the cell was heard from (within the beam's half width, 15 deg): silence from elsewhere is what a
 // plane met obliquely gives.
@@ -267,6 +336,8 @@ TEST(PassThrough, ConfigNamesTheKey) {
   EXPECT_FALSE(passThroughParams(Config::fromString("heard_from_gate: false")).heard_from_gate);
   EXPECT_THROW(passThroughParams(Config::fromString("silence_risk: 1.5")), ConfigError);
   EXPECT_DOUBLE_EQ(passThroughParams(Config::fromString("silence_risk: 0.2")).silence_risk, 0.2);
+  EXPECT_TRUE(passThroughParams(Config::fromString("line_heard_at_normal: true")).line_heard_at_normal);
+  EXPECT_THROW(passThroughParams(Config::fromString("line_heard_at_normal: 2")), ConfigError);
   const PassThroughParams p = passThroughParams(Config::fromString("core: 0.4\nclear_after: 3"));
   EXPECT_DOUBLE_EQ(p.core, 0.4);
   EXPECT_EQ(p.clear_after, 3);
