@@ -38,12 +38,13 @@ ComplementConfig complementConfig(const Config& c) {
   RadarMapConfig& r = cfg.radar_map;
 
   const Config pc = c.section("poles");
-  pc.allowOnly({"min_points", "match", "baseline", "memory_s"});
+  pc.allowOnly({"min_points", "match", "baseline", "memory_s", "keep_confirmed"});
   PoleConfig& po = cfg.poles;
   po.min_points = pc.get("min_points", po.min_points, Range::between(0, 1e6));
   po.match = pc.get("match", po.match, Range::nonNegative());
   po.baseline = pc.get("baseline", po.baseline, Range::nonNegative());
   po.memory_s = pc.get("memory_s", po.memory_s, Range::duration());
+  po.keep_confirmed = pc.get("keep_confirmed", po.keep_confirmed);
   r.pole_min_points = po.min_points;
   return cfg;
 }

@@ -10,9 +10,13 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
                                             const std::vector<std::vector<geom::Vec2>>& candidates) {
   std::vector<geom::Vec2> poles;
   if (cfg_.min_points <= 0) return poles;
-  if (!history_.empty() && utime < history_.back().utime) history_.clear();
+  if (!history_.empty() && utime < history_.back().utime) reset();
   const auto memory_us = secondsToUs(cfg_.memory_s);
   while (!history_.empty() && utime - history_.front().utime > memory_us) history_.pop_front();
+  found_.erase(std::remove_if(found_.begin(), found_.end(),
+                              [&](const Found& f) { return utime - f.utime > memory_us; }),
+               found_.end());
+  std::vector<Found> found_now;
   const double match2 = cfg_.match * cfg_.match, baseline2 = cfg_.baseline * cfg_.baseline;
   Seen now{utime, robot, {}};
   // (Each scan's centroids are kept sorted by x, so a match is looked up in the 2 * match wide
@@ -43,7 +47,32 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
         }
       if (pole) break;
     }
+    if (pole && cfg_.keep_confirmed) found_now.push_back({c, utime});
+    // Found before and still there (within match of where it was found, not of where it was last
+    // seen: a leg creeping a little per scan does not drag the pole along): a pole, whatever the
+    // robot did since.
+    if (!pole && cfg_.keep_confirmed) {
+      const auto from = std::lower_bound(found_.begin(), found_.end(), c.x() - cfg_.match,
+                                         [](const Found& e, double x) { return e.centroid.x() < x; });
+      for (auto e = from; e != found_.end() && e->centroid.x() <= c.x() + cfg_.match; ++e)
+        if ((e->centroid - c).squaredNorm() <= match2) {
+          pole = true;
+          found_now.push_back({e->centroid, utime});
+          break;
+        }
+    }
     if (pole) poles.insert(poles.end(), pts.begin(), pts.end());
+  }
+  // The poles found now, and those found before that this scan did not see (for memory_s).
+  if (cfg_.keep_confirmed) {
+    for (const Found& f : found_) {
+      bool seen = false;
+      for (const Found& n : found_now) seen = seen || (n.centroid - f.centroid).squaredNorm() <= match2;
+      if (!seen) found_now.push_back(f);
+    }
+    std::sort(found_now.begin(), found_now.end(),
+              [](const Found& a, const Found& b) { return a.centroid.x() < b.centroid.x(); });
+    found_ = std::move(found_now);
   }
   std::sort(now.centroids.begin(), now.centroids.end(),
             [](const geom::Vec2& a, const geom::Vec2& b) { return a.x() < b.x(); });

@@ -15,7 +15,10 @@
 // A candidate is a pole when a candidate of an earlier scan had its centroid within `match` of
 // this one's, the robot having moved at least `baseline` across the line of sight to it since:
 // a glint has then moved along the pane with the robot. Motion along the line of sight (driving
-// straight at a pane) moves neither, so it decides nothing.
+// straight at a pane) moves neither, so it decides nothing. A pole once found stays one while each
+// scan sees a candidate within `match` of it (keep_confirmed): a robot that stops, or turns on the
+// spot, moves across no line of sight, yet the pipe it found is still there (a glint was never
+// found: it moved along the pane while the robot moved).
 #include <cstdint>
 #include <deque>
 #include <vector>
@@ -34,6 +37,9 @@ struct PoleConfig {
   double baseline = 0.10;  // [m] the robot's motion across the line of sight between the two scans:
                            // a glint moves as far along the pane, several times `match`
   double memory_s = 2.0;   // [s] earlier scans kept: at a cautious 0.1 m/s the robot has moved 0.2 m
+  // A pole found stays one while scans see it there (none for memory_s: forgotten); false: every
+  // scan needs its own baseline within memory_s.
+  bool keep_confirmed = true;
 };
 
 class PoleTracker {
@@ -44,7 +50,10 @@ class PoleTracker {
   // one seen (a clock that went back) starts afresh.
   std::vector<geom::Vec2> update(int64_t utime, const geom::Vec2& robot,
                                  const std::vector<std::vector<geom::Vec2>>& candidates);
-  void reset() { history_.clear(); }
+  void reset() {
+    history_.clear();
+    found_.clear();
+  }
 
  private:
   struct Seen {
@@ -52,8 +61,13 @@ class PoleTracker {
     geom::Vec2 robot = geom::Vec2::Zero();
     std::vector<geom::Vec2> centroids;
   };
+  struct Found {
+    geom::Vec2 centroid = geom::Vec2::Zero();
+    int64_t utime = 0;  // last seen
+  };
   PoleConfig cfg_;
   std::deque<Seen> history_;
+  std::vector<Found> found_;  // poles found, by centroid x
 };
 
 }  // namespace lasonic::complement

@@ -61,6 +61,43 @@ TEST(PoleTracker, NeedsTheBaseline) {
   EXPECT_EQ(t.update(400000, {0.11, 0}, one({0, 1})).size(), 1u);
 }
 
+// A pole found while the robot moved stays one while the robot stands (or turns on the spot: no
+// motion across any line of sight), as long as each scan sees it where it was found; not with
+// keep_confirmed off (every scan needs its own baseline within memory_s).
+TEST(PoleTracker, APoleFoundStaysOneWhileTheRobotStands) {
+  for (const bool keep : {true, false}) {
+    SCOPED_TRACE(keep ? "keep_confirmed" : "off");
+    PoleConfig c = on();
+    c.keep_confirmed = keep;
+    PoleTracker t{c};
+    t.update(0, {0, 0}, one({0, 1}));
+    ASSERT_EQ(t.update(400000, {0.12, 0}, one({0, 1})).size(), 1u);  // found: the robot moved 0.12 m
+    int poles = 0;
+    for (int i = 3; i <= 50; ++i) poles += static_cast<int>(t.update(200000 * i, {0.12, 0}, one({0.005, 1.0})).size());  // stands 10 s
+    EXPECT_EQ(poles, keep ? 48 : 8);  // off: only while the scan of 0 s is within memory_s (2.0 s)
+  }
+}
+
+TEST(PoleTracker, AFoundPoleIsLeftWhereItWasFound) {
+  PoleTracker t{on()};
+  ASSERT_TRUE(on().keep_confirmed);  // shipped
+  t.update(0, {0, 0}, one({0, 1}));
+  ASSERT_EQ(t.update(400000, {0.12, 0}, one({0, 1})).size(), 1u);
+  // Seen where it was found while the robot stands, after every scan with a baseline has gone:
+  // still the pole; 2 cm off, still (within match); 4 cm off, not where it was found (a leg
+  // creeping away does not drag the pole along).
+  for (int i = 3; i <= 13; ++i) EXPECT_EQ(t.update(200000 * i, {0.12, 0}, one({0, 1})).size(), 1u) << i;
+  EXPECT_EQ(t.update(2800000, {0.12, 0}, one({0.02, 1})).size(), 1u);
+  EXPECT_TRUE(t.update(3000000, {0.12, 0}, one({0.04, 1})).empty());
+  // Unseen for longer than memory_s, it is forgotten: seen again from the same place, not a pole.
+  PoleTracker u{on()};
+  u.update(0, {0, 0}, one({0, 1}));
+  ASSERT_EQ(u.update(400000, {0.12, 0}, one({0, 1})).size(), 1u);
+  EXPECT_TRUE(u.update(1400000, {0.12, 0}, {}).empty());
+  EXPECT_TRUE(u.update(2500000, {0.12, 0}, one({0, 1})).empty());
+  EXPECT_TRUE(u.update(2700000, {0.12, 0}, one({0, 1})).empty());
+}
+
 TEST(PoleTracker, ForgetsAfterItsMemoryAndOnAClockGoingBack) {
   PoleTracker t{on()};
   t.update(0, {0, 0}, one({0.5, 1}));
