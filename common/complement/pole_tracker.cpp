@@ -63,15 +63,22 @@ std::vector<geom::Vec2> PoleTracker::update(int64_t utime, const geom::Vec2& rob
     }
     if (pole) poles.insert(poles.end(), pts.begin(), pts.end());
   }
-  // The poles found now, and those found before that this scan did not see (for memory_s).
+  // The poles found now, and those found before that this scan did not see (kept for memory_s);
+  // looked up in the band around each one's x, as above.
   if (cfg_.keep_confirmed) {
+    const auto by_x = [](const Found& a, const Found& b) { return a.centroid.x() < b.centroid.x(); };
+    std::sort(found_now.begin(), found_now.end(), by_x);
+    const size_t now_n = found_now.size();
     for (const Found& f : found_) {
+      const auto first = found_now.begin(), last = found_now.begin() + static_cast<std::ptrdiff_t>(now_n);
+      auto e = std::lower_bound(first, last, f.centroid.x() - cfg_.match,
+                                [](const Found& a, double x) { return a.centroid.x() < x; });
       bool seen = false;
-      for (const Found& n : found_now) seen = seen || (n.centroid - f.centroid).squaredNorm() <= match2;
+      for (; !seen && e != last && e->centroid.x() <= f.centroid.x() + cfg_.match; ++e)
+        seen = (e->centroid - f.centroid).squaredNorm() <= match2;
       if (!seen) found_now.push_back(f);
     }
-    std::sort(found_now.begin(), found_now.end(),
-              [](const Found& a, const Found& b) { return a.centroid.x() < b.centroid.x(); });
+    std::sort(found_now.begin(), found_now.end(), by_x);
     found_ = std::move(found_now);
   }
   std::sort(now.centroids.begin(), now.centroids.end(),

@@ -15,10 +15,11 @@
 // A candidate is a pole when a candidate of an earlier scan had its centroid within `match` of
 // this one's, the robot having moved at least `baseline` across the line of sight to it since:
 // a glint has then moved along the pane with the robot. Motion along the line of sight (driving
-// straight at a pane) moves neither, so it decides nothing. A pole once found stays one while each
-// scan sees a candidate within `match` of it (keep_confirmed): a robot that stops, or turns on the
-// spot, moves across no line of sight, yet the pipe it found is still there (a glint was never
-// found: it moved along the pane while the robot moved).
+// straight at a pane) moves neither, so it decides nothing. A pole once found stays one while the
+// scans see a candidate within `match` of where it was found (keep_confirmed; unseen for
+// memory_s, it is forgotten): a robot that stops, or turns on the spot, moves across no line of
+// sight, yet the pipe it found is still there (a glint was never found: it moved along the pane
+// while the robot moved).
 #include <cstdint>
 #include <deque>
 #include <vector>
