@@ -477,13 +477,18 @@ void writeSectorSample(std::ostream& out, const RunLog& log, const sector_map_t&
   if (k < sm.remembered_distance.size()) csvDistance(out, sm.remembered_distance[k]);
   out << ',' << (s.material >= 0 && static_cast<size_t>(s.material) < materials.size() ? materials[static_cast<size_t>(s.material)] : "")
       << ',' << (in_range && s.observable ? cueName(s.cue) : in_range ? "unobservable" : "")
-      << ',' << (sectorMissed(reported, s, o) ? 1 : 0) << ',' << (sectorFalseAlarm(reported, s, o) ? 1 : 0) << '\n';
+      << ',' << (sectorMissed(reported, s, o) ? 1 : 0) << ',' << (sectorFalseAlarm(reported, s, o) ? 1 : 0) << ',';
+  if (std::isfinite(s.x) && std::isfinite(s.y)) out << s.x << ',' << s.y;
+  else out << ',';
+  out << ',';
+  if (s.obstacle >= 0) out << s.obstacle;
+  out << '\n';
 }
 }  // namespace
 
 void writeSectorSampleHeader(std::ostream& out) {
   out << "t_s,sector,bearing_deg,truth_m,reported_m,source,laser_m,sonar_m,remembered_m,material,cue,missed,"
-         "false_alarm\n";
+         "false_alarm,truth_x,truth_y,obstacle\n";
 }
 
 void writeTacticalSampleHeader(std::ostream& out) {

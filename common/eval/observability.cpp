@@ -185,6 +185,10 @@ SectorTruthTable sectorTruthTable(const RunLog& log, const sim::Scenario& sc, co
         auto [it, fresh] = material_index.emplace(mat.name, static_cast<int16_t>(table.materials.size()));
         if (fresh) table.materials.push_back(mat.name);
         s.material = it->second;
+        s.x = static_cast<float>(h.point.x());
+        s.y = static_cast<float>(h.point.y());
+        if (obstacle >= 0 && static_cast<size_t>(obstacle) < sc.obstacles.size())
+          s.obstacle = static_cast<int16_t>(obstacle);
         // The laser saw the point (the newest scan returned from its obstacle near it; without
         // LASER_TRUTH: its material reflects the laser), or an echo located it.
         const bool laser = seen.available()

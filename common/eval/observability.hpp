@@ -95,6 +95,9 @@ struct SectorSample {
   bool observable = false;  // meaningful when truth <= sector_range
   Cue cue = Cue::None;      // set when observable
   int16_t material = -1;    // index into SectorTruthTable::materials; -1: no truth
+  int16_t obstacle = -1;    // the scenario's obstacle (as the scores count it); -1: none or a mover
+  float x = std::numeric_limits<float>::quiet_NaN();  // [m] the truth point, true world frame
+  float y = std::numeric_limits<float>::quiet_NaN();
 };
 
 // The truth of every scored SECTOR_MAP, computed once and shared by the pilot's scores and the

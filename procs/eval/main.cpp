@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
   std::string samples_path;
   app.add_option("--samples", samples_path,
                  "also write every scored sector sample of SECTOR_MAP as CSV to FILE (time, sector, truth, "
-                 "reported value and source, each source's value, material, observability cue, missed, false alarm)");
+                 "reported value and source, each source's value, material, observability cue, missed, false alarm, "
+                 "the truth's point and obstacle)");
   std::string tactical_samples_path;
   app.add_option("--tactical-samples", tactical_samples_path,
                  "also write every sample of the tactical breakdown as CSV to FILE (time, true position, "

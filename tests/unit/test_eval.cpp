@@ -176,15 +176,25 @@ TEST(EvalSectorMap, SamplesCsvRowPerSectorAgreeingWithTheRates) {
   std::istringstream in(csv.str());
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line.rfind("t_s,sector,bearing_deg,truth_m,reported_m,source,", 0), 0u);
+  EXPECT_EQ(line, "t_s,sector,bearing_deg,truth_m,reported_m,source,laser_m,sonar_m,remembered_m,material,cue,missed,"
+                  "false_alarm,truth_x,truth_y,obstacle");
+  const auto fields = [](const std::string& row) {
+    std::vector<std::string> f;
+    std::stringstream ss(row);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    if (!row.empty() && row.back() == ',') f.emplace_back();
+    return f;
+  };
   int rows = 0, missed = 0, fa = 0;
   std::string row0, row24;
   while (std::getline(in, line)) {
     if (rows == 0) row0 = line;
     if (rows == 24) row24 = line;
     ++rows;
-    missed += line.size() >= 4 && line.compare(line.size() - 4, 4, ",1,0") == 0;
-    fa += line.size() >= 4 && line.compare(line.size() - 4, 4, ",0,1") == 0;
+    const auto f = fields(line);
+    ASSERT_EQ(f.size(), 16u) << line;
+    missed += f[11] == "1";
+    fa += f[12] == "1";
   }
   EXPECT_EQ(rows, 48);
   int within = 0;
@@ -197,6 +207,14 @@ TEST(EvalSectorMap, SamplesCsvRowPerSectorAgreeingWithTheRates) {
   EXPECT_EQ(row24.rfind("0.5,24,3.75,", 0), 0u) << row24;
   EXPECT_NE(row24.find(",,none,,,,mesh,"), std::string::npos) << row24;
   EXPECT_NE(row0.find(",0.5,sonar_copied,"), std::string::npos) << row0;
+  // Where the truth is, in the scenario's frame, and whose: the mesh circle (obstacle 1) 0.9 m
+  // ahead within sector 24's 7.5 deg; behind, the wall x = 0 (obstacle 0).
+  const auto f24 = fields(row24), f0 = fields(row0);
+  EXPECT_NEAR(std::stod(f24[13]), 2.9, 0.01) << row24;
+  EXPECT_NEAR(std::stod(f24[14]), 2.0, 0.07) << row24;
+  EXPECT_EQ(f24[15], "1") << row24;
+  EXPECT_NEAR(std::stod(f0[13]), 0.0, 1e-6) << row0;
+  EXPECT_EQ(f0[15], "0") << row0;
 }
 
 // Three readings of one firing: a glass echo called complementary, a specular one called false,
