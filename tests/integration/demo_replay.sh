@@ -11,7 +11,10 @@
 #     LCM instance sends itself on start-up, excepted: the demo does not record it, the second
 #     logger may), and lasonic-eval must score both logs alike;
 #  3. lasonic-replay on the demo's log scores as the live run did: the same number of maps (to
-#     within 1 %: on a loaded machine one map more or fewer, measured 170 / 169), and
+#     within 3 %, as in 4.: the pilot also publishes a map on ODOMETRY when no sensor message made
+#     one for 0.1 s of message time, so on a loaded machine every sensor message that reaches the
+#     live pilot late adds a map the log's order does not; measured 170 / 169, and 175 / 173 in a
+#     sanitizer CI run on two busy cores), and
 #     missed and false-alarm rates within 0.005 (not always bit-identical: the live pilot may get
 #     an ODOMETRY message after a sensor message the logger recorded after it, and then
 #     extrapolates the pose where the replay interpolates; README "Recording and replaying"; a
@@ -152,7 +155,7 @@ PY
       echo "$3"
     fi
   }
-  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" "$(rate_tolerance 3 "$tmp/live.out/lasonic-pilot.txt" 0.005)" 0.01)
+  cmp=$(compare "$tmp/live.json" "$tmp/offline.json" "$(rate_tolerance 3 "$tmp/live.out/lasonic-pilot.txt" 0.005)" 0.03)
   echo "$test_name: (3) live / lasonic-replay $cmp"
   if ! diff -q "$tmp/live.json" "$tmp/offline.json" >/dev/null; then echo "$test_name: (3) (not bit-identical)"; fi
   [[ $cmp == ok* ]] || die "lasonic-replay on the live log scores differently from the live run"
