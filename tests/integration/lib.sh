@@ -59,6 +59,19 @@ stop_logger() {
   wait_exit "$logger" 10 || rc=$?
   ((rc != 124)) || die "lcm-logger still running 10 s after SIGINT"
 }
+# start_recorder NAME LOG: lasonic-fault-check record (a queue of 100 000, where lcm-logger's 30
+# drop the rest of a burst on a loaded machine) on $url, every channel to $tmp/LOG, started as
+# NAME (start, wait_ready NAME); its pid in recorder. stop_recorder: SIGINT, wait.
+start_recorder() {
+  start "$1" "$bin/lasonic-fault-check" record "$url" "$tmp/$2" '.*'
+  recorder=$!
+}
+stop_recorder() {
+  kill -INT "$recorder"
+  local rc=0
+  wait_exit "$recorder" 10 || rc=$?
+  ((rc != 124)) || die "the recorder still running 10 s after SIGINT"
+}
 
 # play_log SECONDS LOG [ERR [ARGS...]]: lcm-logplayer plays LOG on $url in real time (ARGS
 # before the log, e.g. -e REGEX), output to $tmp/ERR (default player.err); dies when it fails

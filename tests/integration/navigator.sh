@@ -5,8 +5,8 @@
 #  1. --help works; a bad config exits 2 naming the key; the shipped config starts cleanly;
 #  2. lasonic-complement, lasonic-pilot and lasonic-navigator run live while lcm-logplayer plays a
 #     5 s lasonic-sim log of fig7_lab into them and a recorder takes every channel: AGM_TACTICAL,
-#     AGM_LINES and CURRENT_SENSOR_MAP come at the navigator's 2 Hz (of message time, so also of wall time
-#     here), independent of the pilot's SECTOR_MAP (one per firing group and scan); the
+#     AGM_LINES and CURRENT_SENSOR_MAP come at the navigator's 2 Hz (of message time, so also of
+#     wall time here), independent of the pilot's SECTOR_MAP (one per firing group and scan); the
 #     navigator's PROCESS_STATUS shows its AGM cycles and no errors; it exits 0 on SIGTERM;
 #  3. with the navigator killed (SIGKILL), the same log played again into a fresh complement and
 #     pilot: the pilot's SECTOR_MAP count is unchanged (nothing but LCM connects the two levels),
@@ -33,20 +33,10 @@ timeout --preserve-status -s TERM 1 "$bin/lasonic-navigator" --config "$config" 
   --lcm-url "$url" 2>"$tmp/shipped.err" >&2 || rc=$?
 [[ $rc -eq 0 ]] || die "the shipped config: exit status $rc, expected 0 after SIGTERM"
 
-# Steps 2 and 3 count messages, so they record with lasonic-fault-check record (a queue of
+# Steps 2 and 3 count messages, so they record with start_recorder (lib.sh: a queue of
 # 100 000), not lcm-logger, which queues 30 and drops the rest of a burst on a loaded machine
 # (README "Recording and replaying"): the counts would test the logger's queue.
 [[ -x $bin/lasonic-fault-check ]] || die "$bin/lasonic-fault-check was not built"
-start_recorder() {  # start_recorder NAME LOG: every channel to $tmp/LOG; $recorder is its pid
-  start "$1" "$bin/lasonic-fault-check" record "$url" "$tmp/$2" '.*'
-  recorder=$!
-}
-stop_recorder() {
-  kill -INT "$recorder"
-  local rc=0
-  wait_exit "$recorder" 10 || rc=$?
-  ((rc != 124)) || die "the recorder still running 10 s after SIGINT"
-}
 
 # 2. Live: complement, pilot, navigator; a 5 s log played in.
 "$bin/lasonic-sim" --scenario "$scenario" --config "$config" --duration 5 --out "$tmp/raw.lcmlog" >/dev/null ||
