@@ -14,7 +14,7 @@
 //  - it is part of a remembered line (a plane: glass, a box side) that the beam met obliquely: a
 //    plane answers only from the foot of the perpendicular, so met at an angle beyond the core it
 //    is silent by physics (the glass pane passed obliquely that the memory is there for).
-//    Optionally (line_heard_at_normal, off: measured, README "Current state", *Round lines*) a
+//    Optionally (line_heard_at_normal, off: measured, tests/RESULTS.md "Round lines") a
 //    line whose cell was heard from off its normal is no plane but a round reflector's front that
 //    happens to line up (a person heard from one side), passed like any cell by a beam from where
 //    it was heard;

@@ -136,7 +136,7 @@ TEST(PassThrough, ARememberedPaneMetObliquelyStays) {
 // 40 deg off that line's normal by two echoes or more, it is a round reflector, and a beam from
 // where it answered before passes it. From elsewhere, heard within a beam width of its normal,
 // or heard there once (a rough pane's scatter), the line stays. (Off in the shipped config:
-// a pane's end answers from off its normal too; README "Current state", *Round lines*.)
+// a pane's end answers from off its normal too; tests/RESULTS.md "Round lines".)
 TEST(PassThrough, ALineHeardFromOffItsNormalIsNoPlaneWhereItWasHeardFrom) {
   EXPECT_FALSE(on().line_heard_at_normal);  // shipped: every line a plane
   PassThroughParams p = on();
