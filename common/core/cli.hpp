@@ -1,11 +1,14 @@
 #pragma once
 // One rule for every executable's command line (README "Processes: start-up, exit codes,
-// status"): --help prints the help and exits 0; any other command-line error (an unknown
+// status"): --help prints the help and exits 0, --version the build (core/version.hpp) and exits
+// 0; any other command-line error (an unknown
 // option, a missing required one, a value out of range, a missing input file) prints CLI11's
 // reason on one line after the tool's name and exits 2, like a bad configuration. CLI11's own codes (105, 106, 109, ...) would
 // tell a script nothing the table does not.
 //   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 #include <CLI/CLI.hpp>
+
+#include "core/version.hpp"
 
 #include <cmath>
 #include <iostream>
@@ -37,10 +40,12 @@ inline CLI::Validator FiniteNumberIn(double lo, double hi) {
 }
 
 inline std::optional<int> parseCommandLine(CLI::App& app, int argc, const char* const* argv) {
+  app.set_version_flag("--version", std::string(versionString()),
+                       "Print the build (version, git revision, build type) and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help: printed
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help or --version: printed
     // One line naming the tool, as every start-up error (a log or a launcher shows it as it is).
     std::string name = argc > 0 && argv[0] ? argv[0] : "lasonic";
     if (const auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # install.sh BUILD_DIR: `cmake --install` into a temporary prefix gives what README "Installing"
-# says: every process in PREFIX/bin answers --help and no test helper is there; the installed
-# deploy/ tree runs the offline pipeline (lasonic-sim -> lasonic-replay -> lasonic-eval) with
-# output bit-identical to the build tree's, and its host profiles pass `lasonic-launch --check`;
-# a separate CMake project finds the package (find_package(lasonic)), builds against the
+# says: every process in PREFIX/bin answers --help and --version and no test helper is there; the
+# installed deploy/ tree runs the offline pipeline (lasonic-sim -> lasonic-replay -> lasonic-eval)
+# with output bit-identical to the build tree's, and its host profiles pass `lasonic-launch
+# --check`; a separate CMake project finds the package (find_package(lasonic)), builds against the
 # installed message types and channel names, and round-trips a sector_map_t. No network.
 set -euo pipefail
 build=$(cd "${1:?usage: install.sh BUILD_DIR}" && pwd)
@@ -22,6 +22,8 @@ for p in lasonic-complement lasonic-pilot lasonic-navigator lasonic-sim lasonic-
 done
 for p in "$prefix"/bin/*; do
   "$p" --help >/dev/null 2>&1 || fail "installed $(basename "$p") --help failed"
+  "$p" --version 2>&1 | grep -Eq '^lasonic [0-9]+\.[0-9]+\.[0-9]+ \((git [0-9a-f]|unknown)' ||
+    fail "installed $(basename "$p") --version: $("$p" --version 2>&1 | head -1)"
 done
 for p in lasonic-bad-messages lasonic-fuzz lasonic-log-stats lasonic-latency; do
   [[ ! -e $prefix/bin/$p ]] || fail "test helper $p installed"

@@ -151,6 +151,21 @@ TEST(CommandLine, HelpIsZeroAnyOtherErrorTwo) {
   EXPECT_EQ(parse({"--in", "x", "--n", "99"}), std::optional<int>(2));  // out of range
 }
 
+// --version prints the build and exits 0 before any requirement is checked (a tool with a
+// required input answers it too), and names the project's version.
+TEST(CommandLine, VersionIsZeroAndNamesTheBuild) {
+  CLI::App app{"test"};
+  std::string in;
+  app.add_option("--in", in, "input")->required();
+  std::vector<const char*> args = {"tool", "--version"};
+  testing::internal::CaptureStdout();
+  const auto rc = lasonic::parseCommandLine(app, static_cast<int>(args.size()), args.data());
+  const std::string out = testing::internal::GetCapturedStdout();
+  EXPECT_EQ(rc, std::optional<int>(0));
+  EXPECT_EQ(out, std::string(lasonic::versionString()) + "\n");
+  EXPECT_EQ(out.rfind("lasonic " LASONIC_VERSION " (", 0), 0u) << out;
+}
+
 // CLI::Range and CLI::NonNegativeNumber let "nan" through; lasonic::FiniteNumberIn does not.
 TEST(CommandLine, FiniteNumberInRejectsNanInfAndOutOfRange) {
   const auto parse = [](const char* value) {
