@@ -18,11 +18,12 @@ printf 'sonar:\n  ring: {count: 24, beams: 3}\n' >"$tmp/bad.yaml"
 expect_bad_config 'sonar.ring.beams: unknown key' sonar.ring.beams \
   "$bin/lasonic-sonar-driver" --config "$tmp/bad.yaml" --scenario "$scenario"
 
-# 2. A live run.
-start_logger run.lcmlog
+# 2. A live run, recorded by start_recorder (lib.sh: a queue of 100 000 messages): SONAR_TRUTH
+# must count exactly as SONAR_RING, which a logger dropping part of a burst would break.
+start_recorder recorder run.lcmlog
 start driver "$bin/lasonic-sonar-driver" --config "$config" --scenario "$scenario" --lcm-url "$url"
 driver=$!
-wait_ready driver
+wait_ready driver recorder
 
 "$bin/lasonic-sonar-check" garbage "$url" SIM_STATE 5
 "$bin/lasonic-sim-world" --scenario "$scenario" --duration 3 --lcm-url "$url" 2>"$tmp/world.err" >&2 ||
@@ -37,7 +38,7 @@ sleep 1.5
 kill -0 "$driver" 2>/dev/null || die "the driver died on states going back in time"
 expect_term_exit "$driver" driver
 sleep 0.3
-stop_logger
+stop_recorder
 
 "$bin/lasonic-sonar-check" log "$tmp/run.lcmlog" >"$tmp/stats" 2>"$tmp/check.err" || die "log check: $(cat "$tmp/check.err")"
 cat "$tmp/stats"
