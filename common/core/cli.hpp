@@ -1,10 +1,10 @@
 #pragma once
 // One rule for every executable's command line (README "Processes: start-up, exit codes,
-// status"): --help prints the help and exits 0, --version the build (core/version.hpp) and exits
-// 0; any other command-line error (an unknown
-// option, a missing required one, a value out of range, a missing input file) prints CLI11's
-// reason on one line after the tool's name and exits 2, like a bad configuration. CLI11's own codes (105, 106, 109, ...) would
-// tell a script nothing the table does not.
+// status"): --help prints the help and exits 0, --version prints the build (core/version.hpp)
+// and exits 0; any other command-line error (an unknown option, a missing required one, a value
+// out of range, a missing input file) prints CLI11's reason on one line after the tool's name
+// and exits 2, like a bad configuration. CLI11's own codes (105, 106, 109, ...) would tell a
+// script nothing the table does not.
 //   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 #include <CLI/CLI.hpp>
 

@@ -44,7 +44,8 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   // the logs of two computers side by side, must be able to tell.
   std::string files;
   for (const std::string& f : config_files_) files += " " + f;
-  spdlog::info("{}; configuration{}", versionString(), files.empty() ? " (the built-in defaults)" : files);
+  spdlog::info("{}; configuration{}", versionString(),
+               files.empty() ? " (the built-in defaults)" : files);
   try {
     Node node(name_, lcm_url_, node_options);
     return body(node);
