@@ -12,7 +12,11 @@
 // the last column. --summary adds a last row over every run of every scene (the mean over runs,
 // the worst run). --targets KEY<=X,KEY<KEY2,... prints instead how many runs, and how many
 // scenes on every seed, meet each target and all of them (a run missing a key meets no target
-// on it). Markdown, so the README can show the output as it is.
+// on it). --glance LABEL prints the set as one row of the README's *At a glance* (Results): the
+// runs, the means over the runs that have each key of observable missed, false alarms, false
+// alarms per report, the runs meeting every target (the default targets, or --targets) and the
+// scenes meeting them on every seed, tactical recall / precision and line coverage / precision.
+// Markdown, so the README can show the output as it is.
 #include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -100,7 +104,7 @@ std::optional<Target> parseTarget(const std::string& t) {
 
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-eval-table: mean and worst of lasonic-eval's metrics per scene over seeds"};
-  std::string keys_arg, methods_arg, targets_arg;
+  std::string keys_arg, methods_arg, targets_arg, glance;
   bool summary = false;
   std::vector<std::string> files;
   auto* keys_opt = app.add_option("--keys", keys_arg, "comma-separated metric keys (dotted paths)");
@@ -109,14 +113,24 @@ int main(int argc, char** argv) {
                                      "scenes meeting each, instead of the table");
   keys_opt->excludes(targets_opt);
   app.add_flag("--summary", summary, "a last row over every run of every scene");
-  app.add_option("--methods", methods_arg,
-                 "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
+  auto* methods_opt = app.add_option("--methods", methods_arg,
+                                     "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
+  app.add_option("--glance", glance,
+                 "the set as one row of README Results' 'At a glance' named LABEL (its targets: --targets, or the "
+                 "sector map's: observable missed <= 0.03, false alarms <= 0.05, per report <= 0.15, fewer misses "
+                 "than the laser alone)")
+      ->excludes(keys_opt)
+      ->excludes(methods_opt);
   app.add_option("files", files, "lasonic-eval JSON files named <scene>-s<seed>.json")->required();
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
-  if (keys_arg.empty() && targets_arg.empty()) {
-    std::cerr << "lasonic-eval-table: --keys or --targets is required\n";
+  if (keys_arg.empty() && targets_arg.empty() && glance.empty()) {
+    std::cerr << "lasonic-eval-table: --keys, --targets or --glance is required\n";
     return 2;
   }
+  if (!glance.empty() && targets_arg.empty())
+    targets_arg = "sector_map.observable_missed_rate<=0.03,sector_map.false_alarm_rate<=0.05,"
+                  "sector_map.false_alarm_share_of_reports<=0.15,"
+                  "sector_map.samples.missed<baselines.laser_only.sector_map.samples.missed";
   std::vector<Target> targets;
   for (const std::string& t : split(targets_arg, ',')) {
     const std::optional<Target> target = parseTarget(t);
@@ -166,6 +180,51 @@ int main(int argc, char** argv) {
     if (!runs.count(scene)) order.push_back(scene);
     runs[scene][m[2]].push_back(root);
   }
+  // Runs meeting every target, and scenes meeting them on every seed.
+  auto meetingAll = [&]() {
+    size_t good_runs = 0, good_scenes = 0;
+    for (const auto& [scene, seeds] : runs) {
+      size_t good = 0;
+      for (const auto& [seed, roots] : seeds)
+        if (!roots.empty() && std::all_of(targets.begin(), targets.end(),
+                                          [&](const Target& t) { return t.met(roots.front()); }))
+          ++good;
+      good_runs += good;
+      if (good == seeds.size()) ++good_scenes;
+    }
+    return std::make_pair(good_runs, good_scenes);
+  };
+  if (!glance.empty()) {
+    size_t nruns = 0;
+    for (const auto& [scene, seeds] : runs) nruns += seeds.size();
+    // The mean over the runs that have the key (a run with no located laser-invisible surface has
+    // no tactical recall); "-" when none has it.
+    auto mean = [&](const std::string& key, const char* format) {
+      double sum = 0;
+      size_t n = 0;
+      for (const auto& [scene, seeds] : runs)
+        for (const auto& [seed, roots] : seeds)
+          if (const std::optional<double> x = roots.empty() ? std::nullopt : lookup(roots.front(), key)) {
+            sum += *x;
+            ++n;
+          }
+      if (n == 0) return std::string("-");
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), format, sum / static_cast<double>(n));
+      return std::string(buf);
+    };
+    const auto [good_runs, good_scenes] = meetingAll();
+    std::cout << "| set | runs | observable missed | false alarms | false alarms per report | runs meeting every target "
+                 "(scenes on every seed) | tactical recall / precision | line coverage / precision |\n"
+                 "|---|---|---|---|---|---|---|---|\n";
+    std::cout << "| " << glance << " | " << nruns << " | " << mean("sector_map.observable_missed_rate", "%.4f") << " | "
+              << mean("sector_map.false_alarm_rate", "%.4f") << " | "
+              << mean("sector_map.false_alarm_share_of_reports", "%.3f") << " | " << good_runs << " (" << good_scenes
+              << " of " << runs.size() << ") | " << mean("agm_tactical.invisible_recall", "%.3f") << " / "
+              << mean("agm_tactical.precision", "%.3f") << " | " << mean("lines.invisible_coverage", "%.3f") << " / "
+              << mean("lines.precision", "%.3f") << " |\n";
+    return status;
+  }
   if (!targets.empty()) {
     if (by_method) {
       std::cerr << "lasonic-eval-table: --targets reads the keys as given; --methods does not apply\n";
@@ -187,9 +246,9 @@ int main(int argc, char** argv) {
                 << runs.size() << " |\n";
     };
     for (const Target& t : targets) row(t.text, [&](const YAML::Node& r) { return t.met(r); });
-    row("all of them", [&](const YAML::Node& r) {
-      return std::all_of(targets.begin(), targets.end(), [&](const Target& t) { return t.met(r); });
-    });
+    const auto [good_runs, good_scenes] = meetingAll();
+    std::cout << "| all of them | " << good_runs << " of " << nruns << " | " << good_scenes << " of " << runs.size()
+              << " |\n";
     return status;
   }
   std::cout << "| scene |" << (by_method ? " method |" : "") << " seeds |";

@@ -226,3 +226,27 @@ done
   die "--targets without a comparison was accepted"
 grep -qF "'sector_map.missed_rate' is not KEY<=VALUE" "$tmp/tg.err" || die "--targets: the error does not name the bad entry"
 echo "$test_name: (4c) ok: --summary over every run, --targets counts runs and scenes"
+
+# (4d) --glance: the set as one row of README Results' At a glance: means over the runs that have
+# each key, runs meeting every (default) target and scenes meeting them on every seed.
+mkdir -p "$tmp/glance"
+run_json() {  # SCENE SEED OBSERVABLE_MISSED FALSE_ALARMS SHARE MISSED LASER_MISSED [RECALL]
+  local tactical=
+  [[ -z ${8:-} ]] || tactical=", \"agm_tactical\": {\"invisible_recall\": $8, \"precision\": 0.9}"
+  local sm='"observable_missed_rate": %s, "false_alarm_rate": %s, "false_alarm_share_of_reports": %s'
+  printf "{\"sector_map\": {$sm, \"samples\": {\"missed\": %s}}, \"baselines\": {\"laser_only\": %s}%s}\n" \
+    "$3" "$4" "$5" "$6" "{\"sector_map\": {\"samples\": {\"missed\": $7}}}" "$tactical" >"$tmp/glance/$1-s$2.json"
+}
+run_json room 1 0.01 0.02 0.05 10 20 0.8
+run_json room 2 0.02 0.03 0.06 10 20 0.6
+run_json hall 1 0.04 0.01 0.02 10 20          # observable missed above 0.03, and no tactical keys
+run_json hall 2 0.01 0.01 0.03 30 20          # more misses than the laser alone
+"$bin/lasonic-eval-table" "$tmp"/glance/*.json --glance "two rooms" >"$tmp/glance.md" ||
+  die "lasonic-eval-table --glance failed"
+want='| two rooms | 4 | 0.0200 | 0.0175 | 0.040 | 2 (1 of 2) | 0.700 / 0.900 | - / - |'
+grep -qF -- "$want" "$tmp/glance.md" || die "--glance: expected '$want' in: $(cat "$tmp/glance.md")"
+"$bin/lasonic-eval-table" "$tmp"/glance/*.json --glance "loose" --targets "sector_map.false_alarm_rate<=0.05" \
+  >"$tmp/glance2.md" || die "lasonic-eval-table --glance --targets failed"
+grep -qF -- '| loose | 4 | 0.0200 | 0.0175 | 0.040 | 4 (2 of 2) |' "$tmp/glance2.md" ||
+  die "--glance with --targets: got $(tail -n 1 "$tmp/glance2.md")"
+echo "$test_name: (4d) ok: --glance gives the set's At a glance row"
