@@ -113,8 +113,9 @@ int main(int argc, char** argv) {
                                      "scenes meeting each, instead of the table");
   keys_opt->excludes(targets_opt);
   app.add_flag("--summary", summary, "a last row over every run of every scene");
-  auto* methods_opt = app.add_option("--methods", methods_arg,
-                                     "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
+  auto* methods_opt =
+      app.add_option("--methods", methods_arg,
+                     "comma-separated NAME=PREFIX: one row per scene and method, the keys read at PREFIX.KEY");
   app.add_option("--glance", glance,
                  "the set as one row of README Results' 'At a glance' named LABEL (its targets: --targets, or the "
                  "sector map's: observable missed <= 0.03, false alarms <= 0.05, per report <= 0.15, fewer misses "
@@ -199,7 +200,7 @@ int main(int argc, char** argv) {
     for (const auto& [scene, seeds] : runs) nruns += seeds.size();
     // The mean over the runs that have the key (a run with no located laser-invisible surface has
     // no tactical recall); "-" when none has it.
-    auto mean = [&](const std::string& key, const char* format) {
+    auto mean = [&](const std::string& key, int decimals) {
       double sum = 0;
       size_t n = 0;
       for (const auto& [scene, seeds] : runs)
@@ -210,19 +211,18 @@ int main(int argc, char** argv) {
           }
       if (n == 0) return std::string("-");
       char buf[32];
-      std::snprintf(buf, sizeof(buf), format, sum / static_cast<double>(n));
+      std::snprintf(buf, sizeof(buf), "%.*f", decimals, sum / static_cast<double>(n));
       return std::string(buf);
     };
     const auto [good_runs, good_scenes] = meetingAll();
     std::cout << "| set | runs | observable missed | false alarms | false alarms per report | runs meeting every target "
                  "(scenes on every seed) | tactical recall / precision | line coverage / precision |\n"
                  "|---|---|---|---|---|---|---|---|\n";
-    std::cout << "| " << glance << " | " << nruns << " | " << mean("sector_map.observable_missed_rate", "%.4f") << " | "
-              << mean("sector_map.false_alarm_rate", "%.4f") << " | "
-              << mean("sector_map.false_alarm_share_of_reports", "%.3f") << " | " << good_runs << " (" << good_scenes
-              << " of " << runs.size() << ") | " << mean("agm_tactical.invisible_recall", "%.3f") << " / "
-              << mean("agm_tactical.precision", "%.3f") << " | " << mean("lines.invisible_coverage", "%.3f") << " / "
-              << mean("lines.precision", "%.3f") << " |\n";
+    std::cout << "| " << glance << " | " << nruns << " | " << mean("sector_map.observable_missed_rate", 4) << " | "
+              << mean("sector_map.false_alarm_rate", 4) << " | " << mean("sector_map.false_alarm_share_of_reports", 3)
+              << " | " << good_runs << " (" << good_scenes << " of " << runs.size() << ") | "
+              << mean("agm_tactical.invisible_recall", 3) << " / " << mean("agm_tactical.precision", 3) << " | "
+              << mean("lines.invisible_coverage", 3) << " / " << mean("lines.precision", 3) << " |\n";
     return status;
   }
   if (!targets.empty()) {
