@@ -33,19 +33,16 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
     std::cerr << name_ << ": start-up failed: " << e.what() << "\n";
     return exit_code::kFailure;
   }
+  std::string files;
+  for (const std::string& f : config_files_) files += " " + f;
+  if (files.empty()) files = " (the built-in defaults)";
   if (check_config_) {
-    std::cout << name_ << ": configuration usable";
-    for (const std::string& f : config_files_) std::cout << " " << f;
-    if (config_files_.empty()) std::cout << " (the built-in defaults)";
-    std::cout << "\n";
+    std::cout << name_ << ": configuration usable" << files << "\n";
     return exit_code::kOk;
   }
   // Which build and which configuration, first in the process's log: what a log read later, or
   // the logs of two computers side by side, must be able to tell.
-  std::string files;
-  for (const std::string& f : config_files_) files += " " + f;
-  spdlog::info("{}; configuration{}", versionString(),
-               files.empty() ? " (the built-in defaults)" : files);
+  spdlog::info("{}; configuration{}", versionString(), files);
   try {
     Node node(name_, lcm_url_, node_options);
     return body(node);

@@ -181,23 +181,26 @@ int main(int argc, char** argv) {
     if (!runs.count(scene)) order.push_back(scene);
     runs[scene][m[2]].push_back(root);
   }
-  // Runs meeting every target, and scenes meeting them on every seed.
-  auto meetingAll = [&]() {
+  size_t nruns = 0;
+  for (const auto& [scene, seeds] : runs) nruns += seeds.size();
+  // The runs whose JSON meets `met`, and the scenes where every seed's run does.
+  auto meeting = [&](auto&& met) {
     size_t good_runs = 0, good_scenes = 0;
     for (const auto& [scene, seeds] : runs) {
       size_t good = 0;
       for (const auto& [seed, roots] : seeds)
-        if (!roots.empty() && std::all_of(targets.begin(), targets.end(),
-                                          [&](const Target& t) { return t.met(roots.front()); }))
-          ++good;
+        if (!roots.empty() && met(roots.front())) ++good;
       good_runs += good;
       if (good == seeds.size()) ++good_scenes;
     }
     return std::make_pair(good_runs, good_scenes);
   };
+  auto meetingAll = [&]() {
+    return meeting([&](const YAML::Node& r) {
+      return std::all_of(targets.begin(), targets.end(), [&](const Target& t) { return t.met(r); });
+    });
+  };
   if (!glance.empty()) {
-    size_t nruns = 0;
-    for (const auto& [scene, seeds] : runs) nruns += seeds.size();
     // The mean over the runs that have the key (a run with no located laser-invisible surface has
     // no tactical recall); "-" when none has it.
     auto mean = [&](const std::string& key, int decimals) {
@@ -231,24 +234,12 @@ int main(int argc, char** argv) {
       return 2;
     }
     std::cout << "| target | runs meeting it | scenes meeting it on every seed |\n|---|---|---|\n";
-    size_t nruns = 0;
-    for (const auto& [scene, seeds] : runs) nruns += seeds.size();
-    auto row = [&](const std::string& label, auto&& met) {
-      size_t good_runs = 0, good_scenes = 0;
-      for (const auto& [scene, seeds] : runs) {
-        size_t good = 0;
-        for (const auto& [seed, roots] : seeds)
-          if (!roots.empty() && met(roots.front())) ++good;
-        good_runs += good;
-        if (good == seeds.size()) ++good_scenes;
-      }
-      std::cout << "| " << label << " | " << good_runs << " of " << nruns << " | " << good_scenes << " of "
+    auto row = [&](const std::string& label, const std::pair<size_t, size_t>& good) {
+      std::cout << "| " << label << " | " << good.first << " of " << nruns << " | " << good.second << " of "
                 << runs.size() << " |\n";
     };
-    for (const Target& t : targets) row(t.text, [&](const YAML::Node& r) { return t.met(r); });
-    const auto [good_runs, good_scenes] = meetingAll();
-    std::cout << "| all of them | " << good_runs << " of " << nruns << " | " << good_scenes << " of " << runs.size()
-              << " |\n";
+    for (const Target& t : targets) row(t.text, meeting([&](const YAML::Node& r) { return t.met(r); }));
+    row("all of them", meetingAll());
     return status;
   }
   std::cout << "| scene |" << (by_method ? " method |" : "") << " seeds |";
