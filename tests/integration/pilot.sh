@@ -5,7 +5,8 @@
 #  1. --help works; a bad config exits 2 naming the key; the shipped config starts cleanly;
 #  2. the pilot, fed a scripted input by lasonic-pilot-fixture (odometry, a laser scan, 34 firing
 #     groups, garbage and bad readings), publishes SECTOR_MAP per input and AGM_OPERATIONAL at
-#     2 Hz with the hand-computed values, counts the bad input, keeps running, exits 0 on SIGTERM.
+#     2 Hz with the hand-computed values, counts the bad input, keeps running, exits 0 on SIGTERM;
+#     its start-up log line names the build (--version's line) and its configuration file.
 set -euo pipefail
 
 source "$(dirname "$0")/lib.sh"
@@ -40,6 +41,10 @@ start_logger run.lcmlog
 start pilot "$bin/lasonic-pilot" --config "$tmp/pilot.yaml" --lcm-url "$url"
 pilot=$!
 wait_ready pilot
+# Its first log line names the build and the configuration files (README "Processes: start-up,
+# exit codes, status").
+grep -Eq "\] lasonic [0-9]+\.[0-9]+\.[0-9]+ \((git [0-9a-f]+|unknown).*\); configuration $tmp/pilot.yaml$" \
+  "$tmp/pilot.err" || die "no start-up line naming the build and $tmp/pilot.yaml in: $(head -3 "$tmp/pilot.err")"
 
 "$bin/lasonic-pilot-fixture" feed "$url" || die "feeding the pilot failed"
 echo "$test_name: (2) fed"
