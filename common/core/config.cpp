@@ -1,5 +1,6 @@
 #include "core/config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -177,18 +178,26 @@ static std::string describe(const Range& r) {
 }
 
 double Config::get(const std::string& key, double def, const Range& r) const {
-  if (!has(key)) return def;
+  if (!has(key)) {
+    if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(def), false);
+    return def;
+  }
   const double v = convert<double>(value(key), key);
   if (!std::isfinite(v) || v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(v), true, file_);
   return v;
 }
 
 int Config::get(const std::string& key, int def, const Range& r) const {
-  if (!has(key)) return def;
+  if (!has(key)) {
+    if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(def), false);
+    return def;
+  }
   const int v = convert<int>(value(key), key);
   if (v < r.lo || v > r.hi || (r.lo_open && v == r.lo)) fail(key, describe(r));
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), def == v);
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(v), true, file_);
   return v;
 }
 
@@ -199,7 +208,9 @@ double Config::requireNum(const std::string& key, const Range& r) const {
 
 std::optional<std::string> Config::getOptionalString(const std::string& key) const {
   if (!has(key)) return std::nullopt;
-  return convert<std::string>(value(key), key);
+  std::string v = convert<std::string>(value(key), key);
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), v, true, file_);
+  return v;
 }
 
 static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string& key) {
@@ -213,14 +224,29 @@ static geom::Vec2 toVec2(const Config& c, const YAML::Node& n, const std::string
   }
 }
 
+namespace {
+std::string vec2Text(const geom::Vec2& v) { return "[" + showNumber(v.x()) + ", " + showNumber(v.y()) + "]"; }
+std::string doublesText(const std::vector<double>& v) {
+  std::string s = "[";
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + showNumber(v[i]);
+  return s + "]";
+}
+}  // namespace
+
 geom::Vec2 Config::requireVec2(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
-  return toVec2(*this, value(key), key);
+  const geom::Vec2 v = toVec2(*this, value(key), key);
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), vec2Text(v), true, file_);
+  return v;
 }
 
 geom::Vec2 Config::getVec2(const std::string& key, const geom::Vec2& def) const {
-  if (!has(key)) return def;
+  if (!has(key)) {
+    if (ConfigReport::active()) ConfigReport::note(keyPath(key), vec2Text(def), false);
+    return def;
+  }
   const geom::Vec2 v = toVec2(*this, value(key), key);
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), vec2Text(v), true, file_);
   if (DefaultsAudit::active())
     DefaultsAudit::check(keyPath(key), auditText(def.x()) + "," + auditText(def.y()),
                          auditText(v.x()) + "," + auditText(v.y()), auditEqual(def.x(), v.x()) && auditEqual(def.y(), v.y()));
@@ -239,7 +265,10 @@ std::vector<geom::Vec2> Config::requirePoints(const std::string& key, size_t min
 }
 
 std::vector<double> Config::getDoubles(const std::string& key, const std::vector<double>& def) const {
-  if (!has(key)) return def;
+  if (!has(key)) {
+    if (ConfigReport::active()) ConfigReport::note(keyPath(key), doublesText(def), false);
+    return def;
+  }
   const YAML::Node n = value(key);
   if (!n.IsSequence()) fail(key, "must be a list of numbers");
   std::vector<double> out;
@@ -260,6 +289,7 @@ std::vector<double> Config::getDoubles(const std::string& key, const std::vector
     }
     DefaultsAudit::check(keyPath(key), a, b, eq);
   }
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), doublesText(out), true, file_);
   return out;
 }
 
@@ -283,6 +313,107 @@ DefaultsAudit::~DefaultsAudit() { g_audit = previous_; }
 bool DefaultsAudit::active() { return g_audit != nullptr; }
 void DefaultsAudit::check(const std::string& key, const std::string& code_default, const std::string& value, bool equal) {
   if (g_audit && !equal) g_audit->mismatches_.push_back({key, code_default, value});
+}
+
+namespace {
+thread_local ConfigReport* g_report = nullptr;
+
+// The node at `key` ("a.b[2].c") in `root`, or an undefined node.
+YAML::Node nodeAtPath(YAML::Node root, const std::string& key) {
+  YAML::Node n = root;
+  size_t i = 0;
+  while (i < key.size()) {
+    if (key[i] == '.') {
+      ++i;
+      continue;
+    }
+    if (key[i] == '[') {
+      const size_t close = key.find(']', i);
+      if (close == std::string::npos || !n.IsSequence()) return YAML::Node(YAML::NodeType::Undefined);
+      size_t idx = 0;
+      try {
+        idx = std::stoul(key.substr(i + 1, close - i - 1));
+      } catch (const std::exception&) {
+        return YAML::Node(YAML::NodeType::Undefined);
+      }
+      if (idx >= n.size()) return YAML::Node(YAML::NodeType::Undefined);
+      n.reset(static_cast<const YAML::Node&>(n)[idx]);
+      i = close + 1;
+      continue;
+    }
+    size_t end = key.find_first_of(".[", i);
+    if (end == std::string::npos) end = key.size();
+    const std::string k = key.substr(i, end - i);
+    if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+    const YAML::Node child = static_cast<const YAML::Node&>(n)[k];
+    if (!child) return YAML::Node(YAML::NodeType::Undefined);
+    n.reset(child);
+    i = end;
+  }
+  return n;
+}
+}  // namespace
+
+ConfigReport::ConfigReport() : previous_(g_report) { g_report = this; }
+ConfigReport::~ConfigReport() { g_report = previous_; }
+bool ConfigReport::active() { return g_report != nullptr; }
+void ConfigReport::note(const std::string& key, const std::string& value, bool from_file, const std::string& origin) {
+  if (!g_report) return;
+  std::vector<std::string>& seen = g_report->seen_;
+  const auto it = std::lower_bound(seen.begin(), seen.end(), key);
+  if (it != seen.end() && *it == key) return;
+  seen.insert(it, key);
+  g_report->entries_.push_back({key, value, from_file, origin});
+}
+
+namespace {
+// Each file's own YAML (an undefined node for one that cannot be read again).
+std::vector<YAML::Node> loadEach(const std::vector<std::string>& files) {
+  std::vector<YAML::Node> roots;
+  for (const std::string& f : files) {
+    try {
+      roots.push_back(YAML::LoadFile(f));
+    } catch (const std::exception&) {
+      roots.emplace_back(YAML::NodeType::Undefined);  // (loadFiles has read it already)
+    }
+  }
+  return roots;
+}
+std::string sourceOf(const std::vector<std::string>& files, const std::vector<YAML::Node>& roots, const std::string& key) {
+  for (size_t i = files.size(); i-- > 0;) {
+    if (!roots[i].IsDefined()) continue;
+    const YAML::Node n = nodeAtPath(roots[i], key);
+    if (n.IsDefined() && !n.IsNull()) return files[i];
+  }
+  return {};
+}
+}  // namespace
+
+std::string configSourceFile(const std::vector<std::string>& files, const std::string& key) {
+  return sourceOf(files, loadEach(files), key);
+}
+
+std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const std::vector<std::string>& files) {
+  const std::vector<YAML::Node> roots = loadEach(files);
+  std::map<std::string, std::vector<YAML::Node>> origin_roots;  // (another file's YAML, loaded once)
+  std::string out;
+  for (const ConfigEntry& e : entries) {
+    std::string source = "default";
+    if (e.from_file) {
+      // A reading map of one file that is no --config file (a scenario) is the last layer.
+      const bool other = !e.origin.empty() && e.origin.find(" + ") == std::string::npos &&
+                         std::find(files.begin(), files.end(), e.origin) == files.end();
+      if (other) {
+        auto it = origin_roots.find(e.origin);
+        if (it == origin_roots.end()) it = origin_roots.emplace(e.origin, loadEach({e.origin})).first;
+        source = sourceOf({e.origin}, it->second, e.key);
+      }
+      if (source.empty() || !other) source = sourceOf(files, roots, e.key);
+      if (source.empty()) source = other ? e.origin : "configuration";
+    }
+    out += e.key + ": " + e.value + "  # " + source + "\n";
+  }
+  return out;
 }
 
 namespace {

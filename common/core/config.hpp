@@ -78,6 +78,49 @@ class DefaultsAudit {
   DefaultsAudit* previous_ = nullptr;
 };
 
+// ConfigReport: while one is alive (on this thread), every Config::get* and require* records
+// the key path it read and the value in effect: the files' (after layering) or, where no file
+// sets the key, the code's default. It is what `--print-config` prints: every parameter a
+// process runs with, and where each came from, without reading the code.
+struct ConfigEntry {
+  std::string key;    // "pilot.agm.size", "obstacles[2].radius"
+  std::string value;  // as YAML would write it: 0.35, true, arc_votes, [0.1, 0.2]
+  bool from_file = false;
+  std::string origin;  // the file the reading map came from where it is one (a scenario), else ""
+};
+class ConfigReport {
+ public:
+  ConfigReport();
+  ~ConfigReport();
+  ConfigReport(const ConfigReport&) = delete;
+  ConfigReport& operator=(const ConfigReport&) = delete;
+  // In the order first read; a key read again (by two readers of one section) is kept once.
+  const std::vector<ConfigEntry>& entries() const { return entries_; }
+  // Called by Config when a report is active.
+  static void note(const std::string& key, const std::string& value, bool from_file, const std::string& origin = {});
+  static bool active();
+
+ private:
+  std::vector<ConfigEntry> entries_;
+  std::vector<std::string> seen_;  // (sorted keys of entries_)
+  ConfigReport* previous_ = nullptr;
+};
+// The last of `files` (in layering order) whose own YAML holds `key` (a path as Config::keyPath
+// gives it); empty when none does or a file cannot be read.
+std::string configSourceFile(const std::vector<std::string>& files, const std::string& key);
+// The report as lines of `key: value  # file`, `# default` where no file sets it. A key read from
+// a map of another file (a scenario, whose sensor sections go over the configuration's) is looked
+// up there too, as the last layer.
+std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const std::vector<std::string>& files);
+
+template <typename T> std::string reportText(const T& v) {
+  if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+  else if constexpr (std::is_same_v<T, std::string>) return v;
+  else if constexpr (std::is_floating_point_v<T>) return showNumber(static_cast<double>(v));
+  else if constexpr (std::is_integral_v<T>) return std::to_string(v);
+  else return "?";
+}
+
 template <typename T> std::string auditText(const T& v) {
   if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
   else if constexpr (std::is_same_v<T, std::string>) return v;
@@ -180,22 +223,36 @@ T Config::convert(const YAML::Node& n, const std::string& key) const {
 
 template <typename T>
 T Config::get(const std::string& key, const T& def) const {
-  if (!has(key)) return def;
+  if (!has(key)) {
+    if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(def), false);
+    return def;
+  }
   T v = convert<T>(value(key), key);
   if (DefaultsAudit::active()) DefaultsAudit::check(keyPath(key), auditText(def), auditText(v), auditEqual(def, v));
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(v), true, file_);
   return v;
 }
 
 template <typename T>
 T Config::require(const std::string& key) const {
   if (!has(key)) fail(key, "is required");
-  return convert<T>(value(key), key);
+  T v = convert<T>(value(key), key);
+  if (ConfigReport::active()) ConfigReport::note(keyPath(key), reportText(v), true, file_);
+  return v;
 }
 
 template <typename T>
 T Config::getChoice(const std::string& key, T def, std::initializer_list<std::pair<const char*, T>> choices) const {
   const auto v = getOptionalString(key);
-  if (!v) return def;
+  if (!v) {
+    if (ConfigReport::active())
+      for (const auto& [name, value] : choices)
+        if (value == def) {
+          ConfigReport::note(keyPath(key), name, false);
+          break;
+        }
+    return def;
+  }
   std::string names;
   if (DefaultsAudit::active())
     for (const auto& [name, value] : choices)

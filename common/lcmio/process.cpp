@@ -16,6 +16,9 @@ ProcessMain::ProcessMain(std::string name, const std::string& description)
   app_.add_option("--lcm-url", lcm_url_, "LCM URL")->capture_default_str();
   app_.add_flag("--check-config", check_config_,
                 "load and check the configuration (and scenario), then exit: 0 usable, 2 not; joins no LCM group");
+  app_.add_flag("--print-config", print_config_,
+                "as --check-config, and print every parameter this process reads: its value after all --config "
+                "layers and the file it came from, or `default` (the code's, which is the shipped configuration's)");
 }
 
 int ProcessMain::run(int argc, char** argv, const std::function<void(const Config& root)>& configure,
@@ -23,9 +26,16 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   if (const auto rc = parseCommandLine(app_, argc, argv)) return *rc;
   setupLogging(name_);
   // Start-up errors go to stderr as one plain line (the launcher's log shows it as it is).
+  std::string report;
   try {
     const Config root = Config::loadConfiguration(config_files_);
-    configure(root);
+    if (print_config_) {
+      ConfigReport r;
+      configure(root);
+      report = formatConfigReport(r.entries(), config_files_);
+    } else {
+      configure(root);
+    }
   } catch (const ConfigError& e) {
     std::cerr << name_ << ": " << e.what() << "\n";
     return exit_code::kBadConfig;
@@ -36,6 +46,13 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   std::string files;
   for (const std::string& f : config_files_) files += " " + f;
   if (files.empty()) files = " (the built-in defaults)";
+  if (print_config_) {
+    // YAML comments and `key.path: value  # source` lines: readable, and greppable by key.
+    std::cout << "# " << name_ << ": the configuration in effect (" << versionString() << "); --config" << files
+              << "\n"
+              << report;
+    return exit_code::kOk;
+  }
   if (check_config_) {
     std::cout << name_ << ": configuration usable" << files << "\n";
     return exit_code::kOk;

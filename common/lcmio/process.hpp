@@ -6,7 +6,9 @@
 //   - logging (spdlog, named after the process; LASONIC_LOG_LEVEL);
 //   - configuration: the --config file loaded, then the process's configure step; a ConfigError
 //     (a message naming file and key) exits 2; --check-config stops there (exit 0 when usable,
-//     joining no LCM group: what `lasonic-launch --check` runs for each process);
+//     joining no LCM group: what `lasonic-launch --check` runs for each process); --print-config
+//     too, after printing every parameter the process read with its value in effect and the
+//     file it came from (or `default`);
 //   - the Node on --lcm-url: an unusable URL exits 1 with a clear message (LCM 1.3.1 reports a
 //     bad URL by !good(), never by aborting);
 //   - SIGINT / SIGTERM: the Node's loop ends, a last PROCESS_STATUS goes out, exit 0;
@@ -60,6 +62,7 @@ class ProcessMain {
   std::vector<std::string> config_files_;
   std::string lcm_url_ = kDefaultLcmUrl;
   bool check_config_ = false;
+  bool print_config_ = false;
 };
 
 }  // namespace lasonic

@@ -3,6 +3,8 @@
 # namespace (tests/netns/in-netns.sh; ctest does). Env: LASONIC_BIN (build/bin),
 # LASONIC_SOURCE (repository root).
 #  1. --help works; a bad config exits 2 naming the key; the shipped config starts cleanly;
+#     --print-config lists each parameter with the layer that set it (a robot's overlay, the
+#     shipped file, or the code's default), joins no LCM group and exits 0;
 #  2. the pilot, fed a scripted input by lasonic-pilot-fixture (odometry, a laser scan, 34 firing
 #     groups, garbage and bad readings), publishes SECTOR_MAP per input and AGM_OPERATIONAL at
 #     2 Hz with the hand-computed values, counts the bad input, keeps running, exits 0 on SIGTERM;
@@ -22,7 +24,24 @@ timeout --preserve-status -s TERM -k 20 1 "$bin/lasonic-pilot" --config "$config
   --lcm-url "$url" 2>"$tmp/shipped.err" >&2 || rc=$?
 [[ $rc -eq 0 ]] || die "the shipped config: exit status $rc, expected 0 after SIGTERM"
 
-echo "$test_name: (1) ok: --help, a bad config, the shipped config"
+# --print-config over the shipped file and the Pioneer overlay: the overlay's robot_radius, the
+# shipped file's sectors, and a key no file sets (the code's default); no --lcm-url is needed.
+robot=$src/deploy/config/pioneer.yaml
+"$bin/lasonic-pilot" --config "$config" --config "$robot" --print-config >"$tmp/print.out" 2>"$tmp/print.err" ||
+  die "--print-config: exit $?: $(cat "$tmp/print.err")"
+grep -qx "pilot.robot_radius: 0.27  # $robot" "$tmp/print.out" ||
+  die "--print-config: no pilot.robot_radius from $robot in: $(grep robot_radius "$tmp/print.out")"
+grep -qx "pilot.sectors: 48  # $config" "$tmp/print.out" ||
+  die "--print-config: no pilot.sectors from $config in: $(grep 'pilot.sectors' "$tmp/print.out")"
+grep -Eq '^pilot\.[a-z_.]+: .*  # default$' "$tmp/print.out" || die "--print-config: no key at its default"
+! grep -v '^#' "$tmp/print.out" | grep -Ev '^[a-z_]+(\.[a-z_0-9]+|\[[0-9]+\])+: .+  # .+$' >"$tmp/print_odd.out" ||
+  die "--print-config: lines not of the form 'key.path: value  # source': $(head -3 "$tmp/print_odd.out")"
+rc=0
+"$bin/lasonic-pilot" --config "$tmp/bad.yaml" --print-config >/dev/null 2>"$tmp/print_bad.err" || rc=$?
+[[ $rc -eq 2 ]] && grep -q 'pilot.agm.t' "$tmp/print_bad.err" ||
+  die "--print-config with a bad config: exit $rc, expected 2 naming pilot.agm.t: $(cat "$tmp/print_bad.err")"
+
+echo "$test_name: (1) ok: --help, a bad config, the shipped config, --print-config"
 
 # 2. A live run with explicit parameters (the checks are hand-computed from them).
 cat >"$tmp/pilot.yaml" <<'YAML'

@@ -321,3 +321,88 @@ TEST(Config, ADirectoryIsNotAFileAPipeIs) {
   ::close(fds[0]);
   EXPECT_DOUBLE_EQ(c.section("pilot").get("robot_radius", 0.0, Range::positive()), 0.31);
 }
+
+// --print-config's record: every key read, with the value in effect and whether a file set it
+// (else the code's default), in the order first read, each once; nothing while no report is alive.
+TEST(ConfigReport, RecordsEveryReadWithItsValueAndWhetherAFileSetIt) {
+  const Config c = Config::fromString(
+      "pilot:\n  sectors: 36\n  mode: fast\n  offset: [0.5, -1]\n  weights: [1, 2.5]\n  flag: true\n");
+  const Config p = c.section("pilot");
+  enum class Mode { Slow, Fast };
+  {
+    lasonic::ConfigReport report;
+    EXPECT_EQ(p.get("sectors", 48, Range::between(3, 3600)), 36);
+    EXPECT_DOUBLE_EQ(p.get("max_range", 3.0, Range::positive()), 3.0);  // no file sets it
+    EXPECT_EQ(p.getChoice("mode", Mode::Slow, {{"slow", Mode::Slow}, {"fast", Mode::Fast}}), Mode::Fast);
+    EXPECT_EQ(p.getChoice("other", Mode::Slow, {{"slow", Mode::Slow}, {"fast", Mode::Fast}}), Mode::Slow);
+    EXPECT_EQ(p.getVec2("offset", {0, 0}), lasonic::geom::Vec2(0.5, -1));
+    EXPECT_EQ(p.getDoubles("weights", {}), std::vector<double>({1, 2.5}));
+    EXPECT_TRUE(p.get<bool>("flag", false));
+    EXPECT_EQ(p.get("sectors", 48, Range::between(3, 3600)), 36);  // read again: kept once
+    const std::vector<lasonic::ConfigEntry>& e = report.entries();
+    ASSERT_EQ(e.size(), 7u);
+    const auto expect = [&](size_t i, const char* key, const char* value, bool from_file) {
+      EXPECT_EQ(e[i].key, key);
+      EXPECT_EQ(e[i].value, value) << key;
+      EXPECT_EQ(e[i].from_file, from_file) << key;
+    };
+    expect(0, "pilot.sectors", "36", true);
+    expect(1, "pilot.max_range", "3", false);
+    expect(2, "pilot.mode", "fast", true);
+    expect(3, "pilot.other", "slow", false);
+    expect(4, "pilot.offset", "[0.5, -1]", true);
+    expect(5, "pilot.weights", "[1, 2.5]", true);
+    expect(6, "pilot.flag", "true", true);
+    {
+      lasonic::ConfigReport inner;  // a nested report takes the reads while it lives
+      p.get("sectors", 48, Range::between(3, 3600));
+      EXPECT_EQ(inner.entries().size(), 1u);
+    }
+    p.get("gp_threshold", 2, Range::between(1, 100));
+    EXPECT_EQ(report.entries().size(), 8u);
+  }
+  EXPECT_FALSE(lasonic::ConfigReport::active());
+}
+
+// Each key's source is the last layered file that sets it; a key no file sets is the default.
+TEST(ConfigReport, NamesTheLastFileThatSetsEachKey) {
+  const lasonic::fixture::ScratchDir scratch;
+  const std::string base = scratch.file("base.yaml"), robot = scratch.file("robot.yaml");
+  std::ofstream(base) << "pilot:\n  sectors: 48\n  robot_radius: 0.35\n  list: [{a: 1}, {a: 2}]\n";
+  std::ofstream(robot) << "pilot:\n  robot_radius: 0.27\n";
+  EXPECT_EQ(lasonic::configSourceFile({base, robot}, "pilot.robot_radius"), robot);
+  EXPECT_EQ(lasonic::configSourceFile({base, robot}, "pilot.sectors"), base);
+  EXPECT_EQ(lasonic::configSourceFile({base, robot}, "pilot.list[1].a"), base);
+  EXPECT_EQ(lasonic::configSourceFile({base, robot}, "pilot.list[2].a"), "");
+  EXPECT_EQ(lasonic::configSourceFile({base, robot}, "pilot.max_range"), "");
+  EXPECT_EQ(lasonic::configSourceFile({base, "/nonexistent.yaml"}, "pilot.sectors"), base);
+  const Config c = Config::loadFiles({base, robot});
+  std::string text;
+  {
+    lasonic::ConfigReport report;
+    const Config p = c.section("pilot");
+    p.get("robot_radius", 0.3, Range::positive());
+    p.get("sectors", 24, Range::between(3, 3600));
+    p.get("max_range", 3.0, Range::positive());
+    text = lasonic::formatConfigReport(report.entries(), {base, robot});
+  }
+  EXPECT_EQ(text, "pilot.robot_radius: 0.27  # " + robot + "\npilot.sectors: 48  # " + base +
+                      "\npilot.max_range: 3  # default\n");
+  // A scenario's section over the configuration's (mergedWith): its keys name the scenario, the
+  // others the configuration file; the scenario's own keys name it too.
+  const std::string scenario = scratch.file("scene.yaml");
+  std::ofstream(scenario) << "name: scene\nlaser: {fov_deg: 270}\n";
+  std::ofstream(scratch.file("sensors.yaml")) << "laser:\n  fov_deg: 360\n  readings: 720\n";
+  const std::vector<std::string> cfg_files = {scratch.file("sensors.yaml")};
+  const Config sensors = Config::loadFiles(cfg_files), scene = Config::loadFile(scenario);
+  {
+    lasonic::ConfigReport report;
+    scene.get<std::string>("name", "");
+    const Config laser = sensors.section("laser").mergedWith(scene.section("laser"));
+    laser.get("fov_deg", 360.0, Range::positive());
+    laser.get("readings", 720, Range::positive());
+    text = lasonic::formatConfigReport(report.entries(), cfg_files);
+  }
+  EXPECT_EQ(text, "name: scene  # " + scenario + "\nlaser.fov_deg: 270  # " + scenario +
+                      "\nlaser.readings: 720  # " + cfg_files[0] + "\n");
+}
