@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   std::string profile_file, log_dir = "logs", lcm_url;
   std::vector<std::string> sets;
   std::string bin = selfDir();
-  bool check = false;
+  bool check = false, print_config = false;
   double max_time = 0;
   app.add_option("profile", profile_file, "host profile (YAML)")->required();
   app.add_option("--set", sets, "VAR=VALUE: define ${VAR} for the profile (repeatable)");
@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-time", max_time, "stop everything after S seconds and exit 124 (demos, tests); 0: no limit")
       ->check(lasonic::FiniteNumberIn(0, launch::kMaxSeconds));
   app.add_flag("--check", check, "check the profile, the executables and each process's configuration; print the commands, start nothing");
+  app.add_flag("--print-config", print_config,
+               "as --check, then print each process's configuration in effect (its --print-config: every "
+               "parameter, its value and the file it came from); start nothing");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
 
   std::map<std::string, std::string> overrides;
@@ -65,6 +68,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   launch::Supervisor sup(profile, log_dir, {bin});
+  if (print_config) check = true;
   const bool ready = sup.prepare(!check);
   if (check) {
     std::cout << "host " << profile.host << ", LCM " << profile.lcm_url << "\n";
@@ -98,9 +102,14 @@ int main(int argc, char** argv) {
           help.find("--check-config") == std::string::npos)
         continue;
       std::vector<std::string> args(p.command.begin() + 1, p.command.end());
-      args.push_back("--check-config");
+      // --print-config checks as --check-config does, and says what it found.
+      const bool print = print_config && help.find("--print-config") != std::string::npos;
+      args.push_back(print ? "--print-config" : "--check-config");
       const int rc = launch::runToEnd(exe, args, out);
-      if (rc == 0) continue;
+      if (rc == 0) {
+        if (print) std::cout << "\n" << out;
+        continue;
+      }
       while (!out.empty() && out.back() == '\n') out.pop_back();
       std::cerr << "lasonic-launch: " << p.name << ": configuration not usable (--check-config: exit " << rc
                 << "):\n  " << out << "\n";

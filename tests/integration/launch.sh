@@ -3,7 +3,8 @@
 # Env: LASONIC_BIN (build/bin), LASONIC_SOURCE (repository root).
 #  1. a profile naming a missing executable: exit 2, the message names it; optional: started anyway;
 #     --check names a --config file that is not there, also as --config=FILE, an empty lcm_url,
-#     and a bad key in a process's configuration (exit 2); --max-time nan/inf/1e300 and a start_delay_s of 1e300 are errors (exit 2);
+#     and a bad key in a process's configuration (exit 2); --print-config prints each process's
+#     configuration in effect; --max-time nan/inf/1e300 and a start_delay_s of 1e300 are errors (exit 2);
 #  2. a process that always fails is restarted with a doubling back-off (0.2, 0.4, 0.8 s);
 #     kill -9 of a long-running one: restarted after the initial delay, its log has a second start;
 #     a `finish` process ends the run: every other process is stopped, in reverse order, exit 0,
@@ -69,6 +70,22 @@ grep -q "lasonic-pilot: configuration not usable" "$tmp/launch1h.txt" &&
   grep -q "pilot.max_range" "$tmp/launch1h.txt" || die "the bad key is not named: $(cat "$tmp/launch1h.txt")"
 ! grep -q "lasonic-complement: configuration not usable" "$tmp/launch1h.txt" ||
   die "the complement blamed for the pilot's key: $(cat "$tmp/launch1h.txt")"
+# --print-config: each process's configuration in effect, under the host's commands: the robot
+# overlay's key names the overlay; a bad key is still an exit 2 naming it.
+"$launch" "$src/deploy/hosts/pilot.yaml" --bin "$bin" --set "config=$src/deploy/config/lasonic.yaml" \
+  --set "robot=$src/deploy/config/pioneer.yaml" --set "scenario=$src/deploy/scenarios/fig4_room.yaml" \
+  --print-config >"$tmp/launch1p.txt" 2>&1 || die "--print-config of the pilot profile: exit $?: $(cat "$tmp/launch1p.txt")"
+for p in lasonic-complement lasonic-pilot lasonic-sim-world; do
+  grep -q "^# $p: the configuration in effect" "$tmp/launch1p.txt" || die "--print-config: no $p in: $(head -5 "$tmp/launch1p.txt")"
+done
+grep -qx "pilot.robot_radius: 0.27  # $src/deploy/config/pioneer.yaml" "$tmp/launch1p.txt" ||
+  die "--print-config: the overlay's robot_radius is not named: $(grep robot_radius "$tmp/launch1p.txt")"
+rc=0
+"$launch" "$src/deploy/hosts/pilot.yaml" --bin "$bin" --set "config=$src/deploy/config/lasonic.yaml" \
+  --set "robot=$tmp/bad_robot.yaml" --set "scenario=$src/deploy/scenarios/fig4_room.yaml" \
+  --print-config >"$tmp/launch1q.txt" 2>&1 || rc=$?
+((rc == 2)) && grep -q "pilot.max_range" "$tmp/launch1q.txt" ||
+  die "--print-config with pilot.max_range 0.01: exit $rc, expected 2 naming the key: $(cat "$tmp/launch1q.txt")"
 # --max-time and the profile's times: finite and at most 1e6 s (nan ran for ever, 1e300 stopped at once).
 for t in nan inf 1e300 -1; do
   rc=0
