@@ -398,8 +398,10 @@ std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const st
   std::map<std::string, std::vector<YAML::Node>> origin_roots;  // (another file's YAML, loaded once)
   std::string out;
   for (const ConfigEntry& e : entries) {
-    std::string source = "default";
-    if (e.from_file) {
+    std::string source;
+    if (!e.from_file) {
+      source = "default";
+    } else {
       // A reading map of one file that is no --config file (a scenario) is the last layer.
       const bool other = !e.origin.empty() && e.origin.find(" + ") == std::string::npos &&
                          std::find(files.begin(), files.end(), e.origin) == files.end();
@@ -408,7 +410,7 @@ std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const st
         if (it == origin_roots.end()) it = origin_roots.emplace(e.origin, loadEach({e.origin})).first;
         source = sourceOf({e.origin}, it->second, e.key);
       }
-      if (source.empty() || !other) source = sourceOf(files, roots, e.key);
+      if (source.empty()) source = sourceOf(files, roots, e.key);
       if (source.empty()) source = other ? e.origin : "configuration";
     }
     out += e.key + ": " + e.value + "  # " + source + "\n";
