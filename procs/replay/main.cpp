@@ -186,11 +186,12 @@ int replay(const std::string& in_path, const std::string& out_path, const Config
 int main(int argc, char** argv) {
   CLI::App app{"lasonic-replay: run the pipeline stages over a log, deterministically"};
   std::string in_path, out_path, stage_list = "complement,pilot,navigator";
-  bool print_status = false;
+  bool print_status = false, print_config = false;
   int threads = 0;
   std::vector<std::string> config_files;
-  app.add_option("--in", in_path, "input LCM log (raw sensor channels)")->required()->check(CLI::ExistingFile);
-  app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs)")->required();
+  app.add_option("--in", in_path, "input LCM log (raw sensor channels; required unless --print-config)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--out", out_path, "output LCM log (inputs plus the stages' outputs; required unless --print-config)");
   app.add_option("--config", config_files,
                  "YAML configuration (sections complement, pilot, navigator); repeat to layer overrides");
   app.add_option("--stages", stage_list,
@@ -202,9 +203,36 @@ int main(int argc, char** argv) {
                  "\"Performance\"); the output is the same, byte for byte")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
+  app.add_flag("--print-config", print_config,
+               "print every parameter the three stages read (their value after all --config layers and the file "
+               "each came from, or `default`), as the live processes' --print-config does, then exit; reads no log");
   app.add_flag("--status", print_status,
                "at the end, print every stage's counters and errors (its PROCESS_STATUS) as 'process key value' lines");
   if (const auto rc = lasonic::parseCommandLine(app, argc, argv)) return *rc;
+  if (print_config) {
+    try {
+      const lasonic::Config root = lasonic::Config::loadConfiguration(config_files);
+      lasonic::ConfigReport report;
+      // (What replay() reads: every stage's configuration, whichever stages run.)
+      complementConfig(root.section("complement"));
+      pilotConfigFromRoot(root);
+      navigatorConfigFromRoot(root);
+      std::string files;
+      for (const std::string& f : config_files) files += " " + f;
+      std::cout << "# lasonic-replay: the configuration in effect (" << lasonic::versionString() << "); --config"
+                << (files.empty() ? " (the built-in defaults)" : files) << "\n"
+                << lasonic::formatConfigReport(report.entries(), config_files);
+      return 0;
+    } catch (const lasonic::ConfigError& e) {
+      std::cerr << "lasonic-replay: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--in", &in_path}, {"--out", &out_path}})
+    if (value->empty()) {
+      std::cerr << "lasonic-replay: " << option << " is required (lasonic-replay --help lists the options)\n";
+      return lasonic::kExitBadCommandLine;
+    }
   std::set<std::string> stages;
   for (size_t a = 0; a <= stage_list.size();) {
     const size_t b = std::min(stage_list.find(',', a), stage_list.size());

@@ -11,6 +11,7 @@
 #     (other movers, other obstacles, or a robot's path 1.5 m away from the log's track), exit 2
 #     saying so (lasonic-log-stats too); the offline tools exit 0 on --help and 2 on any bad
 #     command line, and 2 on an output that names one of their inputs (the input left intact);
+#     lasonic-replay --print-config names the layer that set each key;
 #  4. lasonic-eval-table: mean and worst over seeds, worst the highest rate and the lowest recall;
 #     --summary over every run, --targets counting runs and scenes that meet each target;
 #     one row per method (--methods), a run's keys looked up in its files of every folder.
@@ -102,6 +103,19 @@ rc=0
 "$bin/lasonic-replay" --in "$tmp/raw.lcmlog" --out "$tmp/./raw.lcmlog" >"$tmp/same.err" 2>&1 || rc=$?
 [[ $rc -eq 2 && $(command stat -c %s "$tmp/raw.lcmlog") -eq $size ]] && grep -qF "is the input log" "$tmp/same.err" ||
   die "lasonic-replay --out = --in: exit status $rc, $(command stat -c %s "$tmp/raw.lcmlog") of $size bytes left: $(cat "$tmp/same.err")"
+# lasonic-replay: --in and --out are required (exit 2 naming the missing one), except with
+# --print-config, which prints what the three stages read and which layer set it, reading no log.
+rc=0
+"$bin/lasonic-replay" --in "$tmp/raw.lcmlog" >"$tmp/noout.err" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] && grep -qF -- "--out is required" "$tmp/noout.err" ||
+  die "lasonic-replay without --out: exit status $rc: $(cat "$tmp/noout.err")"
+printf 'navigator:\n  hit_weight_low_speed: 0\n' >"$tmp/overlay.yaml"
+"$bin/lasonic-replay" --config "$config" --config "$tmp/overlay.yaml" --print-config >"$tmp/print.out" 2>&1 ||
+  die "lasonic-replay --print-config: exit $?: $(cat "$tmp/print.out")"
+for want in "navigator.hit_weight_low_speed: 0  # $tmp/overlay.yaml" "navigator.hit_weight_speed: 0.4  # $config" \
+  "complement.tolerance: 0.1  # $config"; do
+  grep -qxF -- "$want" "$tmp/print.out" || die "lasonic-replay --print-config: no line '$want'"
+done
 # No other output over an input either: each case exits 2 naming both, and the input is intact.
 cp "$config" "$tmp/cfg.yaml"
 cp "$scenario" "$tmp/scene.yaml"
