@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include "core/version.hpp"
+
 namespace lasonic {
 
 Config::Config(YAML::Node node, std::string path, std::string file)
@@ -416,6 +418,15 @@ std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const st
     out += e.key + ": " + e.value + "  # " + source + "\n";
   }
   return out;
+}
+
+std::string configReportForProgram(const std::string& program, const std::vector<ConfigEntry>& entries,
+                                   const std::vector<std::string>& files) {
+  std::string names;
+  for (const std::string& f : files) names += " " + f;
+  // YAML comments and `key.path: value  # source` lines: readable, and greppable by key.
+  return "# " + program + ": the configuration in effect (" + versionString() + "); --config" +
+         (names.empty() ? " (the built-in defaults)" : names) + "\n" + formatConfigReport(entries, files);
 }
 
 namespace {

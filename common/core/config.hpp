@@ -112,6 +112,10 @@ std::string configSourceFile(const std::vector<std::string>& files, const std::s
 // a map of another file (a scenario, whose sensor sections go over the configuration's) is looked
 // up there too, as the last layer.
 std::string formatConfigReport(const std::vector<ConfigEntry>& entries, const std::vector<std::string>& files);
+// The same under a comment line naming the program, the build and the files: what
+// `--print-config` prints.
+std::string configReportForProgram(const std::string& program, const std::vector<ConfigEntry>& entries,
+                                   const std::vector<std::string>& files);
 
 template <typename T> std::string reportText(const T& v) {
   if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";

@@ -32,7 +32,7 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
     if (print_config_) {
       ConfigReport r;
       configure(root);
-      report = formatConfigReport(r.entries(), config_files_);
+      report = configReportForProgram(name_, r.entries(), config_files_);
     } else {
       configure(root);
     }
@@ -47,10 +47,7 @@ int ProcessMain::run(int argc, char** argv, const std::function<void(const Confi
   for (const std::string& f : config_files_) files += " " + f;
   if (files.empty()) files = " (the built-in defaults)";
   if (print_config_) {
-    // YAML comments and `key.path: value  # source` lines: readable, and greppable by key.
-    std::cout << "# " << name_ << ": the configuration in effect (" << versionString() << "); --config" << files
-              << "\n"
-              << report;
+    std::cout << report;
     return exit_code::kOk;
   }
   if (check_config_) {

@@ -217,11 +217,7 @@ int main(int argc, char** argv) {
       complementConfig(root.section("complement"));
       pilotConfigFromRoot(root);
       navigatorConfigFromRoot(root);
-      std::string files;
-      for (const std::string& f : config_files) files += " " + f;
-      std::cout << "# lasonic-replay: the configuration in effect (" << lasonic::versionString() << "); --config"
-                << (files.empty() ? " (the built-in defaults)" : files) << "\n"
-                << lasonic::formatConfigReport(report.entries(), config_files);
+      std::cout << lasonic::configReportForProgram("lasonic-replay", report.entries(), config_files);
       return 0;
     } catch (const lasonic::ConfigError& e) {
       std::cerr << "lasonic-replay: " << e.what() << "\n";
